@@ -1,0 +1,47 @@
+//! One simulation step per detector per scene.
+//!
+//! Course scenes are read from `SCREENSAVER_REFERENCE` (default
+//! `../shared/reference`); when they are absent only the built-in scene is
+//! measured. Each measurement steps a world that has already run a few
+//! steps, so the state is a typical mid-run one.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use screensaver::generate::default_scene;
+use screensaver::{DetectorKind, Scene, World};
+use std::path::PathBuf;
+
+fn reference_dir() -> PathBuf {
+    std::env::var_os("SCREENSAVER_REFERENCE")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference"))
+}
+
+fn scenes() -> Vec<(String, Scene)> {
+    let mut scenes = vec![("default".to_string(), default_scene())];
+    for name in ["mit", "koch"] {
+        let path = reference_dir().join("inputs").join(format!("{name}.in"));
+        match Scene::load(&path) {
+            Ok(scene) => scenes.push((name.to_string(), scene)),
+            Err(e) => eprintln!("skipped {name}: {e}"),
+        }
+    }
+    scenes
+}
+
+fn one_step(c: &mut Criterion) {
+    let mut group = c.benchmark_group("step");
+    group.sample_size(20);
+    for (name, scene) in scenes() {
+        for &kind in DetectorKind::ALL {
+            let mut world = World::with_detector(&scene, kind);
+            world.run(3);
+            group.bench_function(BenchmarkId::new(kind.name(), &name), |b| {
+                b.iter(|| world.step())
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, one_step);
+criterion_main!(benches);

@@ -1,0 +1,110 @@
+//! Broad-phase collision detection: every detector finds exactly the events
+//! the all-pairs loop finds, each by its own route.
+//!
+//! A detector receives the lines at the start of a step and appends one
+//! [`Event`] for every pair whose [`intersect`](crate::narrow::intersect) is
+//! not `None`, in any order; the world sorts and resolves them. The
+//! all-pairs [`Brute`] detector is the oracle the others are tested against.
+
+mod brute;
+
+pub use brute::Brute;
+
+use crate::line::Line;
+use crate::narrow::Event;
+use std::fmt;
+use std::str::FromStr;
+
+/// Counters a detector keeps about its own work, summed over all steps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DetectorStats {
+    /// Pairs the broad phase looked at (bounding boxes compared).
+    pub candidate_pairs: u64,
+    /// Pairs handed to the exact `intersect` test.
+    pub exact_tests: u64,
+    /// Events found.
+    pub events: u64,
+    /// Tree nodes built (zero for detectors without a tree).
+    pub nodes: u64,
+    /// Deepest tree level reached (zero for detectors without a tree).
+    pub max_depth: u32,
+}
+
+/// A broad phase: finds every colliding pair of lines for one step.
+pub trait Detector: Send {
+    /// The name the command line knows this detector by.
+    fn name(&self) -> &'static str;
+
+    /// Appends one event per pair of `lines` whose `intersect(.., dt)` is not
+    /// `None`, with the lower id first, in any order. Must not change any
+    /// line, and must find exactly the all-pairs detector's events.
+    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>);
+
+    /// What the detector has done so far.
+    fn stats(&self) -> DetectorStats;
+}
+
+/// The detectors the command line can choose between.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum DetectorKind {
+    /// Every pair, every step: the reference behaviour and the test oracle.
+    Brute,
+}
+
+impl DetectorKind {
+    /// Every detector, in the order they are listed to users.
+    pub const ALL: &'static [DetectorKind] = &[DetectorKind::Brute];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            DetectorKind::Brute => "brute",
+        }
+    }
+
+    /// A fresh detector of this kind.
+    pub fn build(self) -> Box<dyn Detector> {
+        match self {
+            DetectorKind::Brute => Box::new(Brute::default()),
+        }
+    }
+}
+
+impl fmt::Display for DetectorKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for DetectorKind {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|kind| kind.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
+                format!(
+                    "unknown detector `{s}`; expected one of: {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip() {
+        for &kind in DetectorKind::ALL {
+            assert_eq!(kind.name().parse::<DetectorKind>(), Ok(kind));
+            assert_eq!(kind.build().name(), kind.name());
+        }
+        let err = "nope".parse::<DetectorKind>().unwrap_err();
+        assert!(err.contains("brute"), "{err}");
+    }
+}

@@ -1,0 +1,33 @@
+//! Line segments bouncing in a box, bit for bit as the MIT 6.172
+//! "screensaver" program computed them, with fast collision detection.
+//!
+//! ```
+//! use screensaver::{generate::default_scene, DetectorKind, World};
+//!
+//! let mut world = World::with_detector(&default_scene(), DetectorKind::Brute);
+//! world.run(11);
+//! let counts = world.counters();
+//! println!("{} wall, {} line collisions", counts.wall, counts.line);
+//! ```
+//!
+//! The modules follow the simulation's concepts: [`geometry`] (vectors and
+//! exact predicates), [`line`] (segments and coordinates), [`scene`]
+//! (`.in` files), [`narrow`] (the exact pair test), [`response`] (new
+//! velocities), [`world`] (one step), [`detect`] (interchangeable broad
+//! phases) and [`generate`] (seeded scenes).
+
+pub mod detect;
+pub mod generate;
+pub mod geometry;
+pub mod line;
+pub mod narrow;
+pub mod response;
+pub mod scene;
+pub mod world;
+
+pub use detect::{Detector, DetectorKind, DetectorStats};
+pub use geometry::Vec2;
+pub use line::{Color, Line};
+pub use narrow::{intersect, Event, IntersectionKind};
+pub use scene::{Scene, SceneLine};
+pub use world::{Counters, World};

@@ -1,0 +1,197 @@
+//! The narrow phase: the exact test of one pair of lines, `intersect`.
+
+use crate::geometry::{inside_parallelogram, segments_cross};
+use crate::line::Line;
+
+/// How two lines meet during a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum IntersectionKind {
+    /// The lines overlap already; the response pushes them apart.
+    AlreadyIntersected,
+    /// The lower-id line runs into the face of the higher-id one.
+    L1WithL2,
+    /// The higher-id line runs into the face of the lower-id one.
+    L2WithL1,
+}
+
+/// A collision found by a detector: the ids of the two lines, lower first,
+/// and how they meet.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Event {
+    /// Id of the line with the smaller id.
+    pub first: u32,
+    /// Id of the line with the larger id.
+    pub second: u32,
+    /// How they meet.
+    pub kind: IntersectionKind,
+}
+
+impl Event {
+    /// The key events are resolved in: ascending `(first, second)`.
+    #[inline]
+    pub fn order_key(&self) -> u64 {
+        (u64::from(self.first) << 32) | u64::from(self.second)
+    }
+}
+
+/// The contract's `intersect(l1, l2, dt)`: whether and how `l1` and `l2`
+/// meet in the next `dt`, holding `l1` still and sweeping `l2` by the
+/// relative velocity. The caller passes the line with the smaller id as `l1`.
+#[inline]
+pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
+    let rel = l2.v - l1.v;
+    let q1 = l2.p1 + rel * dt;
+    let q2 = l2.p2 + rel * dt;
+    if segments_cross(l1.p1, l1.p2, l2.p1, l2.p2) {
+        return Some(IntersectionKind::AlreadyIntersected);
+    }
+    let mut crossings = 0;
+    let mut top = false;
+    let mut bottom = false;
+    if segments_cross(l1.p1, l1.p2, q1, q2) {
+        crossings += 1;
+    }
+    if segments_cross(l1.p1, l1.p2, q1, l2.p1) {
+        crossings += 1;
+        top = true;
+    }
+    if segments_cross(l1.p1, l1.p2, q2, l2.p2) {
+        crossings += 1;
+        bottom = true;
+    }
+    if crossings == 2 {
+        return Some(IntersectionKind::L2WithL1);
+    }
+    if inside_parallelogram(l1.p1, l2.p1, l2.p2, q1, q2)
+        && inside_parallelogram(l1.p2, l2.p1, l2.p2, q1, q2)
+    {
+        return Some(IntersectionKind::L1WithL2);
+    }
+    if crossings == 0 {
+        return None;
+    }
+    let angle = l1.dir().angle() - l2.dir().angle();
+    if top {
+        return Some(if angle < 0.0 {
+            IntersectionKind::L2WithL1
+        } else {
+            IntersectionKind::L1WithL2
+        });
+    }
+    if bottom {
+        return Some(if angle > 0.0 {
+            IntersectionKind::L2WithL1
+        } else {
+            IntersectionKind::L1WithL2
+        });
+    }
+    Some(IntersectionKind::L1WithL2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::Vec2;
+
+    fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> Line {
+        Line {
+            p1: Vec2::new(p1.0, p1.1),
+            p2: Vec2::new(p2.0, p2.1),
+            v: Vec2::new(v.0, v.1),
+        }
+    }
+
+    #[test]
+    fn crossing_lines_are_already_intersected() {
+        let a = line((0.0, 0.0), (1.0, 1.0), (0.0, 0.0));
+        let b = line((0.0, 1.0), (1.0, 0.0), (0.0, 0.0));
+        assert_eq!(
+            intersect(&a, &b, 0.5),
+            Some(IntersectionKind::AlreadyIntersected)
+        );
+    }
+
+    #[test]
+    fn far_apart_lines_do_not_meet() {
+        let a = line((0.0, 0.0), (1.0, 0.0), (0.0, 0.0));
+        let b = line((0.0, 5.0), (1.0, 5.0), (0.0, -1.0));
+        assert_eq!(intersect(&a, &b, 0.5), None);
+    }
+
+    #[test]
+    fn a_line_sweeping_fully_across_is_l2_with_l1() {
+        // l2 is short and passes over l1's middle: its sweep crosses l1 with
+        // both long sides of the parallelogram.
+        let a = line((0.0, 0.0), (4.0, 0.0), (0.0, 0.0));
+        let b = line((1.5, 1.0), (2.5, 1.0), (0.0, -4.0));
+        assert_eq!(intersect(&a, &b, 0.5), Some(IntersectionKind::L2WithL1));
+    }
+
+    #[test]
+    fn a_short_line_swallowed_by_the_sweep_is_l1_with_l2() {
+        let a = line((1.5, 0.0), (2.5, 0.0), (0.0, 0.0));
+        let b = line((0.0, 1.0), (4.0, 1.0), (0.0, -4.0));
+        assert_eq!(intersect(&a, &b, 0.5), Some(IntersectionKind::L1WithL2));
+    }
+
+    #[test]
+    fn only_relative_velocity_matters() {
+        let a = line((0.0, 0.0), (4.0, 0.0), (3.0, 7.0));
+        let b = line((1.5, 1.0), (2.5, 1.0), (3.0, 3.0));
+        assert_eq!(intersect(&a, &b, 0.5), Some(IntersectionKind::L2WithL1));
+        let c = line((1.5, 1.0), (2.5, 1.0), (3.0, 7.0));
+        assert_eq!(intersect(&a, &c, 0.5), None);
+    }
+
+    #[test]
+    fn an_endpoint_sweeping_across_uses_the_angle() {
+        // Only the side swept by l2's p1 end crosses l1: one "top" crossing,
+        // settled by the angle between the lines.
+        let a = line((0.0, 0.0), (2.0, 0.0), (0.0, 0.0));
+        let b = line((1.0, 0.5), (3.0, 0.5), (0.0, -2.0));
+        let kind = intersect(&a, &b, 0.5);
+        assert!(kind.is_some());
+        assert_ne!(kind, Some(IntersectionKind::AlreadyIntersected));
+    }
+
+    #[test]
+    fn nan_lines_never_meet() {
+        let a = line((0.0, 0.0), (1.0, 1.0), (0.0, 0.0));
+        let n = line((f64::NAN, 0.5), (f64::NAN, f64::NAN), (0.0, 0.0));
+        assert_eq!(intersect(&a, &n, 0.5), None);
+        assert_eq!(intersect(&n, &a, 0.5), None);
+    }
+
+    #[test]
+    fn nan_velocity_can_still_report_an_overlap_now() {
+        let a = line((0.0, 0.0), (1.0, 1.0), (0.0, 0.0));
+        let b = line((0.0, 1.0), (1.0, 0.0), (f64::NAN, f64::NAN));
+        assert_eq!(
+            intersect(&a, &b, 0.5),
+            Some(IntersectionKind::AlreadyIntersected)
+        );
+        let c = line((5.0, 1.0), (6.0, 0.0), (f64::NAN, f64::NAN));
+        assert_eq!(intersect(&a, &c, 0.5), None);
+    }
+
+    #[test]
+    fn identical_zero_length_lines_are_already_intersected() {
+        let a = line((1.0, 1.0), (1.0, 1.0), (0.1, 0.0));
+        let b = line((1.0, 1.0), (1.0, 1.0), (-0.1, 0.0));
+        assert_eq!(
+            intersect(&a, &b, 0.5),
+            Some(IntersectionKind::AlreadyIntersected)
+        );
+    }
+
+    #[test]
+    fn event_order_key_sorts_by_first_then_second() {
+        let e = |first, second| Event {
+            first,
+            second,
+            kind: IntersectionKind::L1WithL2,
+        };
+        assert!(e(1, 9).order_key() < e(2, 3).order_key());
+        assert!(e(2, 3).order_key() < e(2, 4).order_key());
+    }
+}

@@ -1,0 +1,578 @@
+//! Scene files (`.in`): reading them with errors that say exactly where and
+//! what is wrong, and writing them so that they read back unchanged.
+//!
+//! ```text
+//! <number of lines>
+//! (<x1>, <y1>), (<x2>, <y2>), <vx>, <vy>, <color>
+//! ```
+//!
+//! Values are window coordinates and window velocity units. Whitespace
+//! between tokens is free, as it was for the reference's `scanf`; a row may
+//! even span several text lines. Errors name the text line where the
+//! offending token (or the end of the file) is.
+
+use crate::geometry::Vec2;
+use crate::line::Color;
+use std::fmt::{self, Write as _};
+use std::path::{Path, PathBuf};
+
+/// One line of a scene, in window coordinates, as written in the file.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneLine {
+    /// First endpoint.
+    pub p1: Vec2,
+    /// Second endpoint.
+    pub p2: Vec2,
+    /// Velocity in window units per unit of time.
+    pub v: Vec2,
+    /// Drawing colour.
+    pub color: Color,
+}
+
+/// A whole scene: its lines in id order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scene {
+    /// The lines; a line's id is its position here.
+    pub lines: Vec<SceneLine>,
+}
+
+/// What is wrong with a scene text.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum ParseErrorKind {
+    /// The text holds nothing but whitespace.
+    #[error("the file is empty; expected the number of lines first")]
+    Empty,
+    /// The first token is not a non-negative integer.
+    #[error("expected the number of lines (a non-negative integer), found `{found}`")]
+    BadCount {
+        /// The token found.
+        found: String,
+    },
+    /// The file ends before the declared number of rows.
+    #[error("the file declares {declared} lines but ends after {found}")]
+    TooFewRows {
+        /// The declared count.
+        declared: u64,
+        /// Complete rows read.
+        found: u64,
+    },
+    /// Something follows the last declared row.
+    #[error("the file declares {declared} lines but has more rows (or trailing text `{found}`)")]
+    TooManyRows {
+        /// The declared count.
+        declared: u64,
+        /// The first token past the last row.
+        found: String,
+    },
+    /// A token is not what the row syntax expects at this point.
+    #[error("row {row}: expected {expected}, found {found}")]
+    Unexpected {
+        /// 1-based row number (the header is not a row).
+        row: u64,
+        /// What the grammar wanted.
+        expected: &'static str,
+        /// The token found, quoted, or "the end of the file".
+        found: String,
+    },
+    /// A number parsed as infinite or NaN.
+    #[error("row {row}: {field} must be a finite number, found `{found}`")]
+    NotFinite {
+        /// 1-based row number.
+        row: u64,
+        /// Which value (`x1`, `vy`, ...).
+        field: &'static str,
+        /// The token found.
+        found: String,
+    },
+    /// The colour is not 0 or 1.
+    #[error("row {row}: colour must be 0 (red) or 1 (gray), found `{found}`")]
+    BadColor {
+        /// 1-based row number.
+        row: u64,
+        /// The token found.
+        found: String,
+    },
+}
+
+/// A scene text that could not be read, with where the problem is.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{origin}:{line}: {kind}")]
+pub struct ParseError {
+    /// The file name (or another description of where the text came from).
+    pub origin: String,
+    /// 1-based text line of the problem.
+    pub line: usize,
+    /// The problem.
+    pub kind: ParseErrorKind,
+}
+
+/// A scene file that could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read at all.
+    #[error("{}: cannot read the file: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The file was read but is not a valid scene.
+    #[error(transparent)]
+    Parse(#[from] ParseError),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Token<'a> {
+    Open,
+    Close,
+    Comma,
+    Word(&'a [u8]),
+}
+
+impl fmt::Display for Token<'_> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Token::Open => f.write_str("`(`"),
+            Token::Close => f.write_str("`)`"),
+            Token::Comma => f.write_str("`,`"),
+            Token::Word(w) => write!(f, "`{}`", show(w)),
+        }
+    }
+}
+
+/// A token's bytes for an error message, shortened if long.
+fn show(word: &[u8]) -> String {
+    const MAX: usize = 40;
+    let text = String::from_utf8_lossy(word);
+    if text.chars().count() > MAX {
+        let cut: String = text.chars().take(MAX).collect();
+        format!("{cut}...")
+    } else {
+        text.into_owned()
+    }
+}
+
+struct Lexer<'a> {
+    text: &'a [u8],
+    pos: usize,
+    line: usize,
+}
+
+impl<'a> Lexer<'a> {
+    fn new(text: &'a [u8]) -> Self {
+        Self {
+            text,
+            pos: 0,
+            line: 1,
+        }
+    }
+
+    /// The text line the end of the file is reported on: the last line
+    /// that has any character other than its newline.
+    fn eof_line(&self) -> usize {
+        let trailing_newline = self.text.last() == Some(&b'\n');
+        (self.line - usize::from(trailing_newline)).max(1)
+    }
+
+    /// The next token and the text line it starts on, or `None` at the end.
+    fn next(&mut self) -> Option<(Token<'a>, usize)> {
+        while let Some(&b) = self.text.get(self.pos) {
+            if b == b'\n' {
+                self.line += 1;
+            } else if !b.is_ascii_whitespace() {
+                break;
+            }
+            self.pos += 1;
+        }
+        let start = self.pos;
+        let token = match *self.text.get(start)? {
+            b'(' => Token::Open,
+            b')' => Token::Close,
+            b',' => Token::Comma,
+            _ => {
+                let len = self.text[start..]
+                    .iter()
+                    .position(|&b| b.is_ascii_whitespace() || matches!(b, b'(' | b')' | b','))
+                    .unwrap_or(self.text.len() - start);
+                self.pos += len;
+                return Some((Token::Word(&self.text[start..start + len]), self.line));
+            }
+        };
+        self.pos += 1;
+        Some((token, self.line))
+    }
+}
+
+struct Parser<'a> {
+    lexer: Lexer<'a>,
+    origin: &'a str,
+    row: u64,
+}
+
+impl<'a> Parser<'a> {
+    fn error(&self, line: usize, kind: ParseErrorKind) -> ParseError {
+        ParseError {
+            origin: self.origin.to_string(),
+            line,
+            kind,
+        }
+    }
+
+    fn unexpected(&self, expected: &'static str, got: Option<(Token<'a>, usize)>) -> ParseError {
+        let (found, line) = match got {
+            Some((token, line)) => (token.to_string(), line),
+            None => ("the end of the file".to_string(), self.lexer.eof_line()),
+        };
+        let kind = ParseErrorKind::Unexpected {
+            row: self.row,
+            expected,
+            found,
+        };
+        self.error(line, kind)
+    }
+
+    fn punct(&mut self, want: Token<'static>, expected: &'static str) -> Result<(), ParseError> {
+        match self.lexer.next() {
+            Some((token, _)) if token == want => Ok(()),
+            other => Err(self.unexpected(expected, other)),
+        }
+    }
+
+    fn number(&mut self, field: &'static str, expected: &'static str) -> Result<f64, ParseError> {
+        let got = self.lexer.next();
+        let Some((Token::Word(word), line)) = got else {
+            return Err(self.unexpected(expected, got));
+        };
+        let value: f64 = std::str::from_utf8(word)
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .ok_or_else(|| self.unexpected(expected, got))?;
+        if !value.is_finite() {
+            let kind = ParseErrorKind::NotFinite {
+                row: self.row,
+                field,
+                found: show(word),
+            };
+            return Err(self.error(line, kind));
+        }
+        Ok(value)
+    }
+
+    fn point(
+        &mut self,
+        name: &'static str,
+        x: &'static str,
+        y: &'static str,
+    ) -> Result<Vec2, ParseError> {
+        self.punct(Token::Open, name)?;
+        let px = self.number(x, x)?;
+        self.punct(Token::Comma, "`,` between the coordinates")?;
+        let py = self.number(y, y)?;
+        self.punct(Token::Close, "`)` after the point")?;
+        Ok(Vec2::new(px, py))
+    }
+
+    fn row(&mut self) -> Result<SceneLine, ParseError> {
+        let p1 = self.point("`(` opening the first point", "x1", "y1")?;
+        self.punct(Token::Comma, "`,` after the first point")?;
+        let p2 = self.point("`(` opening the second point", "x2", "y2")?;
+        self.punct(Token::Comma, "`,` after the second point")?;
+        let vx = self.number("vx", "the velocity vx")?;
+        self.punct(Token::Comma, "`,` after vx")?;
+        let vy = self.number("vy", "the velocity vy")?;
+        self.punct(Token::Comma, "`,` after vy")?;
+        let color = self.color()?;
+        Ok(SceneLine {
+            p1,
+            p2,
+            v: Vec2::new(vx, vy),
+            color,
+        })
+    }
+
+    fn color(&mut self) -> Result<Color, ParseError> {
+        let got = self.lexer.next();
+        let Some((Token::Word(word), line)) = got else {
+            return Err(self.unexpected("the colour (0 or 1)", got));
+        };
+        std::str::from_utf8(word)
+            .ok()
+            .and_then(|s| s.parse::<i64>().ok())
+            .and_then(Color::from_code)
+            .ok_or_else(|| {
+                let kind = ParseErrorKind::BadColor {
+                    row: self.row,
+                    found: show(word),
+                };
+                self.error(line, kind)
+            })
+    }
+}
+
+impl Scene {
+    /// Parses a scene text. `origin` names the text in error messages
+    /// (usually the file's path).
+    pub fn parse(text: &[u8], origin: &str) -> Result<Self, ParseError> {
+        let mut parser = Parser {
+            lexer: Lexer::new(text),
+            origin,
+            row: 0,
+        };
+        let declared = match parser.lexer.next() {
+            None => return Err(parser.error(parser.lexer.eof_line(), ParseErrorKind::Empty)),
+            Some((Token::Word(word), line)) => std::str::from_utf8(word)
+                .ok()
+                .and_then(|s| s.parse::<u64>().ok())
+                .ok_or_else(|| {
+                    let found = show(word);
+                    parser.error(line, ParseErrorKind::BadCount { found })
+                })?,
+            Some((token, line)) => {
+                let found = match token {
+                    Token::Open => "(",
+                    Token::Close => ")",
+                    _ => ",",
+                };
+                let kind = ParseErrorKind::BadCount {
+                    found: found.to_string(),
+                };
+                return Err(parser.error(line, kind));
+            }
+        };
+
+        // Never trust the declared count for the allocation: a row takes at
+        // least 15 bytes, which bounds how many the text can hold.
+        let capacity = declared.min(text.len() as u64 / 15 + 1);
+        let mut lines = Vec::with_capacity(capacity as usize);
+        for row in 1..=declared {
+            parser.row = row;
+            // A clean end of file between rows is "too few rows".
+            let save = (parser.lexer.pos, parser.lexer.line);
+            if parser.lexer.next().is_none() {
+                let kind = ParseErrorKind::TooFewRows {
+                    declared,
+                    found: row - 1,
+                };
+                return Err(parser.error(parser.lexer.eof_line(), kind));
+            }
+            (parser.lexer.pos, parser.lexer.line) = save;
+            lines.push(parser.row()?);
+        }
+        if let Some((token, line)) = parser.lexer.next() {
+            let found = match token {
+                Token::Word(w) => show(w),
+                other => other.to_string().trim_matches('`').to_string(),
+            };
+            return Err(parser.error(line, ParseErrorKind::TooManyRows { declared, found }));
+        }
+        Ok(Scene { lines })
+    }
+
+    /// Reads and parses a scene file.
+    pub fn load(path: &Path) -> Result<Self, LoadError> {
+        let text = std::fs::read(path).map_err(|source| LoadError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Ok(Self::parse(&text, &path.display().to_string())?)
+    }
+
+    /// The scene as text that [`Scene::parse`] reads back to an identical
+    /// scene (every value printed as the shortest decimal that round-trips).
+    pub fn to_text(&self) -> String {
+        let mut out = String::with_capacity(16 + self.lines.len() * 64);
+        writeln!(out, "{}", self.lines.len()).expect("writing to a String");
+        for l in &self.lines {
+            writeln!(
+                out,
+                "({}, {}), ({}, {}), {}, {}, {}",
+                l.p1.x,
+                l.p1.y,
+                l.p2.x,
+                l.p2.y,
+                l.v.x,
+                l.v.y,
+                l.color.code()
+            )
+            .expect("writing to a String");
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn parse(text: &str) -> Result<Scene, ParseError> {
+        Scene::parse(text.as_bytes(), "test.in")
+    }
+
+    fn err(text: &str) -> (usize, String) {
+        let e = parse(text).unwrap_err();
+        assert!(
+            e.to_string().starts_with(&format!("test.in:{}: ", e.line)),
+            "{e}"
+        );
+        (e.line, e.kind.to_string())
+    }
+
+    #[test]
+    fn reads_the_course_formats() {
+        let s = parse(
+            "3\n(276, 206), (293, 219), -0.19221, -0.055276, 0\n\
+             (291.000000, 540.000000), (291.469136, 540.000000), -00.208073, 000.454649, 1\n\
+             (1,1),(1,1),+5,-0,0\n",
+        )
+        .unwrap();
+        assert_eq!(s.lines.len(), 3);
+        assert_eq!(s.lines[0].p1, Vec2::new(276.0, 206.0));
+        assert_eq!(s.lines[0].v, Vec2::new(-0.19221, -0.055276));
+        assert_eq!(s.lines[1].v, Vec2::new(-0.208073, 0.454649));
+        assert_eq!(s.lines[1].color, Color::Gray);
+        // Zero-length lines are valid.
+        assert_eq!(s.lines[2].p1, s.lines[2].p2);
+        assert_eq!(s.lines[2].v.x, 5.0);
+    }
+
+    #[test]
+    fn whitespace_is_free_and_rows_may_span_lines() {
+        let s =
+            parse("  2 \r\n\n( 1 ,2 ) ,\t(3,4),5,6,\n0\n\n(1e2, 2.5E-1), (0, 0), 0, 0, 1").unwrap();
+        assert_eq!(s.lines[0].p2, Vec2::new(3.0, 4.0));
+        assert_eq!(s.lines[0].color, Color::Red);
+        assert_eq!(s.lines[1].p1, Vec2::new(100.0, 0.25));
+    }
+
+    #[test]
+    fn an_empty_scene_is_valid() {
+        assert_eq!(parse("0\n").unwrap().lines.len(), 0);
+    }
+
+    #[test]
+    fn empty_file() {
+        assert_eq!(
+            err(""),
+            (
+                1,
+                "the file is empty; expected the number of lines first".into()
+            )
+        );
+        assert_eq!(err("\n\n  \n").0, 3);
+    }
+
+    #[test]
+    fn bad_count() {
+        let (line, msg) = err("two\n");
+        assert_eq!(line, 1);
+        assert!(
+            msg.contains("number of lines") && msg.contains("`two`"),
+            "{msg}"
+        );
+        assert!(err("-1\n").1.contains("`-1`"));
+        assert!(err("1.5\n").1.contains("`1.5`"));
+        assert!(err("(1, 2), (3, 4), 0, 0, 0\n").1.contains("found `(`"));
+    }
+
+    #[test]
+    fn too_few_rows() {
+        let (line, msg) = err("3\n(1, 2), (3, 4), 0, 0, 0\n(1, 2), (3, 4), 0, 0, 0\n");
+        assert_eq!(line, 3);
+        assert_eq!(msg, "the file declares 3 lines but ends after 2");
+    }
+
+    #[test]
+    fn too_many_rows() {
+        let (line, msg) = err("1\n(1, 2), (3, 4), 0, 0, 0\n(5, 6), (7, 8), 0, 0, 0\n");
+        assert_eq!(line, 3);
+        assert!(msg.contains("declares 1 lines but has more rows"), "{msg}");
+        assert_eq!(err("1\n(1, 2), (3, 4), 0, 0, 0 junk\n").0, 2);
+    }
+
+    #[test]
+    fn malformed_rows_say_what_was_expected() {
+        let (line, msg) = err("1\n(1, 2) (3, 4), 0, 0, 0\n");
+        assert_eq!(line, 2);
+        assert_eq!(msg, "row 1: expected `,` after the first point, found `(`");
+        let (_, msg) = err("1\n(1, 2), (3, 4), 0, 0\n");
+        assert_eq!(
+            msg,
+            "row 1: expected `,` after vy, found the end of the file"
+        );
+        let (_, msg) = err("1\n(1, x), (3, 4), 0, 0, 0\n");
+        assert_eq!(msg, "row 1: expected y1, found `x`");
+        let (_, msg) = err("2\n(1, 2), (3, 4), 0, 0, 0\n1, 2), (3, 4), 0, 0, 0\n");
+        assert_eq!(
+            msg,
+            "row 2: expected `(` opening the first point, found `1`"
+        );
+        let (line, msg) = err("1\n(1, 2), (3, 4),\n 0, 0.0.0, 0\n");
+        assert_eq!(line, 3);
+        assert_eq!(msg, "row 1: expected the velocity vy, found `0.0.0`");
+    }
+
+    #[test]
+    fn non_finite_values_are_refused() {
+        let (line, msg) = err("1\n(1, 2), (inf, 4), 0, 0, 0\n");
+        assert_eq!(line, 2);
+        assert_eq!(msg, "row 1: x2 must be a finite number, found `inf`");
+        assert!(err("1\n(1, 2), (3, 4), NaN, 0, 0\n")
+            .1
+            .contains("vx must be a finite"));
+        assert!(err("1\n(1, 1e999), (3, 4), 0, 0, 0\n")
+            .1
+            .contains("y1 must be a finite"));
+    }
+
+    #[test]
+    fn bad_colours_are_refused() {
+        let (_, msg) = err("1\n(1, 2), (3, 4), 0, 0, 2\n");
+        assert_eq!(msg, "row 1: colour must be 0 (red) or 1 (gray), found `2`");
+        assert!(err("1\n(1, 2), (3, 4), 0, 0, 0.5\n")
+            .1
+            .contains("found `0.5`"));
+        assert!(err("1\n(1, 2), (3, 4), 0, 0, red\n")
+            .1
+            .contains("found `red`"));
+    }
+
+    #[test]
+    fn binary_garbage_is_an_error_not_a_panic() {
+        let e = Scene::parse(&[0xff, 0xfe, b'\n', 0x00], "bin.in").unwrap_err();
+        assert_eq!(e.line, 1);
+        assert!(matches!(e.kind, ParseErrorKind::BadCount { .. }));
+    }
+
+    #[test]
+    fn huge_declared_counts_do_not_allocate_up_front() {
+        let (_, msg) = err("18446744073709551615\n(1, 2), (3, 4), 0, 0, 0\n");
+        assert!(msg.contains("ends after 1"), "{msg}");
+    }
+
+    #[test]
+    fn long_tokens_are_shortened_in_messages() {
+        let long = "9".repeat(100) + "x";
+        let (_, msg) = err(&format!("{long}\n"));
+        assert!(msg.contains("...") && msg.len() < 150, "{msg}");
+    }
+
+    #[test]
+    fn written_scenes_read_back_identically() {
+        let text = "2\n(0.1, 1e-7), (1179.999999999, 800), -0.19221, 0.1, 1\n\
+                    (3, 3), (3, 3), 123456.75, -0.000001, 0\n";
+        let scene = parse(text).unwrap();
+        let again = parse(&scene.to_text()).unwrap();
+        assert_eq!(scene, again);
+    }
+
+    #[test]
+    fn missing_files_name_the_path() {
+        let e = Scene::load(Path::new("/nonexistent/dir/x.in")).unwrap_err();
+        let msg = e.to_string();
+        assert!(
+            msg.starts_with("/nonexistent/dir/x.in: cannot read the file"),
+            "{msg}"
+        );
+    }
+}

@@ -1,0 +1,316 @@
+//! The world: every line, the two collision counters, and one step of the
+//! simulation (detect, resolve, move, walls).
+
+use crate::detect::{Detector, DetectorKind, DetectorStats};
+use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_MAX, BOX_MIN, DT};
+use crate::narrow::Event;
+use crate::response::resolve;
+use crate::scene::Scene;
+use std::time::{Duration, Instant};
+
+/// Cumulative collision counts, as the original program printed them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Steps in which a line bounced off at least one wall, summed over lines.
+    pub wall: u64,
+    /// Line-line events found, including those between lines already overlapping.
+    pub line: u64,
+}
+
+/// Time spent in each phase of the step, summed over steps (only measured
+/// when [`World::set_timing`] is on).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PhaseTimes {
+    /// Finding events.
+    pub detect: Duration,
+    /// Sorting and applying responses.
+    pub resolve: Duration,
+    /// Moving lines.
+    pub advance: Duration,
+    /// Bouncing off walls.
+    pub walls: Duration,
+}
+
+/// The simulated world. Line ids are indices into [`World::lines`].
+pub struct World {
+    lines: Vec<Line>,
+    colors: Vec<Color>,
+    counters: Counters,
+    steps: u64,
+    detector: Box<dyn Detector>,
+    events: Vec<Event>,
+    timing: Option<PhaseTimes>,
+}
+
+impl World {
+    /// A world holding `lines` (in box coordinates, ids by position) that
+    /// finds collisions with `detector`.
+    ///
+    /// # Panics
+    /// If `lines` and `colors` differ in length, or there are more lines
+    /// than `u32` ids.
+    pub fn new(lines: Vec<Line>, colors: Vec<Color>, detector: Box<dyn Detector>) -> Self {
+        assert_eq!(lines.len(), colors.len(), "one colour per line");
+        assert!(
+            u32::try_from(lines.len()).is_ok(),
+            "too many lines for u32 ids"
+        );
+        Self {
+            lines,
+            colors,
+            counters: Counters::default(),
+            steps: 0,
+            detector,
+            events: Vec::new(),
+            timing: None,
+        }
+    }
+
+    /// A world built from a scene (window coordinates converted to box
+    /// coordinates exactly as the reference did).
+    pub fn from_scene(scene: &Scene, detector: Box<dyn Detector>) -> Self {
+        let lines = scene
+            .lines
+            .iter()
+            .map(|l| Line {
+                p1: window_to_box_point(l.p1),
+                p2: window_to_box_point(l.p2),
+                v: window_to_box_velocity(l.v),
+            })
+            .collect();
+        let colors = scene.lines.iter().map(|l| l.color).collect();
+        Self::new(lines, colors, detector)
+    }
+
+    /// Convenience: a world from a scene with a detector chosen by kind.
+    pub fn with_detector(scene: &Scene, kind: DetectorKind) -> Self {
+        Self::from_scene(scene, kind.build())
+    }
+
+    /// The lines, indexed by id.
+    pub fn lines(&self) -> &[Line] {
+        &self.lines
+    }
+
+    /// The colour of each line, indexed by id.
+    pub fn colors(&self) -> &[Color] {
+        &self.colors
+    }
+
+    /// The collision counters so far.
+    pub fn counters(&self) -> Counters {
+        self.counters
+    }
+
+    /// Steps run so far.
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    /// The detector in use.
+    pub fn detector(&self) -> &dyn Detector {
+        self.detector.as_ref()
+    }
+
+    /// The detector's own counters.
+    pub fn detector_stats(&self) -> DetectorStats {
+        self.detector.stats()
+    }
+
+    /// Events of the last step, sorted in the order they were resolved.
+    pub fn last_events(&self) -> &[Event] {
+        &self.events
+    }
+
+    /// Turns per-phase timing on or off (off by default: it costs a few
+    /// clock reads per step).
+    pub fn set_timing(&mut self, on: bool) {
+        self.timing = if on {
+            Some(PhaseTimes::default())
+        } else {
+            None
+        };
+    }
+
+    /// Per-phase times so far, if timing is on.
+    pub fn phase_times(&self) -> Option<PhaseTimes> {
+        self.timing
+    }
+
+    /// Runs one step: detect, resolve in `(first, second)` order, move, walls.
+    pub fn step(&mut self) {
+        let t0 = self.timing.map(|_| Instant::now());
+
+        self.events.clear();
+        self.detector.detect(&self.lines, DT, &mut self.events);
+        self.counters.line += self.events.len() as u64;
+        let t1 = self.lap(t0, |t, d| t.detect += d);
+
+        // Pairs are unique, so an unstable sort gives the one sorted order.
+        self.events.sort_unstable_by_key(Event::order_key);
+        for event in &self.events {
+            resolve(&mut self.lines, event);
+        }
+        let t2 = self.lap(t1, |t, d| t.resolve += d);
+
+        for line in &mut self.lines {
+            line.p1 = line.p1 + line.v * DT;
+            line.p2 = line.p2 + line.v * DT;
+        }
+        let t3 = self.lap(t2, |t, d| t.advance += d);
+
+        let mut hits = 0;
+        for line in &mut self.lines {
+            hits += u64::from(bounce_off_walls(line));
+        }
+        self.counters.wall += hits;
+        self.lap(t3, |t, d| t.walls += d);
+
+        self.steps += 1;
+    }
+
+    /// The whole state in the reference's checkpoint format: one row per
+    /// line, `id p1.x p1.y p2.x p2.y v.x v.y`, each value the shortest
+    /// decimal that reads back to the same `f64`.
+    pub fn state_text(&self) -> String {
+        use std::fmt::Write as _;
+        let mut out = String::with_capacity(self.lines.len() * 120);
+        for (id, l) in self.lines.iter().enumerate() {
+            writeln!(
+                out,
+                "{id} {:?} {:?} {:?} {:?} {:?} {:?}",
+                l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y
+            )
+            .expect("writing to a String");
+        }
+        out
+    }
+
+    /// Runs `n` steps.
+    pub fn run(&mut self, n: u64) {
+        for _ in 0..n {
+            self.step();
+        }
+    }
+
+    fn lap(
+        &mut self,
+        since: Option<Instant>,
+        add: impl FnOnce(&mut PhaseTimes, Duration),
+    ) -> Option<Instant> {
+        let (times, since) = (self.timing.as_mut()?, since?);
+        let now = Instant::now();
+        add(times, now - since);
+        Some(now)
+    }
+}
+
+/// The wall phase for one line: reverses the velocity components that carry
+/// it further out of the box. Returns whether any wall was hit.
+#[inline]
+pub fn bounce_off_walls(line: &mut Line) -> bool {
+    let mut hit = false;
+    if (line.p1.x > BOX_MAX || line.p2.x > BOX_MAX) && line.v.x > 0.0 {
+        line.v.x = -line.v.x;
+        hit = true;
+    }
+    if (line.p1.x < BOX_MIN || line.p2.x < BOX_MIN) && line.v.x < 0.0 {
+        line.v.x = -line.v.x;
+        hit = true;
+    }
+    if (line.p1.y > BOX_MAX || line.p2.y > BOX_MAX) && line.v.y > 0.0 {
+        line.v.y = -line.v.y;
+        hit = true;
+    }
+    if (line.p1.y < BOX_MIN || line.p2.y < BOX_MIN) && line.v.y < 0.0 {
+        line.v.y = -line.v.y;
+        hit = true;
+    }
+    hit
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::detect::Brute;
+    use crate::geometry::Vec2;
+
+    fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> Line {
+        Line {
+            p1: Vec2::new(p1.0, p1.1),
+            p2: Vec2::new(p2.0, p2.1),
+            v: Vec2::new(v.0, v.1),
+        }
+    }
+
+    fn world(lines: Vec<Line>) -> World {
+        let colors = vec![Color::Red; lines.len()];
+        World::new(lines, colors, Box::new(Brute::default()))
+    }
+
+    #[test]
+    fn a_free_line_moves_by_v_dt() {
+        let mut w = world(vec![line((0.6, 0.6), (0.7, 0.6), (0.01, -0.02))]);
+        w.step();
+        let l = w.lines()[0];
+        assert_eq!(l.p1, Vec2::new(0.6 + 0.01 * 0.5, 0.6 + -0.02 * 0.5));
+        assert_eq!(w.counters(), Counters::default());
+        assert_eq!(w.steps(), 1);
+    }
+
+    #[test]
+    fn a_corner_hit_counts_once_and_reverses_both_components() {
+        let mut l = line((0.99, 0.99), (1.01, 1.02), (0.1, 0.1));
+        assert!(bounce_off_walls(&mut l));
+        assert_eq!(l.v, Vec2::new(-0.1, -0.1));
+        // Already heading back in: no hit.
+        assert!(!bounce_off_walls(&mut l));
+    }
+
+    #[test]
+    fn walls_are_checked_after_moving() {
+        let mut w = world(vec![line((0.9, 0.7), (0.99, 0.7), (0.04, 0.0))]);
+        w.step();
+        assert_eq!(w.counters().wall, 1);
+        assert_eq!(w.lines()[0].v.x, -0.04);
+    }
+
+    #[test]
+    fn nan_lines_never_hit_walls() {
+        let mut l = line(
+            (f64::NAN, f64::NAN),
+            (f64::NAN, f64::NAN),
+            (f64::NAN, f64::NAN),
+        );
+        assert!(!bounce_off_walls(&mut l));
+    }
+
+    #[test]
+    fn events_are_counted_and_resolved_in_id_order() {
+        // Two lines about to meet head on, and a third far away.
+        let mut w = world(vec![
+            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
+            line((0.9, 0.9), (0.91, 0.9), (0.0, 0.0)),
+            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
+        ]);
+        w.step();
+        assert_eq!(w.counters().line, 1);
+        assert_eq!(w.last_events().len(), 1);
+        assert_eq!(
+            (w.last_events()[0].first, w.last_events()[0].second),
+            (0, 2)
+        );
+        assert_eq!(w.lines()[0].v.x, -0.01);
+        assert_eq!(w.lines()[2].v.x, 0.01);
+    }
+
+    #[test]
+    fn timing_adds_up_when_on() {
+        let mut w = world(vec![line((0.6, 0.6), (0.7, 0.6), (0.01, 0.0))]);
+        assert!(w.phase_times().is_none());
+        w.set_timing(true);
+        w.run(3);
+        assert!(w.phase_times().is_some());
+        assert_eq!(w.steps(), 3);
+    }
+}
