@@ -1,0 +1,177 @@
+//! The command line: the results block, JSON, and errors on bad input.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn screensaver(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(args)
+        .output()
+        .expect("running the screensaver binary")
+}
+
+fn text(bytes: &[u8]) -> String {
+    String::from_utf8_lossy(bytes).into_owned()
+}
+
+fn temp_file(name: &str, contents: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, contents).unwrap();
+    path
+}
+
+const TWO_LINES: &str =
+    "2\n(600, 400), (600, 420), 1, 0, 0\n(602.5, 400), (602.5, 420), -1, 0, 1\n";
+
+#[test]
+fn prints_the_original_results_block() {
+    let path = temp_file("two.in", TWO_LINES);
+    let out = screensaver(&["3", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let rows: Vec<&str> = stdout.lines().collect();
+    assert_eq!(rows.len(), 7, "{stdout}");
+    assert_eq!(rows[0], "Number of frames = 3");
+    assert_eq!(rows[1], format!("Input file path is: {}", path.display()));
+    assert_eq!(rows[2], "---- RESULTS ----");
+    let time = rows[3].strip_prefix("Elapsed execution time: ").unwrap();
+    let secs = time.strip_suffix('s').unwrap();
+    assert_eq!(secs.split('.').nth(1).map(str::len), Some(6), "{time}");
+    assert!(secs.parse::<f64>().is_ok());
+    // Two lines 2.5 px apart closing at 1 px per step meet
+    // within the four steps that three frames run, exactly once.
+    assert_eq!(rows[4], "0 Line-Wall Collisions");
+    assert_eq!(rows[5], "1 Line-Line Collisions");
+    assert_eq!(rows[6], "---- END RESULTS ----");
+}
+
+#[test]
+fn json_gives_the_same_results() {
+    let path = temp_file("two-json.in", TWO_LINES);
+    let out = screensaver(&["3", path.to_str().unwrap(), "--json", "--detector", "brute"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["frames"], 3);
+    assert_eq!(v["steps"], 4);
+    assert_eq!(v["lines"], 2);
+    assert_eq!(v["detector"], "brute");
+    assert_eq!(v["line_wall_collisions"], 0);
+    assert_eq!(v["line_line_collisions"], 1);
+    assert_eq!(v["input"], path.to_str().unwrap());
+    assert!(v["elapsed_seconds"].as_f64().unwrap() >= 0.0);
+}
+
+#[test]
+fn runs_the_built_in_scene_without_input() {
+    let out = screensaver(&["2", "--json"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["lines"], 1000);
+    assert!(v["input"].is_null());
+    let out = screensaver(&["0"]);
+    let stdout = text(&out.stdout);
+    assert!(
+        stdout.contains("Input file path is: (none: built-in scene"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn writes_the_final_state() {
+    let path = temp_file("two-state.in", TWO_LINES);
+    let state = path.with_extension("state");
+    let out = screensaver(&[
+        "0",
+        path.to_str().unwrap(),
+        "--state-out",
+        state.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let written = std::fs::read_to_string(&state).unwrap();
+    let rows: Vec<&str> = written.lines().collect();
+    assert_eq!(rows.len(), 2);
+    assert!(rows[0].starts_with("0 0.75"), "{written}");
+    assert_eq!(rows[1].split(' ').count(), 7);
+}
+
+fn assert_input_error(contents: &str, expected: &str) {
+    let path = temp_file("bad.in", contents);
+    let out = screensaver(&["10", path.to_str().unwrap()]);
+    assert!(!out.status.success());
+    assert!(
+        out.stdout.is_empty(),
+        "partial output: {}",
+        text(&out.stdout)
+    );
+    let stderr = text(&out.stderr);
+    let wanted = format!("screensaver: error: {}:{expected}", path.display());
+    assert!(stderr.starts_with(&wanted), "{stderr}\nwanted: {wanted}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
+#[test]
+fn bad_inputs_name_the_file_line_and_problem() {
+    assert_input_error("", "1: the file is empty");
+    assert_input_error("abc\n", "1: expected the number of lines");
+    assert_input_error(
+        "2\n(1, 2), (3, 4), 0, 0, 0\n",
+        "2: the file declares 2 lines but ends after 1",
+    );
+    assert_input_error(
+        "1\n(1, 2), (3, 4), 0, 0, 0\n(1, 2), (3, 4), 0, 0, 0\n",
+        "3: the file declares 1 lines but has more rows",
+    );
+    assert_input_error(
+        "1\n(1, 2), (3, 4), 0, 0\n",
+        "2: row 1: expected `,` after vy",
+    );
+    assert_input_error(
+        "1\n(1, 2), (3, nan), 0, 0, 0\n",
+        "2: row 1: y2 must be a finite number",
+    );
+    assert_input_error(
+        "1\n(1, 2), (3, 4), 0, 0, 7\n",
+        "2: row 1: colour must be 0 (red) or 1 (gray)",
+    );
+}
+
+#[test]
+fn missing_file_is_an_error() {
+    let out = screensaver(&["10", "/nonexistent/scene.in"]);
+    assert!(!out.status.success());
+    assert!(out.stdout.is_empty());
+    assert!(text(&out.stderr).contains("/nonexistent/scene.in: cannot read the file"));
+}
+
+#[test]
+fn bad_arguments_are_usage_errors() {
+    let out = screensaver(&["lots"]);
+    assert_eq!(out.status.code(), Some(2));
+    let out = screensaver(&["10", "--detector", "magic"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("unknown detector `magic`"));
+    let out = screensaver(&[]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+#[test]
+fn help_and_version() {
+    let out = screensaver(&["--help"]);
+    assert!(out.status.success());
+    let help = text(&out.stdout);
+    assert!(
+        help.contains("--detector") && help.contains("FRAMES"),
+        "{help}"
+    );
+    let out = screensaver(&["--version"]);
+    assert!(text(&out.stdout).starts_with("screensaver "));
+}
+
+#[test]
+fn no_progress_bar_in_pipes() {
+    // stderr is a pipe here: nothing may be drawn on it.
+    let out = screensaver(&["1", "--json"]);
+    assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
+}
