@@ -25,9 +25,9 @@ pub mod response;
 pub mod scene;
 pub mod world;
 
-pub use detect::{Detector, DetectorKind, DetectorStats};
+pub use detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
 pub use line::{Color, Line};
 pub use narrow::{intersect, Event, IntersectionKind};
 pub use scene::{Scene, SceneLine};
-pub use world::{Counters, World};
+pub use world::{Counters, Mismatch, World};

@@ -3,8 +3,9 @@
 
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use screensaver::detect::{Brute, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{default_scene, DEFAULT_LINES, DEFAULT_SEED};
-use screensaver::{DetectorKind, Scene, World};
+use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -24,9 +25,28 @@ struct Cli {
     /// Scene file to run; without it, a built-in scene of 1000 lines.
     input: Option<PathBuf>,
 
-    /// Collision detector to use.
-    #[arg(long, default_value = "brute", value_parser = parse_detector)]
+    /// Collision detector: `quadtree` (fast) or `brute` (all pairs, the
+    /// original algorithm).
+    #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = parse_detector)]
     detector: DetectorKind,
+
+    /// Quadtree: most lines a leaf holds before it splits.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_LEAF_SIZE, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    leaf_size: usize,
+
+    /// Quadtree: deepest level a node may split at.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH)]
+    max_depth: u32,
+
+    /// Run the all-pairs detector beside the chosen one at every step and
+    /// stop at the first step whose events differ, printing both lists.
+    #[arg(long)]
+    verify: bool,
+
+    /// After the results, print the detector's work (pairs, exact tests,
+    /// events, tree nodes and depth) and the time spent in each phase.
+    #[arg(long)]
+    stats: bool,
 
     /// Print the results as one JSON object instead of the text block.
     #[arg(long)]
@@ -63,7 +83,12 @@ fn run(cli: &Cli) -> Result<(), String> {
             format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})"),
         ),
     };
-    let mut world = World::with_detector(&scene, cli.detector);
+    let config = DetectorConfig {
+        leaf_size: cli.leaf_size,
+        max_depth: cli.max_depth,
+    };
+    let mut world = World::from_scene(&scene, cli.detector.build_with(&config));
+    world.set_timing(cli.stats);
     let steps = cli.frames.saturating_add(1);
 
     let mut stdout = std::io::stdout().lock();
@@ -75,7 +100,7 @@ fn run(cli: &Cli) -> Result<(), String> {
         write_out(&mut stdout, &header)?;
     }
 
-    let elapsed = simulate(&mut world, steps);
+    let elapsed = simulate(&mut world, steps, cli.verify)?;
     let counts = world.counters();
 
     if let Some(path) = &cli.state_out {
@@ -84,7 +109,7 @@ fn run(cli: &Cli) -> Result<(), String> {
     }
 
     let report = if cli.json {
-        let value = serde_json::json!({
+        let mut value = serde_json::json!({
             "frames": cli.frames,
             "steps": steps,
             "input": cli.input.as_ref().map(|p| p.display().to_string()),
@@ -94,26 +119,113 @@ fn run(cli: &Cli) -> Result<(), String> {
             "line_wall_collisions": counts.wall,
             "line_line_collisions": counts.line,
         });
+        if cli.stats {
+            value["stats"] = stats_json(&world, &config, cli.detector);
+        }
         format!("{value}\n")
     } else {
-        format!(
+        let mut text = format!(
             "---- RESULTS ----\nElapsed execution time: {:.6}s\n{} Line-Wall Collisions\n{} Line-Line Collisions\n---- END RESULTS ----\n",
             elapsed.as_secs_f64(),
             counts.wall,
             counts.line
-        )
+        );
+        if cli.stats {
+            text.push_str(&stats_text(&world, &config, cli.detector));
+        }
+        text
     };
     write_out(&mut stdout, &report)
 }
 
+fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> serde_json::Value {
+    let s = world.detector_stats();
+    let t = world.phase_times().unwrap_or_default();
+    serde_json::json!({
+        "detector": kind.name(),
+        "leaf_size": config.leaf_size,
+        "max_depth": config.max_depth,
+        "candidate_pairs": s.candidate_pairs,
+        "exact_tests": s.exact_tests,
+        "events": s.events,
+        "tree_nodes": s.nodes,
+        "tree_depth": s.max_depth,
+        "seconds": {
+            "detect": t.detect.as_secs_f64(),
+            "resolve": t.resolve.as_secs_f64(),
+            "move": t.advance.as_secs_f64(),
+            "walls": t.walls.as_secs_f64(),
+        },
+    })
+}
+
+fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> String {
+    let s = world.detector_stats();
+    let t = world.phase_times().unwrap_or_default();
+    let steps = world.steps().max(1) as f64;
+    let per_step = |n: u64| n as f64 / steps;
+    let total = (t.detect + t.resolve + t.advance + t.walls)
+        .as_secs_f64()
+        .max(1e-12);
+    let phase = |name: &str, d: Duration| {
+        format!(
+            "  {name:<8}{:>12.6}s {:>6.1}%  {:>10.2} us/step\n",
+            d.as_secs_f64(),
+            100.0 * d.as_secs_f64() / total,
+            d.as_secs_f64() * 1e6 / steps
+        )
+    };
+    let tuning = match kind {
+        DetectorKind::Quadtree => format!(
+            " (leaf size {}, max depth {})",
+            config.leaf_size, config.max_depth
+        ),
+        DetectorKind::Brute => String::new(),
+    };
+    let mut out = format!(
+        "---- STATS ----\ndetector: {}{tuning}\nlines: {}, steps: {}\n",
+        kind.name(),
+        world.lines().len(),
+        world.steps()
+    );
+    out += &format!("{:<18}{:>16}{:>16}\n", "", "total", "per step");
+    for (name, n) in [
+        ("candidate pairs", s.candidate_pairs),
+        ("exact tests", s.exact_tests),
+        ("events", s.events),
+        ("tree nodes", s.nodes),
+    ] {
+        out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
+    }
+    out += &format!("tree depth (max)  {:>16}\n", s.max_depth);
+    out += "time per phase:\n";
+    out += &phase("detect", t.detect);
+    out += &phase("resolve", t.resolve);
+    out += &phase("move", t.advance);
+    out += &phase("walls", t.walls);
+    out += "---- END STATS ----\n";
+    out
+}
+
 /// Runs `steps` steps and returns the time the loop took. A progress bar
 /// appears on stderr once a run has taken a second, if stderr is a terminal.
-fn simulate(world: &mut World, steps: u64) -> Duration {
+/// With `verify`, every step is checked against the all-pairs detector.
+fn simulate(world: &mut World, steps: u64, verify: bool) -> Result<Duration, String> {
     let show_progress = std::io::stderr().is_terminal();
+    let mut oracle = Brute::default();
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
     for done in 0..steps {
-        world.step();
+        if verify {
+            if let Err(mismatch) = world.step_verified(&mut oracle) {
+                if let Some(bar) = &bar {
+                    bar.abandon();
+                }
+                return Err(format!("--verify: {mismatch}"));
+            }
+        } else {
+            world.step();
+        }
         if show_progress {
             match &bar {
                 Some(bar) => bar.set_position(done + 1),
@@ -137,7 +249,7 @@ fn simulate(world: &mut World, steps: u64) -> Duration {
     if let Some(bar) = bar {
         bar.finish_and_clear();
     }
-    elapsed
+    Ok(elapsed)
 }
 
 fn write_out(out: &mut impl Write, text: &str) -> Result<(), String> {

@@ -88,6 +88,32 @@ pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
     Some(IntersectionKind::L1WithL2)
 }
 
+/// A cheap, conservative test for [`intersect`]: returns `false` only when
+/// `intersect(l1, l2, dt)` is certainly `None`.
+///
+/// Any event needs `l1`'s segment to touch the parallelogram that `l2`
+/// sweeps relative to `l1`. This projects both onto the normal of `l1`: the
+/// segment lands on one value, the parallelogram on an interval, and if the
+/// interval lies wholly on one side the two cannot touch. `magnitude` must
+/// bound the absolute value of every coordinate of both lines, now and one
+/// step ahead; the margin it buys (`1e-8` of it, against rounding errors near
+/// `1e-15` of it) keeps the test conservative for the floating-point
+/// predicates of `intersect` too.
+#[inline]
+pub fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
+    let nx = l1.p1.y - l1.p2.y;
+    let ny = l1.p2.x - l1.p1.x;
+    let c = nx * l1.p1.x + ny * l1.p1.y;
+    let a = nx * l2.p1.x + ny * l2.p1.y - c;
+    let b = nx * l2.p2.x + ny * l2.p2.y - c;
+    let w = (nx * (l2.v.x - l1.v.x) + ny * (l2.v.y - l1.v.y)) * dt;
+    let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude;
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
+    // Written so that NaN anywhere keeps the pair (a NaN comparison is false).
+    !(lo > margin || hi < -margin)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -182,6 +208,23 @@ mod tests {
             intersect(&a, &b, 0.5),
             Some(IntersectionKind::AlreadyIntersected)
         );
+    }
+
+    #[test]
+    fn the_prefilter_culls_parallel_neighbours_and_keeps_real_events() {
+        let a = line((0.0, 0.0), (1.0, 1.0), (0.1, 0.0));
+        let near = line((0.02, 0.0), (1.02, 1.0), (0.1, 0.0));
+        assert_eq!(intersect(&a, &near, 0.5), None);
+        assert!(!may_intersect(&a, &near, 0.5, 2.0));
+        let b = line((1.5, 1.0), (2.5, 1.0), (0.0, -4.0));
+        let c = line((0.0, 0.0), (4.0, 0.0), (0.0, 0.0));
+        assert!(intersect(&c, &b, 0.5).is_some());
+        assert!(may_intersect(&c, &b, 0.5, 4.0));
+        // Zero-length and NaN lines are never culled.
+        let dot = line((3.0, 3.0), (3.0, 3.0), (0.0, 0.0));
+        assert!(may_intersect(&dot, &a, 0.5, 3.0));
+        let nan = line((f64::NAN, 0.0), (1.0, 1.0), (0.0, 0.0));
+        assert!(may_intersect(&nan, &a, 0.5, 3.0));
     }
 
     #[test]

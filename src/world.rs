@@ -31,6 +31,54 @@ pub struct PhaseTimes {
     pub walls: Duration,
 }
 
+/// The first step at which a detector's events differed from the oracle's.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Mismatch {
+    /// The step (counting from 1) whose detection differed.
+    pub step: u64,
+    /// The oracle's events, sorted.
+    pub expected: Vec<Event>,
+    /// The detector's events, sorted.
+    pub found: Vec<Event>,
+}
+
+impl std::fmt::Display for Mismatch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let show = |e: &Event| format!("({}, {}, {:?})", e.first, e.second, e.kind);
+        writeln!(f, "events differ at step {}", self.step)?;
+        let missing: Vec<_> = self
+            .expected
+            .iter()
+            .filter(|e| !self.found.contains(e))
+            .map(show)
+            .collect();
+        let extra: Vec<_> = self
+            .found
+            .iter()
+            .filter(|e| !self.expected.contains(e))
+            .map(show)
+            .collect();
+        writeln!(
+            f,
+            "  missing (found by the oracle only): {}",
+            missing.join(" ")
+        )?;
+        writeln!(
+            f,
+            "  extra (found by the detector only): {}",
+            extra.join(" ")
+        )?;
+        let all = |events: &[Event]| events.iter().map(show).collect::<Vec<_>>().join(" ");
+        writeln!(
+            f,
+            "  oracle ({}): {}",
+            self.expected.len(),
+            all(&self.expected)
+        )?;
+        write!(f, "  detector ({}): {}", self.found.len(), all(&self.found))
+    }
+}
+
 /// The simulated world. Line ids are indices into [`World::lines`].
 pub struct World {
     lines: Vec<Line>,
@@ -186,6 +234,26 @@ impl World {
         out
     }
 
+    /// Runs one step, first running `oracle` on the same state; if the two
+    /// detectors' events differ, returns them without stepping.
+    pub fn step_verified(&mut self, oracle: &mut dyn Detector) -> Result<(), Mismatch> {
+        let mut expected = Vec::new();
+        oracle.detect(&self.lines, DT, &mut expected);
+        expected.sort_unstable_by_key(Event::order_key);
+        let mut found = Vec::new();
+        self.detector.detect(&self.lines, DT, &mut found);
+        found.sort_unstable_by_key(Event::order_key);
+        if expected != found {
+            return Err(Mismatch {
+                step: self.steps + 1,
+                expected,
+                found,
+            });
+        }
+        self.step();
+        Ok(())
+    }
+
     /// Runs `n` steps.
     pub fn run(&mut self, n: u64) {
         for _ in 0..n {
@@ -302,6 +370,50 @@ mod tests {
         );
         assert_eq!(w.lines()[0].v.x, -0.01);
         assert_eq!(w.lines()[2].v.x, 0.01);
+    }
+
+    #[test]
+    fn verified_steps_agree_with_the_oracle() {
+        let mut w = world(vec![
+            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
+            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
+        ]);
+        let mut oracle = Brute::default();
+        w.step_verified(&mut oracle).unwrap();
+        assert_eq!(w.counters().line, 1);
+        assert_eq!(w.steps(), 1);
+    }
+
+    /// A detector that never finds anything, to see a mismatch reported.
+    struct Blind;
+    impl Detector for Blind {
+        fn name(&self) -> &'static str {
+            "blind"
+        }
+        fn detect(&mut self, _: &[Line], _: f64, _: &mut Vec<Event>) {}
+        fn stats(&self) -> DetectorStats {
+            DetectorStats::default()
+        }
+    }
+
+    #[test]
+    fn a_wrong_detector_is_caught_with_both_event_lists() {
+        let lines = vec![
+            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
+            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
+        ];
+        let mut w = World::new(lines, vec![Color::Red; 2], Box::new(Blind));
+        let mismatch = w.step_verified(&mut Brute::default()).unwrap_err();
+        assert_eq!(mismatch.step, 1);
+        assert_eq!(mismatch.expected.len(), 1);
+        assert!(mismatch.found.is_empty());
+        let text = mismatch.to_string();
+        assert!(
+            text.contains("events differ at step 1")
+                && text.contains("missing (found by the oracle only): (0, 1, L2WithL1)"),
+            "{text}"
+        );
+        assert_eq!(w.steps(), 0);
     }
 
     #[test]

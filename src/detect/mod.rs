@@ -7,8 +7,11 @@
 //! all-pairs [`Brute`] detector is the oracle the others are tested against.
 
 mod brute;
+mod quadtree;
+pub mod swept;
 
 pub use brute::Brute;
+pub use quadtree::{Quadtree, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 
 use crate::line::Line;
 use crate::narrow::Event;
@@ -49,23 +52,53 @@ pub trait Detector: Send {
 pub enum DetectorKind {
     /// Every pair, every step: the reference behaviour and the test oracle.
     Brute,
+    /// The write-up's quadtree with misfit lists, rebuilt each step.
+    Quadtree,
+}
+
+/// Tuning shared by the detectors (each uses what applies to it).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DetectorConfig {
+    /// Most lines a tree leaf holds before it splits.
+    pub leaf_size: usize,
+    /// Deepest level a tree node may split at.
+    pub max_depth: u32,
+}
+
+impl Default for DetectorConfig {
+    fn default() -> Self {
+        Self {
+            leaf_size: DEFAULT_LEAF_SIZE,
+            max_depth: DEFAULT_MAX_DEPTH,
+        }
+    }
 }
 
 impl DetectorKind {
     /// Every detector, in the order they are listed to users.
-    pub const ALL: &'static [DetectorKind] = &[DetectorKind::Brute];
+    pub const ALL: &'static [DetectorKind] = &[DetectorKind::Brute, DetectorKind::Quadtree];
+
+    /// The detector used when none is named.
+    pub const DEFAULT: DetectorKind = DetectorKind::Quadtree;
 
     /// The name used on the command line.
     pub fn name(self) -> &'static str {
         match self {
             DetectorKind::Brute => "brute",
+            DetectorKind::Quadtree => "quadtree",
         }
     }
 
-    /// A fresh detector of this kind.
+    /// A fresh detector of this kind with default tuning.
     pub fn build(self) -> Box<dyn Detector> {
+        self.build_with(&DetectorConfig::default())
+    }
+
+    /// A fresh detector of this kind with the given tuning.
+    pub fn build_with(self, config: &DetectorConfig) -> Box<dyn Detector> {
         match self {
             DetectorKind::Brute => Box::new(Brute::default()),
+            DetectorKind::Quadtree => Box::new(Quadtree::new(config.leaf_size, config.max_depth)),
         }
     }
 }
