@@ -227,6 +227,28 @@ mod tests {
         assert!(may_intersect(&nan, &a, 0.5, 3.0));
     }
 
+    fn near_line() -> impl proptest::strategy::Strategy<Value = Line> {
+        use proptest::prelude::*;
+        let c = prop_oneof![
+            0.0f64..0.1,
+            proptest::sample::select(vec![0.0, 0.025, 0.05, 0.1])
+        ];
+        let v = prop_oneof![-0.1f64..0.1, Just(0.0)];
+        (c.clone(), c.clone(), c.clone(), c, v.clone(), v)
+            .prop_map(|(a, b, c, d, vx, vy)| line((0.7 + a, 0.7 + b), (0.7 + c, 0.7 + d), (vx, vy)))
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(4096))]
+        /// The prefilter never drops a pair that has an event.
+        #[test]
+        fn the_prefilter_is_conservative(l1 in near_line(), l2 in near_line()) {
+            if intersect(&l1, &l2, 0.5).is_some() {
+                proptest::prop_assert!(may_intersect(&l1, &l2, 0.5, 1.0));
+            }
+        }
+    }
+
     #[test]
     fn event_order_key_sorts_by_first_then_second() {
         let e = |first, second| Event {

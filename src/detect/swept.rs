@@ -252,7 +252,7 @@ mod tests {
         assert!(item.min_x <= 0.6 && item.max_x >= 0.85);
         assert!(item.min_y <= 0.55 && item.max_y >= 0.7);
         assert!((item.max_x - 0.85).abs() < 1e-5);
-        assert_eq!(m, 0.85);
+        assert_eq!(m, 0.8 + 0.1 * 0.5);
     }
 
     #[test]
@@ -288,6 +288,23 @@ mod tests {
         );
         assert_eq!(boxes.wild, vec![1, 3]);
         assert_eq!(boxes.magnitude.len(), 4);
+    }
+
+    proptest::proptest! {
+        /// The f32 box strictly contains the segment now and one step ahead,
+        /// whatever the rounding of the conversion.
+        #[test]
+        fn boxes_strictly_contain_their_points(
+            x1 in -3.0f64..3.0, y1 in -3.0f64..3.0, x2 in -3.0f64..3.0, y2 in -3.0f64..3.0,
+            vx in -1.0f64..1.0, vy in -1.0f64..1.0, scale in proptest::sample::select(vec![1e-9, 1.0, 1e5]),
+        ) {
+            let l = line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
+            let item = swept_item(&l, 0.5, 0).0.unwrap();
+            for p in [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5] {
+                proptest::prop_assert!(f64::from(item.min_x) < p.x && p.x < f64::from(item.max_x));
+                proptest::prop_assert!(f64::from(item.min_y) < p.y && p.y < f64::from(item.max_y));
+            }
+        }
     }
 
     #[test]

@@ -1,0 +1,188 @@
+//! Every fast detector against the all-pairs oracle, step after step, on
+//! random scenes of every awkward kind: lines spanning quadrants or lying on
+//! their boundaries, axis-aligned, collinear, zero-length and duplicated
+//! lines, very fast lines, lines outside the box, and lines that turn NaN.
+
+use proptest::prelude::*;
+use screensaver::detect::Brute;
+use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
+
+/// Tree shapes to try: leaves of 1, 2 and many lines, no splitting at all,
+/// and very deep trees.
+const CONFIGS: &[DetectorConfig] = &[
+    DetectorConfig {
+        leaf_size: 1,
+        max_depth: 12,
+    },
+    DetectorConfig {
+        leaf_size: 2,
+        max_depth: 40,
+    },
+    DetectorConfig {
+        leaf_size: 1000,
+        max_depth: 12,
+    },
+    DetectorConfig {
+        leaf_size: 16,
+        max_depth: 0,
+    },
+    DetectorConfig {
+        leaf_size: 3,
+        max_depth: 2,
+    },
+];
+
+const STEPS: usize = 25;
+
+fn fast_detectors() -> impl Iterator<Item = DetectorKind> {
+    DetectorKind::ALL
+        .iter()
+        .copied()
+        .filter(|&k| k != DetectorKind::Brute)
+}
+
+/// Runs `lines` with every fast detector and configuration, verifying each
+/// step against the oracle; returns a description of the first mismatch.
+fn check_all(lines: &[Line], steps: usize) -> Result<(), String> {
+    for kind in fast_detectors() {
+        for config in CONFIGS {
+            let colors = vec![Color::Red; lines.len()];
+            let mut world = World::new(lines.to_vec(), colors, kind.build_with(config));
+            let mut oracle = Brute::default();
+            for _ in 0..steps {
+                world
+                    .step_verified(&mut oracle)
+                    .map_err(|m| format!("{kind} {config:?}: {m}"))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Coordinates in the box, on likely quadrant boundaries, or outside.
+fn coord() -> impl Strategy<Value = f64> + Clone {
+    prop_oneof![
+        4 => 0.5f64..1.0,
+        3 => prop::sample::select(vec![0.5, 0.5625, 0.625, 0.6875, 0.75, 0.8125, 0.875, 1.0]),
+        1 => -1.0f64..2.0,
+    ]
+}
+
+/// Velocities: slow like the course scenes, very fast, or still.
+fn speed() -> impl Strategy<Value = f64> + Clone {
+    prop_oneof![
+        4 => -0.01f64..0.01,
+        1 => -0.6f64..0.6,
+        1 => Just(0.0),
+        1 => prop::sample::select(vec![0.004, -0.004, 0.0625, -0.0625]),
+    ]
+}
+
+fn velocity() -> impl Strategy<Value = Vec2> {
+    (speed(), speed()).prop_map(|(x, y)| Vec2::new(x, y))
+}
+
+fn line() -> impl Strategy<Value = Line> {
+    prop_oneof![
+        // Anything.
+        3 => (coord(), coord(), coord(), coord(), velocity())
+            .prop_map(|(a, b, c, d, v)| Line { p1: Vec2::new(a, b), p2: Vec2::new(c, d), v }),
+        // Short lines near each other.
+        3 => (0.6f64..0.9, 0.6f64..0.9, -0.03f64..0.03, -0.03f64..0.03, velocity())
+            .prop_map(|(x, y, dx, dy, v)| Line { p1: Vec2::new(x, y), p2: Vec2::new(x + dx, y + dy), v }),
+        // Horizontal and vertical.
+        1 => (coord(), coord(), -0.2f64..0.2, velocity())
+            .prop_map(|(x, y, len, v)| Line { p1: Vec2::new(x, y), p2: Vec2::new(x + len, y), v }),
+        1 => (coord(), coord(), -0.2f64..0.2, velocity())
+            .prop_map(|(x, y, len, v)| Line { p1: Vec2::new(x, y), p2: Vec2::new(x, y + len), v }),
+        // On the diagonal y = x: collinear with each other (and overlapping
+        // ones turn NaN when pushed apart).
+        2 => (0.5f64..1.0, 0.5f64..1.0, velocity())
+            .prop_map(|(s, t, v)| Line { p1: Vec2::new(s, s), p2: Vec2::new(t, t), v }),
+        // Zero length.
+        1 => (coord(), coord(), velocity())
+            .prop_map(|(x, y, v)| Line { p1: Vec2::new(x, y), p2: Vec2::new(x, y), v }),
+    ]
+}
+
+/// A scene of random lines, some of them duplicated exactly.
+fn scene() -> impl Strategy<Value = Vec<Line>> {
+    (
+        prop::collection::vec(line(), 0..48),
+        prop::collection::vec(any::<prop::sample::Index>(), 0..6),
+    )
+        .prop_map(|(mut lines, dups)| {
+            if !lines.is_empty() {
+                for d in dups {
+                    let copy = lines[d.index(lines.len())];
+                    lines.push(copy);
+                }
+            }
+            lines
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 96, ..ProptestConfig::default() })]
+
+    #[test]
+    fn fast_detectors_find_exactly_the_oracles_events(lines in scene()) {
+        if let Err(e) = check_all(&lines, STEPS) {
+            return Err(TestCaseError::fail(e));
+        }
+    }
+}
+
+#[test]
+fn collinear_overlaps_turn_nan_and_detectors_cope() {
+    // Overlapping collinear pairs: the response divides zero by zero.
+    let mut lines = Vec::new();
+    for k in 0..10 {
+        let x = 0.55 + 0.04 * k as f64;
+        lines.push(Line {
+            p1: Vec2::new(x, x),
+            p2: Vec2::new(x + 0.02, x + 0.02),
+            v: Vec2::new(0.01, 0.01),
+        });
+        lines.push(Line {
+            p1: Vec2::new(x + 0.01, x + 0.01),
+            p2: Vec2::new(x + 0.03, x + 0.03),
+            v: Vec2::new(-0.01, -0.01),
+        });
+        // A crossing line that keeps meeting the others.
+        lines.push(Line {
+            p1: Vec2::new(x, 0.9),
+            p2: Vec2::new(x + 0.01, 0.6),
+            v: Vec2::new(0.002, 0.0),
+        });
+    }
+    let colors = vec![Color::Gray; lines.len()];
+    let mut probe = World::new(lines.clone(), colors, Box::new(Brute::default()));
+    probe.run(3);
+    assert!(
+        probe.lines().iter().any(|l| l.v.has_nan()),
+        "the scene should produce NaN"
+    );
+    check_all(&lines, 40).unwrap();
+}
+
+#[test]
+fn identical_lines_everywhere_stop_at_the_depth_limit() {
+    let line = Line {
+        p1: Vec2::new(0.7, 0.7),
+        p2: Vec2::new(0.71, 0.72),
+        v: Vec2::new(0.001, -0.002),
+    };
+    check_all(&vec![line; 40], 5).unwrap();
+}
+
+#[test]
+fn empty_and_single_line_scenes() {
+    check_all(&[], 3).unwrap();
+    let line = Line {
+        p1: Vec2::new(0.7, 0.7),
+        p2: Vec2::new(0.8, 0.7),
+        v: Vec2::new(0.3, 0.1),
+    };
+    check_all(&[line], 3).unwrap();
+}
