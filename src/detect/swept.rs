@@ -4,127 +4,111 @@
 //! A line's swept box holds its segment now and one step ahead. If two lines
 //! collide during the step, their swept boxes overlap (the meeting point
 //! lies in both), so a broad phase may skip any pair whose boxes are apart.
-//! Boxes are padded by `2^-20` of their largest coordinate before being
-//! rounded to `f32`, which keeps them conservative for the rounding of both
-//! the `f32` conversion and the floating-point predicates of `intersect`
-//! (their errors are near `2^-50` of the coordinates).
+//! Boxes are padded by `2^-20` of their largest coordinate, which keeps them
+//! conservative for the floating-point predicates of `intersect` (whose
+//! errors are near `2^-50` of the coordinates).
 //!
 //! Lines fall into three groups:
 //! - *inert* lines (NaN in both endpoints) can never collide again and are
 //!   left out;
-//! - lines with a finite box become [`Item`]s;
+//! - lines with a finite box go through the broad phase;
 //! - the rest (a finite segment with a non-finite velocity, or a box beyond
 //!   `f32` range) are *wild*: each is tested against every other line.
 
 use crate::line::Line;
 use crate::narrow::{intersect, may_intersect, Event};
 
-/// A line's padded swept box in `f32`, with its id.
+/// A line's padded swept box.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Item {
+pub struct SweptBox {
     /// Left edge.
-    pub min_x: f32,
+    pub min_x: f64,
     /// Bottom edge.
-    pub min_y: f32,
+    pub min_y: f64,
     /// Right edge.
-    pub max_x: f32,
+    pub max_x: f64,
     /// Top edge.
-    pub max_y: f32,
-    /// The line's id.
-    pub id: u32,
+    pub max_y: f64,
 }
 
-impl Item {
-    /// True when the two closed boxes share a point.
+impl SweptBox {
+    /// The smallest box holding both.
     #[inline]
-    pub fn overlaps(&self, other: &Item) -> bool {
-        self.min_x <= other.max_x
-            && other.min_x <= self.max_x
-            && self.min_y <= other.max_y
-            && other.min_y <= self.max_y
-    }
-
-    /// True when this box shares a point with the closed rectangle `r`.
-    #[inline]
-    pub fn overlaps_rect(&self, r: &Rect) -> bool {
-        self.min_x <= r.max_x
-            && r.min_x <= self.max_x
-            && self.min_y <= r.max_y
-            && r.min_y <= self.max_y
-    }
-}
-
-/// An axis-aligned rectangle in `f32` (a tree node's region).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Rect {
-    /// Left edge.
-    pub min_x: f32,
-    /// Bottom edge.
-    pub min_y: f32,
-    /// Right edge.
-    pub max_x: f32,
-    /// Top edge.
-    pub max_y: f32,
-}
-
-impl Rect {
-    /// The smallest rectangle holding every item, or `None` for no items.
-    pub fn around(items: &[Item]) -> Option<Rect> {
-        let first = items.first()?;
-        let mut r = Rect {
-            min_x: first.min_x,
-            min_y: first.min_y,
-            max_x: first.max_x,
-            max_y: first.max_y,
-        };
-        for it in items {
-            r.min_x = r.min_x.min(it.min_x);
-            r.min_y = r.min_y.min(it.min_y);
-            r.max_x = r.max_x.max(it.max_x);
-            r.max_y = r.max_y.max(it.max_y);
+    pub fn union(&self, other: &SweptBox) -> SweptBox {
+        SweptBox {
+            min_x: self.min_x.min(other.min_x),
+            min_y: self.min_y.min(other.min_y),
+            max_x: self.max_x.max(other.max_x),
+            max_y: self.max_y.max(other.max_y),
         }
-        Some(r)
     }
 }
 
-/// The swept boxes of one step.
+/// How a line takes part in this step's broad phase.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Class {
+    /// A finite swept box: goes through the broad phase.
+    Boxed,
+    /// Not finite but not inert: tested against every line.
+    Wild,
+    /// NaN in both endpoints: can never collide again.
+    Inert,
+}
+
+/// The swept boxes of one step, indexed by line id.
 #[derive(Debug, Default)]
 pub struct SweptBoxes {
-    /// One item per line with a finite box, in id order.
-    pub items: Vec<Item>,
-    /// Ids of wild lines (see the module documentation), in id order.
-    pub wild: Vec<u32>,
-    /// Per line id: a bound on the absolute value of its coordinates now and
+    /// Each line's padded swept box (meaningful for boxed lines only).
+    pub boxes: Vec<SweptBox>,
+    /// Each line's class.
+    pub class: Vec<Class>,
+    /// Each line's bound on the absolute value of its coordinates now and
     /// one step ahead, for the margin of [`may_intersect`].
     pub magnitude: Vec<f64>,
+    /// Ids of wild lines, in id order.
+    pub wild: Vec<u32>,
+    /// Number of boxed lines.
+    pub boxed: usize,
+    /// The union of the boxed lines' boxes (`None` when there are none).
+    pub bounds: Option<SweptBox>,
 }
 
 impl SweptBoxes {
     /// Recomputes every box for `lines` and a step of `dt`, reusing the
     /// buffers.
     pub fn compute(&mut self, lines: &[Line], dt: f64) {
-        self.items.clear();
-        self.wild.clear();
+        self.boxes.clear();
+        self.class.clear();
         self.magnitude.clear();
-        self.items.reserve(lines.len());
-        self.magnitude.reserve(lines.len());
+        self.wild.clear();
+        self.boxed = 0;
+        let mut bounds: Option<SweptBox> = None;
         for (id, line) in lines.iter().enumerate() {
-            let id = id as u32;
-            let (item, magnitude) = swept_item(line, dt, id);
+            let (b, magnitude) = swept_box(line, dt);
+            let class = match b {
+                Some(b) => {
+                    bounds = Some(bounds.map_or(b, |u| u.union(&b)));
+                    self.boxed += 1;
+                    Class::Boxed
+                }
+                None if line.is_inert() => Class::Inert,
+                None => {
+                    self.wild.push(id as u32);
+                    Class::Wild
+                }
+            };
+            self.boxes.push(b.unwrap_or_default());
+            self.class.push(class);
             self.magnitude.push(magnitude);
-            match item {
-                Some(item) => self.items.push(item),
-                None if line.is_inert() => {}
-                None => self.wild.push(id),
-            }
         }
+        self.bounds = bounds;
     }
 }
 
-/// The padded swept box of one line and its coordinate magnitude; `None`
-/// for the box when it is not finite in `f32`.
+/// The padded swept box of one line (`None` when not finite) and the
+/// magnitude of its coordinates.
 #[inline]
-pub fn swept_item(line: &Line, dt: f64, id: u32) -> (Option<Item>, f64) {
+pub fn swept_box(line: &Line, dt: f64) -> (Option<SweptBox>, f64) {
     let e1 = line.p1 + line.v * dt;
     let e2 = line.p2 + line.v * dt;
     let min_x = line.p1.x.min(line.p2.x).min(e1.x.min(e2.x));
@@ -136,27 +120,33 @@ pub fn swept_item(line: &Line, dt: f64, id: u32) -> (Option<Item>, f64) {
         .max(max_x.abs())
         .max(min_y.abs())
         .max(max_y.abs());
-    // f64::min/max skip NaN, so check every input, not just the results.
-    let finite = [line.p1, line.p2, e1, e2]
-        .iter()
-        .all(|p| p.x.is_finite() && p.y.is_finite());
-    let pad = magnitude * (1.0 / 1048576.0) + 1e-12;
-    let item = Item {
-        min_x: (min_x - pad) as f32,
-        min_y: (min_y - pad) as f32,
-        max_x: (max_x + pad) as f32,
-        max_y: (max_y + pad) as f32,
-        id,
+    // min/max skip NaN, so test the inputs: the sum is NaN or infinite if
+    // any of them is (or, harmlessly, if it overflows: the line turns wild).
+    let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
+    let pad = magnitude * PAD + 1e-12;
+    let b = SweptBox {
+        min_x: min_x - pad,
+        min_y: min_y - pad,
+        max_x: max_x + pad,
+        max_y: max_y + pad,
     };
-    let in_range = [item.min_x, item.min_y, item.max_x, item.max_y]
-        .iter()
-        .all(|v| v.is_finite());
-    if finite && in_range {
-        (Some(item), magnitude)
+    if sum.is_finite() && magnitude.is_finite() {
+        (Some(b), magnitude)
     } else {
-        (None, if finite { magnitude } else { f64::INFINITY })
+        (
+            None,
+            if sum.is_finite() {
+                magnitude
+            } else {
+                f64::INFINITY
+            },
+        )
     }
 }
+
+/// Relative padding of swept boxes: far above the rounding errors of the
+/// predicates (near `2^-50` of the coordinates), far below any line's size.
+pub const PAD: f64 = 1.0 / 1048576.0;
 
 /// Running totals of a broad phase's pair work.
 #[derive(Clone, Copy, Debug, Default)]
@@ -205,16 +195,20 @@ pub fn test_wild(
     events: &mut Vec<Event>,
     counts: &mut PairCounts,
 ) {
-    for (k, &w) in boxes.wild.iter().enumerate() {
-        for &other in &boxes.wild[k + 1..] {
-            counts.candidates += 1;
-            counts.exact += 1;
-            exact_pair(lines, w, other, dt, events);
-        }
-        for item in &boxes.items {
-            counts.candidates += 1;
-            counts.exact += 1;
-            exact_pair(lines, w, item.id, dt, events);
+    for &w in &boxes.wild {
+        for (other, class) in boxes.class.iter().enumerate() {
+            let other = other as u32;
+            // Wild pairs are tested once, from their lower id.
+            let wanted = match class {
+                Class::Boxed => true,
+                Class::Wild => other > w,
+                Class::Inert => false,
+            };
+            if wanted {
+                counts.candidates += 1;
+                counts.exact += 1;
+                exact_pair(lines, w, other, dt, events);
+            }
         }
     }
 }
@@ -246,30 +240,33 @@ mod tests {
 
     #[test]
     fn the_box_holds_the_segment_now_and_one_step_ahead() {
-        let (item, m) = swept_item(&line((0.6, 0.7), (0.8, 0.65), (0.1, -0.2)), 0.5, 3);
-        let item = item.unwrap();
-        assert_eq!(item.id, 3);
-        assert!(item.min_x <= 0.6 && item.max_x >= 0.85);
-        assert!(item.min_y <= 0.55 && item.max_y >= 0.7);
-        assert!((item.max_x - 0.85).abs() < 1e-5);
+        let (b, m) = swept_box(&line((0.6, 0.7), (0.8, 0.65), (0.1, -0.2)), 0.5);
+        let b = b.unwrap();
+        assert!(b.min_x < 0.6 && b.max_x > 0.85);
+        assert!(b.min_y < 0.55 && b.max_y > 0.7);
+        assert!((b.max_x - 0.85).abs() < 1e-5);
         assert_eq!(m, 0.8 + 0.1 * 0.5);
     }
 
-    #[test]
-    fn padding_survives_f32_rounding() {
-        // Coordinates exactly representable in f32 must still be padded.
-        let l = line((0.5, 0.5), (0.75, 0.75), (0.0, 0.0));
-        let item = swept_item(&l, 0.5, 0).0.unwrap();
-        assert!(f64::from(item.min_x) < 0.5 && f64::from(item.max_x) > 0.75);
-        // And far from the box too.
-        let l = line((1e6 + 0.1, -3e5), (1e6 + 0.2, -3e5), (0.0, 0.0));
-        let item = swept_item(&l, 0.5, 0).0.unwrap();
-        assert!(f64::from(item.min_x) < 1e6 + 0.1 && f64::from(item.max_x) > 1e6 + 0.2);
-        assert!(f64::from(item.min_y) < -3e5 && f64::from(item.max_y) > -3e5);
+    proptest::proptest! {
+        /// The box strictly contains the segment now and one step ahead, at
+        /// any scale.
+        #[test]
+        fn boxes_strictly_contain_their_points(
+            x1 in -3.0f64..3.0, y1 in -3.0f64..3.0, x2 in -3.0f64..3.0, y2 in -3.0f64..3.0,
+            vx in -1.0f64..1.0, vy in -1.0f64..1.0, scale in proptest::sample::select(vec![1e-9, 1.0, 1e5]),
+        ) {
+            let l = line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
+            let b = swept_box(&l, 0.5).0.unwrap();
+            for p in [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5] {
+                proptest::prop_assert!(b.min_x < p.x && p.x < b.max_x);
+                proptest::prop_assert!(b.min_y < p.y && p.y < b.max_y);
+            }
+        }
     }
 
     #[test]
-    fn lines_are_sorted_into_items_wild_and_inert() {
+    fn lines_are_sorted_into_boxed_wild_and_inert() {
         let lines = [
             line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0)),
             line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
@@ -278,63 +275,39 @@ mod tests {
                 (f64::NAN, f64::NAN),
                 (f64::NAN, f64::NAN),
             ),
-            line((1e300, 0.6), (0.7, 0.7), (0.0, 0.0)),
+            line((1e308, 0.6), (0.7, 0.7), (1e308, 0.0)),
+            line((0.8, 0.9), (0.8, 0.95), (0.0, 0.0)),
         ];
         let mut boxes = SweptBoxes::default();
         boxes.compute(&lines, 0.5);
-        assert_eq!(
-            boxes.items.iter().map(|i| i.id).collect::<Vec<_>>(),
-            vec![0]
-        );
+        use Class::*;
+        assert_eq!(boxes.class, vec![Boxed, Wild, Inert, Wild, Boxed]);
         assert_eq!(boxes.wild, vec![1, 3]);
-        assert_eq!(boxes.magnitude.len(), 4);
-    }
-
-    proptest::proptest! {
-        /// The f32 box strictly contains the segment now and one step ahead,
-        /// whatever the rounding of the conversion.
-        #[test]
-        fn boxes_strictly_contain_their_points(
-            x1 in -3.0f64..3.0, y1 in -3.0f64..3.0, x2 in -3.0f64..3.0, y2 in -3.0f64..3.0,
-            vx in -1.0f64..1.0, vy in -1.0f64..1.0, scale in proptest::sample::select(vec![1e-9, 1.0, 1e5]),
-        ) {
-            let l = line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
-            let item = swept_item(&l, 0.5, 0).0.unwrap();
-            for p in [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5] {
-                proptest::prop_assert!(f64::from(item.min_x) < p.x && p.x < f64::from(item.max_x));
-                proptest::prop_assert!(f64::from(item.min_y) < p.y && p.y < f64::from(item.max_y));
-            }
-        }
+        assert_eq!(boxes.boxed, 2);
+        let u = boxes.bounds.unwrap();
+        assert!(u.min_x < 0.6 && u.max_x > 0.8 && u.max_y > 0.95);
     }
 
     #[test]
-    fn overlap_is_closed() {
-        let a = Item {
-            min_x: 0.0,
-            min_y: 0.0,
-            max_x: 1.0,
-            max_y: 1.0,
-            id: 0,
-        };
-        let b = Item {
-            min_x: 1.0,
-            min_y: 1.0,
-            max_x: 2.0,
-            max_y: 2.0,
-            id: 1,
-        };
-        let c = Item {
-            min_x: 1.5,
-            min_y: 0.0,
-            max_x: 2.0,
-            max_y: 1.0,
-            id: 2,
-        };
-        assert!(a.overlaps(&b) && b.overlaps(&a));
-        assert!(!a.overlaps(&c) && !c.overlaps(&a));
-        let r = Rect::around(&[a, c]).unwrap();
-        assert_eq!((r.min_x, r.max_x, r.min_y, r.max_y), (0.0, 2.0, 0.0, 1.0));
-        assert!(b.overlaps_rect(&r));
-        assert!(Rect::around(&[]).is_none());
+    fn wild_lines_are_tested_against_all_but_inert_ones() {
+        let lines = [
+            line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
+            line((0.6, 0.7), (0.7, 0.6), (0.0, 0.0)),
+            line(
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+            ),
+            line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
+        ];
+        let mut boxes = SweptBoxes::default();
+        boxes.compute(&lines, 0.5);
+        let (mut events, mut counts) = (Vec::new(), PairCounts::default());
+        test_wild(&lines, &boxes, 0.5, &mut events, &mut counts);
+        // 0-1, 0-3, 3-1: all three cross now.
+        assert_eq!(counts.exact, 3);
+        events.sort_unstable_by_key(Event::order_key);
+        let pairs: Vec<_> = events.iter().map(|e| (e.first, e.second)).collect();
+        assert_eq!(pairs, vec![(0, 1), (0, 3), (1, 3)]);
     }
 }
