@@ -308,10 +308,9 @@ impl Quadtree {
         // Children's runs, by the two key bits that choose the quadrant.
         let shift = LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
         let child_of = |e: &Entry| ((e.key >> shift) & 3) as usize;
-        let mut bounds = [mid, 0, 0, 0, hi];
-        for c in 1..4 {
-            bounds[c] = mid + self.entries[mid..hi].partition_point(|e| child_of(e) < c);
-        }
+        let run = &self.entries[mid..hi];
+        let split = |c: usize| mid + run.partition_point(|e| child_of(e) < c);
+        let bounds = [mid, split(1), split(2), split(3), hi];
 
         let own_hi = self.active.len() + (mid - lo);
         self.active.extend_from_slice(&self.items[lo..mid]);
