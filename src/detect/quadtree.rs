@@ -30,7 +30,10 @@
 //! The buffers live in the detector and are reused: once they have grown to
 //! the scene's size, a step allocates nothing.
 
-use super::swept::{test_pair, test_wild, Class, PairCounts, SweptBox, SweptBoxes};
+use super::swept::{
+    swept_box, test_pair, test_wild, Class, PairCounts, SweptBox, SweptBoxes, DIAGONAL_X,
+    DIAGONAL_Y,
+};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
@@ -45,22 +48,34 @@ pub const GRID_LEVELS: u32 = 16;
 const LEVEL_BITS: u32 = 5;
 const LEVEL_MASK: u64 = (1 << LEVEL_BITS) - 1;
 
-/// A line's swept box in finest-level grid cells (inclusive), with its id.
+/// A line's swept hull in finest-level grid cells (inclusive), along the
+/// axes and the diagonals, with its id.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Cells {
     x0: u16,
     y0: u16,
     x1: u16,
     y1: u16,
+    u0: u16,
+    w0: u16,
+    u1: u16,
+    w1: u16,
     id: u32,
 }
 
 impl Cells {
     /// Non-short-circuit `&`: one predictable branch on the result instead
-    /// of four unpredictable ones.
+    /// of eight unpredictable ones.
     #[inline]
     fn overlaps(&self, o: &Cells) -> bool {
-        (self.x0 <= o.x1) & (o.x0 <= self.x1) & (self.y0 <= o.y1) & (o.y0 <= self.y1)
+        (self.x0 <= o.x1)
+            & (o.x0 <= self.x1)
+            & (self.y0 <= o.y1)
+            & (o.y0 <= self.y1)
+            & (self.u0 <= o.u1)
+            & (o.u0 <= self.u1)
+            & (self.w0 <= o.w1)
+            & (o.w0 <= self.w1)
     }
 
     #[inline]
@@ -69,6 +84,113 @@ impl Cells {
             && b.x0 <= u32::from(self.x1)
             && u32::from(self.y0) <= b.y_last()
             && b.y0 <= u32::from(self.y1)
+    }
+}
+
+const LANES: usize = 16;
+
+/// The sorted lines' cells, one array per field, so that the candidate
+/// loops compare a line with sixteen others at once (LLVM turns the
+/// fixed-size inner loop into vector compares). Each array is followed by
+/// `LANES` padding entries, so that a chunk may start anywhere.
+#[derive(Debug, Default)]
+struct Columns {
+    x0: Vec<u16>,
+    y0: Vec<u16>,
+    x1: Vec<u16>,
+    y1: Vec<u16>,
+    u0: Vec<u16>,
+    w0: Vec<u16>,
+    u1: Vec<u16>,
+    w1: Vec<u16>,
+    id: Vec<u32>,
+}
+
+impl Columns {
+    /// Refills the columns from entries in order, then pads them.
+    fn fill(&mut self, entries: &[Entry]) {
+        let fields = [
+            &mut self.x0,
+            &mut self.y0,
+            &mut self.x1,
+            &mut self.y1,
+            &mut self.u0,
+            &mut self.w0,
+            &mut self.u1,
+            &mut self.w1,
+        ];
+        for (f, column) in fields.into_iter().enumerate() {
+            column.clear();
+            column.extend(entries.iter().map(|e| {
+                let c = &e.cells;
+                [c.x0, c.y0, c.x1, c.y1, c.u0, c.w0, c.u1, c.w1][f]
+            }));
+            column.extend([0; LANES]);
+        }
+        self.id.clear();
+        self.id.extend(entries.iter().map(|e| e.cells.id));
+        self.id.extend([u32::MAX; LANES]);
+    }
+
+    fn get(&self, i: usize) -> Cells {
+        Cells {
+            x0: self.x0[i],
+            y0: self.y0[i],
+            x1: self.x1[i],
+            y1: self.y1[i],
+            u0: self.u0[i],
+            w0: self.w0[i],
+            u1: self.u1[i],
+            w1: self.w1[i],
+            id: self.id[i],
+        }
+    }
+
+    /// Calls `hit` with the id of every line in `lo..hi` whose cells
+    /// overlap `a`'s, sixteen lines per step; lanes past `hi` are masked.
+    #[inline]
+    fn overlapping(&self, a: &Cells, lo: usize, hi: usize, mut hit: impl FnMut(u32)) {
+        let mut i = lo;
+        while i < hi {
+            let lane =
+                |v: &[u16]| -> [u16; LANES] { v[i..i + LANES].try_into().expect("padded columns") };
+            let (x0, y0, x1, y1) = (
+                lane(&self.x0),
+                lane(&self.y0),
+                lane(&self.x1),
+                lane(&self.y1),
+            );
+            let (u0, w0, u1, w1) = (
+                lane(&self.u0),
+                lane(&self.w0),
+                lane(&self.u1),
+                lane(&self.w1),
+            );
+            let mut flags = [0u8; LANES];
+            for j in 0..LANES {
+                let fits = (a.x0 <= x1[j])
+                    & (x0[j] <= a.x1)
+                    & (a.y0 <= y1[j])
+                    & (y0[j] <= a.y1)
+                    & (a.u0 <= u1[j])
+                    & (u0[j] <= a.u1)
+                    & (a.w0 <= w1[j])
+                    & (w0[j] <= a.w1);
+                flags[j] = u8::from(fits);
+            }
+            // One byte per lane, each 0 or 1: find the set ones by bit tricks.
+            let valid = hi - i;
+            let mut bits = u128::from_ne_bytes(flags).to_le();
+            if valid < LANES {
+                bits &= (1u128 << (8 * valid)) - 1;
+            }
+            while bits != 0 {
+                let j = bits.trailing_zeros() as usize / 8;
+                hit(self.id[i + j]);
+                bits &= bits - 1;
+            }
+            i += LANES;
+        }
     }
 }
 
@@ -122,12 +244,13 @@ fn spread(v: u16) -> u32 {
 }
 
 /// Maps coordinates onto the grid; monotone, so overlaps are preserved.
-#[derive(Clone, Copy, Debug)]
+/// The diagonals span `(1180 + 800)` times the square's side and are
+/// scaled to the same number of cells.
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Grid {
-    min_x: f64,
-    min_y: f64,
-    scale_x: f64,
-    scale_y: f64,
+    min: f64,
+    side: f64,
+    scale: f64,
 }
 
 impl Grid {
@@ -146,29 +269,44 @@ impl Grid {
         while half < reach {
             half *= 2.0;
         }
-        let scale = f64::from(1u32 << GRID_LEVELS) / (2.0 * half);
         Grid {
-            min_x: CENTRE - half,
-            min_y: CENTRE - half,
-            scale_x: scale,
-            scale_y: scale,
+            min: CENTRE - half,
+            side: 2.0 * half,
+            scale: f64::from(1u32 << GRID_LEVELS) / (2.0 * half),
         }
+    }
+
+    /// True when `bounds` lies within the grid's square.
+    fn holds(&self, bounds: &SweptBox) -> bool {
+        let max = self.min + self.side;
+        bounds.min_x >= self.min
+            && bounds.min_y >= self.min
+            && bounds.max_x <= max
+            && bounds.max_y <= max
     }
 
     #[inline]
     fn cell(v: f64, min: f64, scale: f64) -> u16 {
-        // Float-to-int casts saturate (and send NaN, from a zero-width
-        // root, to 0): no branch needed for the edges.
+        // Float-to-int casts saturate (and send NaN to 0): no branch needed
+        // at the edges.
         ((v - min) * scale).min(f64::from(u16::MAX)) as u16
     }
 
     #[inline]
     fn cells(&self, b: &SweptBox, id: u32) -> Cells {
+        let (wx, wy) = (DIAGONAL_X, DIAGONAL_Y);
+        let min_u = self.min * (wx + wy);
+        let min_w = self.min * wx - (self.min + self.side) * wy;
+        let half_scale = self.scale / (wx + wy);
         Cells {
-            x0: Self::cell(b.min_x, self.min_x, self.scale_x),
-            y0: Self::cell(b.min_y, self.min_y, self.scale_y),
-            x1: Self::cell(b.max_x, self.min_x, self.scale_x),
-            y1: Self::cell(b.max_y, self.min_y, self.scale_y),
+            x0: Self::cell(b.min_x, self.min, self.scale),
+            y0: Self::cell(b.min_y, self.min, self.scale),
+            x1: Self::cell(b.max_x, self.min, self.scale),
+            y1: Self::cell(b.max_y, self.min, self.scale),
+            u0: Self::cell(b.min_u, min_u, half_scale),
+            w0: Self::cell(b.min_w, min_w, half_scale),
+            u1: Self::cell(b.max_u, min_u, half_scale),
+            w1: Self::cell(b.max_w, min_w, half_scale),
             id,
         }
     }
@@ -211,13 +349,19 @@ pub struct Quadtree {
     leaf_size: usize,
     max_depth: u32,
     boxes: SweptBoxes,
+    /// The grid in use; it changes only when lines leave its square.
+    grid: Grid,
+    /// Each line's entry for this step, by id (meaningful for boxed lines).
+    by_id: Vec<Entry>,
     /// Ids of the boxed lines in last step's key order.
     order: Vec<u32>,
     entries: Vec<Entry>,
     /// The entries' cells, in key order, packed for the pair loops.
-    items: Vec<Cells>,
+    items: Columns,
     /// Misfits of the nodes above the current one, filtered by region.
     active: Vec<Cells>,
+    /// The sweep's buffer, kept between steps.
+    sweep: Vec<Probe>,
     stats: DetectorStats,
 }
 
@@ -235,46 +379,80 @@ impl Quadtree {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
             boxes: SweptBoxes::default(),
+            grid: Grid::over(&SweptBox {
+                min_x: BOX_MIN,
+                min_y: BOX_MIN,
+                max_x: BOX_MAX,
+                max_y: BOX_MAX,
+                ..SweptBox::default()
+            }),
+            by_id: Vec::new(),
             order: Vec::new(),
             entries: Vec::new(),
-            items: Vec::new(),
+            items: Columns::default(),
             active: Vec::new(),
+            sweep: Vec::new(),
             stats: DetectorStats::default(),
+        }
+    }
+
+    /// Classifies the lines and computes every boxed line's entry, growing
+    /// the grid first if lines have left it.
+    fn compute_entries(&mut self, lines: &[Line], dt: f64) {
+        let (grid, max_depth) = (self.grid, self.max_depth);
+        self.by_id.resize(lines.len(), Entry::default());
+        let by_id = &mut self.by_id;
+        self.boxes.compute(lines, dt, |id, b| {
+            let cells = grid.cells(b, id);
+            by_id[id as usize] = Entry {
+                key: key(&cells, max_depth),
+                cells,
+            };
+        });
+        // Cells clamp at the grid's edge, so a stale grid would still be
+        // correct, only slow: regrid (rarely) when lines get out.
+        if let Some(bounds) = self.boxes.bounds {
+            if !self.grid.holds(&bounds) {
+                self.grid = Grid::over(&bounds);
+                let grid = self.grid;
+                for (id, line) in lines.iter().enumerate() {
+                    if self.boxes.class[id] == Class::Boxed {
+                        if let (Some(b), _) = swept_box(line, dt) {
+                            let cells = grid.cells(&b, id as u32);
+                            self.by_id[id] = Entry {
+                                key: key(&cells, max_depth),
+                                cells,
+                            };
+                        }
+                    }
+                }
+            }
         }
     }
 
     /// Fills `entries` with this step's boxed lines in last step's order
     /// (or id order when the set of boxed lines changed) and sorts them.
-    fn arrange(&mut self, grid: &Grid) {
-        let (boxes, class) = (&self.boxes.boxes, &self.boxes.class);
-        let max_depth = self.max_depth;
-        let entry = |id: u32| {
-            let cells = grid.cells(&boxes[id as usize], id);
-            Entry {
-                key: key(&cells, max_depth),
-                cells,
-            }
-        };
+    fn arrange(&mut self) {
+        let (by_id, class) = (&self.by_id, &self.boxes.class);
         self.entries.clear();
         self.entries.extend(
             self.order
                 .iter()
                 .filter(|&&id| class.get(id as usize) == Some(&Class::Boxed))
-                .map(|&id| entry(id)),
+                .map(|&id| by_id[id as usize]),
         );
         if self.entries.len() != self.boxes.boxed {
             self.entries.clear();
             self.entries.extend(
-                (0..class.len() as u32)
-                    .filter(|&id| class[id as usize] == Class::Boxed)
-                    .map(entry),
+                (0..class.len())
+                    .filter(|&id| class[id] == Class::Boxed)
+                    .map(|id| by_id[id]),
             );
         }
         sort_nearly_sorted(&mut self.entries);
         self.order.clear();
         self.order.extend(self.entries.iter().map(|e| e.cells.id));
-        self.items.clear();
-        self.items.extend(self.entries.iter().map(|e| e.cells));
+        self.items.fill(&self.entries);
     }
 
     /// Visits the node at `level` covering `block`, whose subtree is
@@ -293,17 +471,13 @@ impl Quadtree {
         pass.nodes += 1;
         pass.deepest = pass.deepest.max(level);
         if hi - lo <= self.leaf_size || level >= self.max_depth {
-            let here = &self.items[lo..hi];
-            pass.across(&self.active[active_lo..], here);
-            pass.within(here);
+            pass.pairs(&self.active[active_lo..], &self.items, lo, hi);
             return;
         }
 
         // This node's misfits come first in its run.
         let mid = lo + self.entries[lo..hi].partition_point(|e| e.level() == level);
-        let misfits = &self.items[lo..mid];
-        pass.across(&self.active[active_lo..], misfits);
-        pass.within(misfits);
+        pass.pairs(&self.active[active_lo..], &self.items, lo, mid);
 
         // Children's runs, by the two key bits that choose the quadrant.
         let shift = LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
@@ -313,7 +487,9 @@ impl Quadtree {
         let bounds = [mid, split(1), split(2), split(3), hi];
 
         let own_hi = self.active.len() + (mid - lo);
-        self.active.extend_from_slice(&self.items[lo..mid]);
+        for k in lo..mid {
+            self.active.push(self.items.get(k));
+        }
         for c in 0..4 {
             let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
             if c_lo == c_hi {
@@ -343,7 +519,22 @@ struct Pass<'a> {
     counts: PairCounts,
     nodes: u64,
     deepest: u32,
+    /// Reused buffer of the sweep.
+    sweep: Vec<Probe>,
 }
+
+/// A line in a sweep: its interval on the sweep axis, whether it belongs to
+/// the node (rather than to the active list), and its cells.
+#[derive(Clone, Copy, Debug)]
+struct Probe {
+    lo: u16,
+    hi: u16,
+    own: bool,
+    cells: Cells,
+}
+
+/// Below this many lines in a node's pair set, plain loops beat sorting.
+const SWEEP_MIN: usize = 48;
 
 impl Pass<'_> {
     /// The exact path for a pair whose boxes overlap; kept out of line so
@@ -361,29 +552,82 @@ impl Pass<'_> {
         );
     }
 
-    /// Every pair within `items`.
-    fn within(&mut self, items: &[Cells]) {
-        let n = items.len() as u64;
-        self.counts.candidates += n * n.saturating_sub(1) / 2;
-        for (k, a) in items.iter().enumerate() {
-            for b in &items[k + 1..] {
-                if a.overlaps(b) {
-                    self.hit(a.id, b.id);
-                }
-            }
+    /// The pairs a node owes: every pair within `items[lo..hi]` and every
+    /// pair between those lines and the `active` ones.
+    fn pairs(&mut self, active: &[Cells], items: &Columns, lo: usize, hi: usize) {
+        let (a, n) = (active.len() as u64, (hi - lo) as u64);
+        self.counts.candidates += a * n + n * n.saturating_sub(1) / 2;
+        if active.len() + (hi - lo) >= SWEEP_MIN {
+            self.sweep_pairs(active, items, lo, hi);
+            return;
+        }
+        for a in active {
+            items.overlapping(a, lo, hi, |b| self.hit(a.id, b));
+        }
+        for k in lo..hi {
+            let a = items.get(k);
+            items.overlapping(&a, k + 1, hi, |b| self.hit(a.id, b));
         }
     }
 
-    /// Every pair with one item from `xs` and one from `ys`.
-    fn across(&mut self, xs: &[Cells], ys: &[Cells]) {
-        self.counts.candidates += xs.len() as u64 * ys.len() as u64;
-        for a in xs {
-            for b in ys {
-                if a.overlaps(b) {
-                    self.hit(a.id, b.id);
+    /// [`Pass::pairs`] by sweep and prune along whichever of the four
+    /// directions the lines spread least on (relative to their span), so
+    /// that only pairs overlapping on that direction are compared. Large
+    /// pair sets are misfit-heavy nodes: their lines straddle the node's
+    /// centre lines and lie spread along them, where a sweep prunes well.
+    fn sweep_pairs(&mut self, active: &[Cells], items: &Columns, lo: usize, hi: usize) {
+        let mut probes = std::mem::take(&mut self.sweep);
+        probes.clear();
+        probes.extend(active.iter().map(|&cells| Probe {
+            lo: 0,
+            hi: 0,
+            own: false,
+            cells,
+        }));
+        probes.extend((lo..hi).map(|k| Probe {
+            lo: 0,
+            hi: 0,
+            own: true,
+            cells: items.get(k),
+        }));
+
+        let axes: [fn(&Cells) -> (u16, u16); 4] = [
+            |c| (c.x0, c.x1),
+            |c| (c.y0, c.y1),
+            |c| (c.u0, c.u1),
+            |c| (c.w0, c.w1),
+        ];
+        let density = |axis: &fn(&Cells) -> (u16, u16)| {
+            let (mut sum, mut least, mut most) = (0u64, u16::MAX, 0u16);
+            for p in &probes {
+                let (l, h) = axis(&p.cells);
+                sum += u64::from(h - l) + 1;
+                least = least.min(l);
+                most = most.max(h);
+            }
+            sum as f64 / (f64::from(most - least) + 1.0)
+        };
+        let axis = axes
+            .iter()
+            .min_by(|a, b| density(a).total_cmp(&density(b)))
+            .expect("four axes");
+        for p in &mut probes {
+            (p.lo, p.hi) = axis(&p.cells);
+        }
+        probes.sort_unstable_by_key(|p| p.lo);
+
+        for (i, a) in probes.iter().enumerate() {
+            for b in &probes[i + 1..] {
+                if b.lo > a.hi {
+                    break;
+                }
+                // Pairs of active lines belong to other nodes.
+                if (a.own | b.own) & a.cells.overlaps(&b.cells) {
+                    self.hit(a.cells.id, b.cells.id);
                 }
             }
         }
+        self.sweep = probes;
     }
 }
 
@@ -394,7 +638,7 @@ impl Detector for Quadtree {
 
     fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
         let before = events.len();
-        self.boxes.compute(lines, dt);
+        self.compute_entries(lines, dt);
         let mut counts = PairCounts::default();
         test_wild(lines, &self.boxes, dt, events, &mut counts);
 
@@ -407,9 +651,10 @@ impl Detector for Quadtree {
             counts,
             nodes: 0,
             deepest: 0,
+            sweep: std::mem::take(&mut self.sweep),
         };
-        if let Some(bounds) = self.boxes.bounds {
-            self.arrange(&Grid::over(&bounds));
+        if self.boxes.boxed > 0 {
+            self.arrange();
             self.active.clear();
             let root = Block {
                 x0: 0,
@@ -421,6 +666,7 @@ impl Detector for Quadtree {
         }
         let counts = pass.counts;
         let (nodes, deepest) = (pass.nodes, pass.deepest);
+        self.sweep = pass.sweep;
         self.boxes.magnitude = magnitude;
 
         self.stats.candidate_pairs += counts.candidates;
@@ -445,7 +691,64 @@ mod tests {
             y0,
             x1,
             y1,
-            id: 0,
+            ..Cells::default()
+        }
+    }
+
+    /// An axis-aligned box with its diagonal extents.
+    fn square(min_x: f64, min_y: f64, max_x: f64, max_y: f64) -> SweptBox {
+        SweptBox {
+            min_x,
+            min_y,
+            max_x,
+            max_y,
+            min_u: 1180.0 * min_x + 800.0 * min_y,
+            max_u: 1180.0 * max_x + 800.0 * max_y,
+            min_w: 1180.0 * min_x - 800.0 * max_y,
+            max_w: 1180.0 * max_x - 800.0 * min_y,
+        }
+    }
+
+    #[test]
+    fn the_lane_kernel_finds_exactly_the_overlapping_lines() {
+        // Lines 0..40 each one cell wide at x = 3 * k; a probe spanning
+        // x = 30..=45 meets lines 10..=15; ranges cut anywhere.
+        let entries: Vec<Entry> = (0..40u16)
+            .map(|k| Entry {
+                key: 0,
+                cells: Cells {
+                    x0: 3 * k,
+                    x1: 3 * k,
+                    y1: 5,
+                    u1: 5,
+                    w1: 5,
+                    id: u32::from(k),
+                    ..Cells::default()
+                },
+            })
+            .collect();
+        let mut columns = Columns::default();
+        columns.fill(&entries);
+        let probe = Cells {
+            x0: 30,
+            x1: 45,
+            y1: 1,
+            u1: 1,
+            w1: 1,
+            ..Cells::default()
+        };
+        for (lo, hi) in [(0, 40), (0, 12), (11, 14), (12, 12), (15, 40), (13, 31)] {
+            let mut found = Vec::new();
+            columns.overlapping(&probe, lo, hi, |id| found.push(id));
+            let expected: Vec<u32> = (lo as u32..hi as u32)
+                .filter(|k| (10..=15).contains(k))
+                .collect();
+            assert_eq!(found, expected, "range {lo}..{hi}");
+            let scalar: Vec<u32> = (lo..hi)
+                .filter(|&k| probe.overlaps(&columns.get(k)))
+                .map(|k| k as u32)
+                .collect();
+            assert_eq!(found, scalar);
         }
     }
 
@@ -477,53 +780,19 @@ mod tests {
 
     #[test]
     fn grid_cells_are_monotone_and_clamped() {
-        let b = SweptBox {
-            min_x: 0.5,
-            min_y: 0.5,
-            max_x: 1.0,
-            max_y: 1.0,
-        };
+        let b = square(0.5, 0.5, 1.0, 1.0);
         let g = Grid::over(&b);
         let c = g.cells(&b, 3);
         assert_eq!(c.id, 3);
         assert!(c.x0 > 0 && c.x0 < 2048 && c.x1 > 63000 && c.x1 < u16::MAX);
-        let mid = g.cells(
-            &SweptBox {
-                min_x: 0.75,
-                min_y: 0.75,
-                max_x: 0.75,
-                max_y: 0.75,
-            },
-            0,
-        );
+        let mid = g.cells(&square(0.75, 0.75, 0.75, 0.75), 0);
         assert_eq!((mid.x0, mid.y0), (32768, 32768));
         // The root grows to hold lines far outside the box; the middle stays.
-        let far = Grid::over(&SweptBox {
-            min_x: -3.0,
-            min_y: 0.6,
-            max_x: 0.9,
-            max_y: 0.9,
-        });
-        let c = far.cells(
-            &SweptBox {
-                min_x: -3.0,
-                min_y: 0.75,
-                max_x: 0.75,
-                max_y: 0.75,
-            },
-            0,
-        );
+        let far = Grid::over(&square(-3.0, 0.6, 0.9, 0.9));
+        let c = far.cells(&square(-3.0, 0.75, 0.75, 0.75), 0);
         assert!(c.x0 < 4000 && c.x1 == 32768 && c.y0 == 32768);
         // Values past the edge (rounding) saturate.
-        let edge = g.cells(
-            &SweptBox {
-                min_x: -1e9,
-                min_y: 0.7,
-                max_x: 1e9,
-                max_y: 0.7,
-            },
-            0,
-        );
+        let edge = g.cells(&square(-1e9, 0.7, 1e9, 0.7), 0);
         assert_eq!((edge.x0, edge.x1), (0, u16::MAX));
     }
 

@@ -15,10 +15,17 @@
 //! - the rest (a finite segment with a non-finite velocity, or a box beyond
 //!   `f32` range) are *wild*: each is tested against every other line.
 
-use crate::line::Line;
+use crate::geometry::Vec2;
+use crate::line::{Line, WINDOW_HEIGHT, WINDOW_WIDTH};
 use crate::narrow::{intersect, may_intersect, Event};
 
-/// A line's padded swept box.
+/// A line's padded swept hull, bounded in eight directions: the axes `x`
+/// and `y` and the window's diagonals `u = 1180 x + 800 y` and
+/// `w = 1180 x - 800 y` (45 degrees on screen, where scenes are drawn). The
+/// diagonals make it tight for slanted lines, whose axis-aligned boxes are
+/// loose.
+/// Any direction is conservative: the meeting point of a collision lies in
+/// both lines' hulls, so their projections on every direction overlap.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SweptBox {
     /// Left edge.
@@ -29,18 +36,48 @@ pub struct SweptBox {
     pub max_x: f64,
     /// Top edge.
     pub max_y: f64,
+    /// Least `u`.
+    pub min_u: f64,
+    /// Greatest `u`.
+    pub max_u: f64,
+    /// Least `w`.
+    pub min_w: f64,
+    /// Greatest `w`.
+    pub max_w: f64,
 }
 
+/// Weight of `x` in the diagonals: the window's width.
+pub const DIAGONAL_X: f64 = WINDOW_WIDTH;
+/// Weight of `y` in the diagonals: the window's height.
+pub const DIAGONAL_Y: f64 = WINDOW_HEIGHT;
+
 impl SweptBox {
-    /// The smallest box holding both.
+    /// The smallest axis-aligned box holding both (diagonals included).
     #[inline]
     pub fn union(&self, other: &SweptBox) -> SweptBox {
         SweptBox {
-            min_x: self.min_x.min(other.min_x),
-            min_y: self.min_y.min(other.min_y),
-            max_x: self.max_x.max(other.max_x),
-            max_y: self.max_y.max(other.max_y),
+            min_x: min(self.min_x, other.min_x),
+            min_y: min(self.min_y, other.min_y),
+            max_x: max(self.max_x, other.max_x),
+            max_y: max(self.max_y, other.max_y),
+            min_u: min(self.min_u, other.min_u),
+            max_u: max(self.max_u, other.max_u),
+            min_w: min(self.min_w, other.min_w),
+            max_w: max(self.max_w, other.max_w),
         }
+    }
+
+    /// True when the two hulls overlap in all eight directions.
+    #[inline]
+    pub fn overlaps(&self, o: &SweptBox) -> bool {
+        (self.min_x <= o.max_x)
+            & (o.min_x <= self.max_x)
+            & (self.min_y <= o.max_y)
+            & (o.min_y <= self.max_y)
+            & (self.min_u <= o.max_u)
+            & (o.min_u <= self.max_u)
+            & (self.min_w <= o.max_w)
+            & (o.min_w <= self.max_w)
     }
 }
 
@@ -55,11 +92,9 @@ pub enum Class {
     Inert,
 }
 
-/// The swept boxes of one step, indexed by line id.
+/// This step's classification of every line, indexed by line id.
 #[derive(Debug, Default)]
 pub struct SweptBoxes {
-    /// Each line's padded swept box (meaningful for boxed lines only).
-    pub boxes: Vec<SweptBox>,
     /// Each line's class.
     pub class: Vec<Class>,
     /// Each line's bound on the absolute value of its coordinates now and
@@ -74,21 +109,32 @@ pub struct SweptBoxes {
 }
 
 impl SweptBoxes {
-    /// Recomputes every box for `lines` and a step of `dt`, reusing the
-    /// buffers.
-    pub fn compute(&mut self, lines: &[Line], dt: f64) {
-        self.boxes.clear();
+    /// Classifies every line of `lines` for a step of `dt`, reusing the
+    /// buffers, and hands each boxed line's id and box to `on_boxed` (so
+    /// that a broad phase can use the box without storing it).
+    #[inline]
+    pub fn compute(&mut self, lines: &[Line], dt: f64, mut on_boxed: impl FnMut(u32, &SweptBox)) {
         self.class.clear();
         self.magnitude.clear();
         self.wild.clear();
         self.boxed = 0;
-        let mut bounds: Option<SweptBox> = None;
+        let mut bounds = SweptBox {
+            min_x: f64::INFINITY,
+            min_y: f64::INFINITY,
+            max_x: f64::NEG_INFINITY,
+            max_y: f64::NEG_INFINITY,
+            min_u: f64::INFINITY,
+            max_u: f64::NEG_INFINITY,
+            min_w: f64::INFINITY,
+            max_w: f64::NEG_INFINITY,
+        };
         for (id, line) in lines.iter().enumerate() {
             let (b, magnitude) = swept_box(line, dt);
             let class = match b {
                 Some(b) => {
-                    bounds = Some(bounds.map_or(b, |u| u.union(&b)));
+                    bounds = bounds.union(&b);
                     self.boxed += 1;
+                    on_boxed(id as u32, &b);
                     Class::Boxed
                 }
                 None if line.is_inert() => Class::Inert,
@@ -97,51 +143,77 @@ impl SweptBoxes {
                     Class::Wild
                 }
             };
-            self.boxes.push(b.unwrap_or_default());
             self.class.push(class);
             self.magnitude.push(magnitude);
         }
-        self.bounds = bounds;
+        self.bounds = (self.boxed > 0).then_some(bounds);
     }
 }
 
-/// The padded swept box of one line (`None` when not finite) and the
-/// magnitude of its coordinates.
+/// `min` without NaN handling: one instruction. Callers rule NaN out.
+#[inline]
+fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `max` without NaN handling: one instruction. Callers rule NaN out.
+#[inline]
+fn max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// The padded swept hull of one line (`None` when not finite) and the
+/// magnitude of its coordinates (infinite when they are not finite).
 #[inline]
 pub fn swept_box(line: &Line, dt: f64) -> (Option<SweptBox>, f64) {
+    // The sum is NaN or infinite if any input is (or, harmlessly, if it
+    // overflows: the line turns wild). Past this test nothing is NaN, so
+    // the cheap min and max are exact.
+    let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
     let e1 = line.p1 + line.v * dt;
     let e2 = line.p2 + line.v * dt;
-    let min_x = line.p1.x.min(line.p2.x).min(e1.x.min(e2.x));
-    let max_x = line.p1.x.max(line.p2.x).max(e1.x.max(e2.x));
-    let min_y = line.p1.y.min(line.p2.y).min(e1.y.min(e2.y));
-    let max_y = line.p1.y.max(line.p2.y).max(e1.y.max(e2.y));
-    let magnitude = min_x
-        .abs()
-        .max(max_x.abs())
-        .max(min_y.abs())
-        .max(max_y.abs());
-    // min/max skip NaN, so test the inputs: the sum is NaN or infinite if
-    // any of them is (or, harmlessly, if it overflows: the line turns wild).
-    let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
-    let pad = magnitude * PAD + 1e-12;
-    let b = SweptBox {
-        min_x: min_x - pad,
-        min_y: min_y - pad,
-        max_x: max_x + pad,
-        max_y: max_y + pad,
-    };
-    if sum.is_finite() && magnitude.is_finite() {
-        (Some(b), magnitude)
-    } else {
-        (
+    let min_x = min(min(line.p1.x, line.p2.x), min(e1.x, e2.x));
+    let max_x = max(max(line.p1.x, line.p2.x), max(e1.x, e2.x));
+    let min_y = min(min(line.p1.y, line.p2.y), min(e1.y, e2.y));
+    let max_y = max(max(line.p1.y, line.p2.y), max(e1.y, e2.y));
+    // For lo <= hi, max(-lo, hi) = max(|lo|, |hi|).
+    let magnitude = max(max(-min_x, max_x), max(-min_y, max_y));
+    if !(sum.is_finite() && magnitude.is_finite()) {
+        return (
             None,
             if sum.is_finite() {
                 magnitude
             } else {
                 f64::INFINITY
             },
-        )
+        );
     }
+    let u = |p: Vec2| p.x * DIAGONAL_X + p.y * DIAGONAL_Y;
+    let w = |p: Vec2| p.x * DIAGONAL_X - p.y * DIAGONAL_Y;
+    let u = [u(line.p1), u(line.p2), u(e1), u(e2)];
+    let w = [w(line.p1), w(line.p2), w(e1), w(e2)];
+    let pad = magnitude * PAD + 1e-12;
+    // The diagonals reach (1180 + 800) times the magnitude; so does their pad.
+    let pad_diagonal = (DIAGONAL_X + DIAGONAL_Y) * pad;
+    let b = SweptBox {
+        min_x: min_x - pad,
+        min_y: min_y - pad,
+        max_x: max_x + pad,
+        max_y: max_y + pad,
+        min_u: min(min(u[0], u[1]), min(u[2], u[3])) - pad_diagonal,
+        max_u: max(max(u[0], u[1]), max(u[2], u[3])) + pad_diagonal,
+        min_w: min(min(w[0], w[1]), min(w[2], w[3])) - pad_diagonal,
+        max_w: max(max(w[0], w[1]), max(w[2], w[3])) + pad_diagonal,
+    };
+    (Some(b), magnitude)
 }
 
 /// Relative padding of swept boxes: far above the rounding errors of the
@@ -157,7 +229,7 @@ pub struct PairCounts {
     pub exact: u64,
 }
 
-/// Tests one pair whose boxes overlap: the cheap prefilter, then the exact
+/// Tests one pair whose hulls overlap: the cheap prefilter, then the exact
 /// test, pushing the event (lower id first) if there is one.
 #[inline]
 pub fn test_pair(
@@ -171,7 +243,7 @@ pub fn test_pair(
 ) {
     let (first, second) = if a < b { (a, b) } else { (b, a) };
     let (l1, l2) = (&lines[first as usize], &lines[second as usize]);
-    let m = magnitude[first as usize].max(magnitude[second as usize]);
+    let m = max(magnitude[first as usize], magnitude[second as usize]);
     if !may_intersect(l1, l2, dt, m) {
         return;
     }
@@ -241,11 +313,21 @@ mod tests {
     #[test]
     fn the_box_holds_the_segment_now_and_one_step_ahead() {
         let (b, m) = swept_box(&line((0.6, 0.7), (0.8, 0.65), (0.1, -0.2)), 0.5);
-        let b = b.unwrap();
+        let (b, r) = (b.unwrap(), b.unwrap());
         assert!(b.min_x < 0.6 && b.max_x > 0.85);
         assert!(b.min_y < 0.55 && b.max_y > 0.7);
         assert!((b.max_x - 0.85).abs() < 1e-5);
         assert_eq!(m, 0.8 + 0.1 * 0.5);
+        // Corners (0.6, 0.7), (0.8, 0.65), (0.65, 0.6), (0.85, 0.55).
+        let corners = [(0.6, 0.7), (0.8, 0.65), (0.65, 0.6), (0.85, 0.55)];
+        let u: Vec<f64> = corners.iter().map(|(x, y)| 1180.0 * x + 800.0 * y).collect();
+        let w: Vec<f64> = corners.iter().map(|(x, y)| 1180.0 * x - 800.0 * y).collect();
+        let least = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
+        let most = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        assert!(r.min_u < least(&u) && least(&u) - r.min_u < 1e-2);
+        assert!(r.max_u > most(&u) && r.max_u - most(&u) < 1e-2);
+        assert!(r.min_w < least(&w) && least(&w) - r.min_w < 1e-2);
+        assert!(r.max_w > most(&w) && r.max_w - most(&w) < 1e-2);
     }
 
     proptest::proptest! {
@@ -258,9 +340,13 @@ mod tests {
         ) {
             let l = line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
             let b = swept_box(&l, 0.5).0.unwrap();
+            let r = b;
             for p in [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5] {
                 proptest::prop_assert!(b.min_x < p.x && p.x < b.max_x);
                 proptest::prop_assert!(b.min_y < p.y && p.y < b.max_y);
+                let (u, w) = (1180.0 * p.x + 800.0 * p.y, 1180.0 * p.x - 800.0 * p.y);
+                proptest::prop_assert!(r.min_u < u && u < r.max_u);
+                proptest::prop_assert!(r.min_w < w && w < r.max_w);
             }
         }
     }
@@ -279,7 +365,9 @@ mod tests {
             line((0.8, 0.9), (0.8, 0.95), (0.0, 0.0)),
         ];
         let mut boxes = SweptBoxes::default();
-        boxes.compute(&lines, 0.5);
+        let mut seen = Vec::new();
+        boxes.compute(&lines, 0.5, |id, _| seen.push(id));
+        assert_eq!(seen, vec![0, 4]);
         use Class::*;
         assert_eq!(boxes.class, vec![Boxed, Wild, Inert, Wild, Boxed]);
         assert_eq!(boxes.wild, vec![1, 3]);
@@ -301,7 +389,7 @@ mod tests {
             line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
         ];
         let mut boxes = SweptBoxes::default();
-        boxes.compute(&lines, 0.5);
+        boxes.compute(&lines, 0.5, |_, _| {});
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
         test_wild(&lines, &boxes, 0.5, &mut events, &mut counts);
         // 0-1, 0-3, 3-1: all three cross now.
