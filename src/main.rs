@@ -38,6 +38,11 @@ struct Cli {
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH)]
     max_depth: u32,
 
+    /// Quadtree: rebuild the tree over the swept hulls every step, instead of
+    /// keeping fat hulls and the pairs they give from step to step.
+    #[arg(long)]
+    rebuild: bool,
+
     /// Run the all-pairs detector beside the chosen one at every step and
     /// stop at the first step whose events differ, printing both lists.
     #[arg(long)]
@@ -86,6 +91,7 @@ fn run(cli: &Cli) -> Result<(), String> {
     let config = DetectorConfig {
         leaf_size: cli.leaf_size,
         max_depth: cli.max_depth,
+        cached: !cli.rebuild,
     };
     let mut world = World::from_scene(&scene, cli.detector.build_with(&config));
     world.set_timing(cli.stats);
@@ -145,11 +151,14 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
         "detector": kind.name(),
         "leaf_size": config.leaf_size,
         "max_depth": config.max_depth,
+        "cached": config.cached,
         "candidate_pairs": s.candidate_pairs,
         "exact_tests": s.exact_tests,
         "events": s.events,
         "tree_nodes": s.nodes,
         "tree_depth": s.max_depth,
+        "refits": s.refits,
+        "rebuilds": s.rebuilds,
         "seconds": {
             "detect": t.detect.as_secs_f64(),
             "resolve": t.resolve.as_secs_f64(),
@@ -177,8 +186,14 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
     };
     let tuning = match kind {
         DetectorKind::Quadtree => format!(
-            " (leaf size {}, max depth {})",
-            config.leaf_size, config.max_depth
+            " ({}, leaf size {}, max depth {})",
+            if config.cached {
+                "cached pairs"
+            } else {
+                "rebuilt every step"
+            },
+            config.leaf_size,
+            config.max_depth
         ),
         DetectorKind::Brute => String::new(),
     };
@@ -194,6 +209,8 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
         ("exact tests", s.exact_tests),
         ("events", s.events),
         ("tree nodes", s.nodes),
+        ("refits", s.refits),
+        ("rebuilds", s.rebuilds),
     ] {
         out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
     }

@@ -7,28 +7,58 @@ use proptest::prelude::*;
 use screensaver::detect::Brute;
 use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
 
-/// Tree shapes to try: leaves of 1, 2 and many lines, no splitting at all,
-/// and very deep trees.
+/// Tree shapes to try, cached and rebuilt: leaves of 1, 2 and many lines, no
+/// splitting at all, and very deep trees.
 const CONFIGS: &[DetectorConfig] = &[
     DetectorConfig {
         leaf_size: 1,
         max_depth: 12,
+        cached: true,
+    },
+    DetectorConfig {
+        leaf_size: 1,
+        max_depth: 12,
+        cached: false,
     },
     DetectorConfig {
         leaf_size: 2,
         max_depth: 40,
+        cached: true,
+    },
+    DetectorConfig {
+        leaf_size: 2,
+        max_depth: 40,
+        cached: false,
     },
     DetectorConfig {
         leaf_size: 1000,
         max_depth: 12,
+        cached: true,
+    },
+    DetectorConfig {
+        leaf_size: 1000,
+        max_depth: 12,
+        cached: false,
     },
     DetectorConfig {
         leaf_size: 16,
         max_depth: 0,
+        cached: true,
+    },
+    DetectorConfig {
+        leaf_size: 16,
+        max_depth: 0,
+        cached: false,
     },
     DetectorConfig {
         leaf_size: 3,
         max_depth: 2,
+        cached: true,
+    },
+    DetectorConfig {
+        leaf_size: 16,
+        max_depth: 12,
+        cached: true,
     },
 ];
 

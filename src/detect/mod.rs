@@ -31,6 +31,12 @@ pub struct DetectorStats {
     pub nodes: u64,
     /// Deepest tree level reached (zero for detectors without a tree).
     pub max_depth: u32,
+    /// Lines that left their fat hulls and were moved in the tree (cached
+    /// quadtree only).
+    pub refits: u64,
+    /// Times the tree and its cached pairs were rebuilt from scratch (cached
+    /// quadtree only).
+    pub rebuilds: u64,
 }
 
 /// A broad phase: finds every colliding pair of lines for one step.
@@ -63,6 +69,9 @@ pub struct DetectorConfig {
     pub leaf_size: usize,
     /// Deepest level a tree node may split at.
     pub max_depth: u32,
+    /// Quadtree: keep fat hulls and the pairs they give from step to step
+    /// (true), or rebuild the tree over the swept hulls every step (false).
+    pub cached: bool,
 }
 
 impl Default for DetectorConfig {
@@ -70,6 +79,7 @@ impl Default for DetectorConfig {
         Self {
             leaf_size: DEFAULT_LEAF_SIZE,
             max_depth: DEFAULT_MAX_DEPTH,
+            cached: true,
         }
     }
 }
@@ -98,7 +108,11 @@ impl DetectorKind {
     pub fn build_with(self, config: &DetectorConfig) -> Box<dyn Detector> {
         match self {
             DetectorKind::Brute => Box::new(Brute::default()),
-            DetectorKind::Quadtree => Box::new(Quadtree::new(config.leaf_size, config.max_depth)),
+            DetectorKind::Quadtree => Box::new(Quadtree::new(
+                config.leaf_size,
+                config.max_depth,
+                config.cached,
+            )),
         }
     }
 }

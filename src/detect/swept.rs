@@ -320,8 +320,14 @@ mod tests {
         assert_eq!(m, 0.8 + 0.1 * 0.5);
         // Corners (0.6, 0.7), (0.8, 0.65), (0.65, 0.6), (0.85, 0.55).
         let corners = [(0.6, 0.7), (0.8, 0.65), (0.65, 0.6), (0.85, 0.55)];
-        let u: Vec<f64> = corners.iter().map(|(x, y)| 1180.0 * x + 800.0 * y).collect();
-        let w: Vec<f64> = corners.iter().map(|(x, y)| 1180.0 * x - 800.0 * y).collect();
+        let u: Vec<f64> = corners
+            .iter()
+            .map(|(x, y)| 1180.0 * x + 800.0 * y)
+            .collect();
+        let w: Vec<f64> = corners
+            .iter()
+            .map(|(x, y)| 1180.0 * x - 800.0 * y)
+            .collect();
         let least = |v: &[f64]| v.iter().copied().fold(f64::INFINITY, f64::min);
         let most = |v: &[f64]| v.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         assert!(r.min_u < least(&u) && least(&u) - r.min_u < 1e-2);

@@ -1,47 +1,36 @@
-//! The quadtree detector of the design write-up, kept as a sorted array.
+//! The quadtree as one sorted array, and the walks over it.
 //!
-//! The tree is the write-up's: the root covers the swept boxes of all
-//! lines; a node holding more than `leaf_size` lines, and shallower than
-//! `max_depth`, splits its region into four quadrants; a line whose swept box
+//! The tree is the design write-up's: the root covers every line's hull; a
+//! node holding more than `leaf_size` lines, and shallower than
+//! `max_depth`, splits its region into four quadrants; a line whose hull
 //! fits in one quadrant goes down to it, the others stay at the node as
-//! *misfits*. A node's misfits are tested against each other and against
-//! every line below the node; a leaf tests its own pairs. Each pair is
-//! tested once, at the deepest node holding both lines.
+//! *misfits*. A node's misfits are paired with each other and with every
+//! line below the node; a leaf pairs its own lines. Each pair comes up
+//! once, at the deepest node holding both lines.
 //!
-//! How it is built is what makes it fast:
-//! - Swept boxes are quantised to a grid of `2^16 x 2^16` cells over the
-//!   root, a square centred on the box that grows (by doubling) only when
-//!   lines leave it, so that cells stay put from step to step. The deepest quadrant holding a box whole is where its corner
-//!   cells' coordinates stop sharing leading bits, so a line's node is known
-//!   without descending, and its Morton key (the node's cell interleaved,
-//!   then the level) puts every node's misfits first and its subtree right
-//!   after, in one sorted array.
-//! - Lines hardly move in a step, so the array sorted last step is nearly
-//!   sorted this step: an insertion sort fixes it in close to linear time
-//!   (falling back to a full sort when lines jump far). This is the
-//!   incremental tree: only the lines whose node changed move.
+//! How it is kept is what makes it fast:
+//! - Hulls are quantised to a grid of `2^16 x 2^16` cells over the root, a
+//!   square centred on the box that grows (by doubling) only when lines
+//!   leave it, so that cells stay put from step to step. The deepest
+//!   quadrant holding a hull whole is where its corner cells' coordinates
+//!   stop sharing leading bits, so a line's node is known without
+//!   descending, and its Morton key (the node's cell interleaved, then the
+//!   level) puts every node's misfits first and its subtree right after, in
+//!   one sorted array.
+//! - Lines hardly move in a step, so last step's order is nearly sorted:
+//!   an insertion sort fixes it in close to linear time (falling back to a
+//!   full sort when lines jump far).
 //! - A node finds its children's runs by binary search over the keys, and
 //!   the misfits from above travel down as an *active list* that each child
-//!   filters by its cell block, so a misfit meets only the quadrants its box
-//!   reaches.
-//! - Quantisation is monotone, so two boxes that overlap still overlap in
+//!   filters by its cell block, so a misfit meets only the quadrants its
+//!   hull reaches.
+//! - Quantisation is monotone, so hulls that overlap still overlap in
 //!   cells: every test on cells is conservative, with no rounding questions.
-//!
-//! The buffers live in the detector and are reused: once they have grown to
-//! the scene's size, a step allocates nothing.
+//!   Cells cover the window's diagonals as well as the axes.
 
-use super::swept::{
-    swept_box, test_pair, test_wild, Class, PairCounts, SweptBox, SweptBoxes, DIAGONAL_X,
-    DIAGONAL_Y,
-};
-use super::{Detector, DetectorStats};
-use crate::line::{Line, BOX_MAX, BOX_MIN};
-use crate::narrow::Event;
+use crate::detect::swept::{SweptBox, DIAGONAL_X, DIAGONAL_Y};
+use crate::line::{BOX_MAX, BOX_MIN};
 
-/// Default for the largest number of lines a leaf holds before it splits.
-pub const DEFAULT_LEAF_SIZE: usize = 16;
-/// Default for the deepest level a node may split at.
-pub const DEFAULT_MAX_DEPTH: u32 = 12;
 /// Levels of the quantisation grid: the deepest a tree can go.
 pub const GRID_LEVELS: u32 = 16;
 
@@ -51,23 +40,24 @@ const LEVEL_MASK: u64 = (1 << LEVEL_BITS) - 1;
 /// A line's swept hull in finest-level grid cells (inclusive), along the
 /// axes and the diagonals, with its id.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct Cells {
-    x0: u16,
-    y0: u16,
-    x1: u16,
-    y1: u16,
-    u0: u16,
-    w0: u16,
-    u1: u16,
-    w1: u16,
-    id: u32,
+pub struct Cells {
+    pub x0: u16,
+    pub y0: u16,
+    pub x1: u16,
+    pub y1: u16,
+    pub u0: u16,
+    pub w0: u16,
+    pub u1: u16,
+    pub w1: u16,
+    /// The line's id.
+    pub id: u32,
 }
 
 impl Cells {
     /// Non-short-circuit `&`: one predictable branch on the result instead
     /// of eight unpredictable ones.
     #[inline]
-    fn overlaps(&self, o: &Cells) -> bool {
+    pub fn overlaps(&self, o: &Cells) -> bool {
         (self.x0 <= o.x1)
             & (o.x0 <= self.x1)
             & (self.y0 <= o.y1)
@@ -94,7 +84,7 @@ const LANES: usize = 16;
 /// fixed-size inner loop into vector compares). Each array is followed by
 /// `LANES` padding entries, so that a chunk may start anywhere.
 #[derive(Debug, Default)]
-struct Columns {
+pub struct Columns {
     x0: Vec<u16>,
     y0: Vec<u16>,
     x1: Vec<u16>,
@@ -195,9 +185,11 @@ impl Columns {
 }
 
 #[derive(Clone, Copy, Debug, Default)]
-struct Entry {
-    key: u64,
-    cells: Cells,
+pub struct Entry {
+    /// Morton key of the line's node, then its level.
+    pub key: u64,
+    /// The line's cells.
+    pub cells: Cells,
 }
 
 impl Entry {
@@ -247,7 +239,7 @@ fn spread(v: u16) -> u32 {
 /// The diagonals span `(1180 + 800)` times the square's side and are
 /// scaled to the same number of cells.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Grid {
+pub struct Grid {
     min: f64,
     side: f64,
     scale: f64,
@@ -259,7 +251,7 @@ impl Grid {
     /// needed. Fixed squares keep keys stable from step to step (so last
     /// step's order is nearly sorted), whereas a root fitted to the bounds
     /// would move every cell boundary whenever any line moved.
-    fn over(bounds: &SweptBox) -> Self {
+    pub fn over(bounds: &SweptBox) -> Self {
         const CENTRE: f64 = (BOX_MIN + BOX_MAX) / 2.0;
         let reach = (CENTRE - bounds.min_x)
             .max(bounds.max_x - CENTRE)
@@ -277,7 +269,7 @@ impl Grid {
     }
 
     /// True when `bounds` lies within the grid's square.
-    fn holds(&self, bounds: &SweptBox) -> bool {
+    pub fn holds(&self, bounds: &SweptBox) -> bool {
         let max = self.min + self.side;
         bounds.min_x >= self.min
             && bounds.min_y >= self.min
@@ -293,7 +285,7 @@ impl Grid {
     }
 
     #[inline]
-    fn cells(&self, b: &SweptBox, id: u32) -> Cells {
+    pub fn cells(&self, b: &SweptBox, id: u32) -> Cells {
         let (wx, wy) = (DIAGONAL_X, DIAGONAL_Y);
         let min_u = self.min * (wx + wy);
         let min_w = self.min * wx - (self.min + self.side) * wy;
@@ -314,7 +306,7 @@ impl Grid {
 
 /// The sort key of a line: its node's cell (Morton order) and level.
 #[inline]
-fn key(c: &Cells, max_depth: u32) -> u64 {
+pub fn key(c: &Cells, max_depth: u32) -> u64 {
     let differ = u32::from((c.x0 ^ c.x1) | (c.y0 ^ c.y1));
     let fits = GRID_LEVELS - (u32::BITS - differ.leading_zeros());
     let level = fits.min(max_depth);
@@ -325,7 +317,7 @@ fn key(c: &Cells, max_depth: u32) -> u64 {
 
 /// Sorts entries by key, fast when they are nearly sorted already; falls
 /// back to a full in-place sort when too many have moved far.
-fn sort_nearly_sorted(entries: &mut [Entry]) {
+pub fn sort_nearly_sorted(entries: &mut [Entry]) {
     let mut budget = 8 * entries.len() + 64;
     for i in 1..entries.len() {
         let e = entries[i];
@@ -343,152 +335,119 @@ fn sort_nearly_sorted(entries: &mut [Entry]) {
     }
 }
 
-/// A quadtree broad phase.
+/// A line in a sweep: its interval on the sweep axis, whether it belongs to
+/// the node (rather than to the active list), and its cells.
+#[derive(Clone, Copy, Debug)]
+struct Probe {
+    lo: u16,
+    hi: u16,
+    own: bool,
+    cells: Cells,
+}
+
+/// One of the four directions of the cells: a line's interval on it.
+type Axis = fn(&Cells) -> (u16, u16);
+
+/// Below this many lines in a node's pair set, plain loops beat sorting.
+const SWEEP_MIN: usize = 48;
+
+/// What the walks have done, summed until reset.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WalkCounts {
+    /// Pairs of lines the walks were responsible for (before any test).
+    pub candidates: u64,
+    /// Tree nodes visited.
+    pub nodes: u64,
+    /// Deepest level visited.
+    pub deepest: u32,
+}
+
+/// The quadtree over a set of lines: their entries in key order and the
+/// buffers of the walks, reused from call to call.
 #[derive(Debug)]
-pub struct Quadtree {
+pub struct Tree {
     leaf_size: usize,
     max_depth: u32,
-    boxes: SweptBoxes,
-    /// The grid in use; it changes only when lines leave its square.
-    grid: Grid,
-    /// Each line's entry for this step, by id (meaningful for boxed lines).
-    by_id: Vec<Entry>,
-    /// Ids of the boxed lines in last step's key order.
-    order: Vec<u32>,
-    entries: Vec<Entry>,
-    /// The entries' cells, in key order, packed for the pair loops.
-    items: Columns,
-    /// Misfits of the nodes above the current one, filtered by region.
+    /// The lines' entries; [`Tree::sort`] puts them in key order.
+    pub entries: Vec<Entry>,
+    columns: Columns,
     active: Vec<Cells>,
-    /// The sweep's buffer, kept between steps.
     sweep: Vec<Probe>,
-    stats: DetectorStats,
+    /// What the walks have done.
+    pub counts: WalkCounts,
 }
 
-impl Default for Quadtree {
-    fn default() -> Self {
-        Self::new(DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH)
-    }
-}
-
-impl Quadtree {
-    /// A quadtree whose leaves hold at most `leaf_size` lines (at least 1)
-    /// unless `max_depth` (at most [`GRID_LEVELS`]) stops the splitting.
+impl Tree {
+    /// An empty tree whose leaves hold at most `leaf_size` lines (at least
+    /// 1) unless `max_depth` (at most [`GRID_LEVELS`]) stops the splitting.
     pub fn new(leaf_size: usize, max_depth: u32) -> Self {
         Self {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
-            boxes: SweptBoxes::default(),
-            grid: Grid::over(&SweptBox {
-                min_x: BOX_MIN,
-                min_y: BOX_MIN,
-                max_x: BOX_MAX,
-                max_y: BOX_MAX,
-                ..SweptBox::default()
-            }),
-            by_id: Vec::new(),
-            order: Vec::new(),
             entries: Vec::new(),
-            items: Columns::default(),
+            columns: Columns::default(),
             active: Vec::new(),
             sweep: Vec::new(),
-            stats: DetectorStats::default(),
+            counts: WalkCounts::default(),
         }
     }
 
-    /// Classifies the lines and computes every boxed line's entry, growing
-    /// the grid first if lines have left it.
-    fn compute_entries(&mut self, lines: &[Line], dt: f64) {
-        let (grid, max_depth) = (self.grid, self.max_depth);
-        self.by_id.resize(lines.len(), Entry::default());
-        let by_id = &mut self.by_id;
-        self.boxes.compute(lines, dt, |id, b| {
-            let cells = grid.cells(b, id);
-            by_id[id as usize] = Entry {
-                key: key(&cells, max_depth),
-                cells,
-            };
-        });
-        // Cells clamp at the grid's edge, so a stale grid would still be
-        // correct, only slow: regrid (rarely) when lines get out.
-        if let Some(bounds) = self.boxes.bounds {
-            if !self.grid.holds(&bounds) {
-                self.grid = Grid::over(&bounds);
-                let grid = self.grid;
-                for (id, line) in lines.iter().enumerate() {
-                    if self.boxes.class[id] == Class::Boxed {
-                        if let (Some(b), _) = swept_box(line, dt) {
-                            let cells = grid.cells(&b, id as u32);
-                            self.by_id[id] = Entry {
-                                key: key(&cells, max_depth),
-                                cells,
-                            };
-                        }
-                    }
-                }
-            }
-        }
+    /// The depth limit in force.
+    pub fn max_depth(&self) -> u32 {
+        self.max_depth
     }
 
-    /// Fills `entries` with this step's boxed lines in last step's order
-    /// (or id order when the set of boxed lines changed) and sorts them.
-    fn arrange(&mut self) {
-        let (by_id, class) = (&self.by_id, &self.boxes.class);
-        self.entries.clear();
-        self.entries.extend(
-            self.order
-                .iter()
-                .filter(|&&id| class.get(id as usize) == Some(&Class::Boxed))
-                .map(|&id| by_id[id as usize]),
-        );
-        if self.entries.len() != self.boxes.boxed {
-            self.entries.clear();
-            self.entries.extend(
-                (0..class.len())
-                    .filter(|&id| class[id] == Class::Boxed)
-                    .map(|id| by_id[id]),
-            );
-        }
+    /// Puts the entries in key order; fast when they nearly are already.
+    pub fn sort(&mut self) {
         sort_nearly_sorted(&mut self.entries);
-        self.order.clear();
-        self.order.extend(self.entries.iter().map(|e| e.cells.id));
-        self.items.fill(&self.entries);
+    }
+
+    fn root() -> Block {
+        Block {
+            x0: 0,
+            y0: 0,
+            size: 1 << GRID_LEVELS,
+        }
+    }
+
+    /// Calls `sink(a, b)` once for every pair of lines whose cells overlap
+    /// (entries must be sorted).
+    pub fn pairs(&mut self, sink: &mut impl FnMut(u32, u32)) {
+        self.columns.fill(&self.entries);
+        self.active.clear();
+        let n = self.entries.len();
+        if n > 0 {
+            self.visit(sink, 0, n, 0, Self::root(), 0);
+        }
     }
 
     /// Visits the node at `level` covering `block`, whose subtree is
     /// `entries[lo..hi]`; the misfits from above that reach it are
     /// `active[active_lo..]`.
-    #[allow(clippy::too_many_arguments)]
-    fn visit(
+    fn visit<S: FnMut(u32, u32)>(
         &mut self,
-        pass: &mut Pass,
+        sink: &mut S,
         lo: usize,
         hi: usize,
         level: u32,
         block: Block,
         active_lo: usize,
     ) {
-        pass.nodes += 1;
-        pass.deepest = pass.deepest.max(level);
+        self.counts.nodes += 1;
+        self.counts.deepest = self.counts.deepest.max(level);
         if hi - lo <= self.leaf_size || level >= self.max_depth {
-            pass.pairs(&self.active[active_lo..], &self.items, lo, hi);
+            self.node_pairs(sink, active_lo, lo, hi);
             return;
         }
 
         // This node's misfits come first in its run.
         let mid = lo + self.entries[lo..hi].partition_point(|e| e.level() == level);
-        pass.pairs(&self.active[active_lo..], &self.items, lo, mid);
+        self.node_pairs(sink, active_lo, lo, mid);
 
-        // Children's runs, by the two key bits that choose the quadrant.
-        let shift = LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
-        let child_of = |e: &Entry| ((e.key >> shift) & 3) as usize;
-        let run = &self.entries[mid..hi];
-        let split = |c: usize| mid + run.partition_point(|e| child_of(e) < c);
-        let bounds = [mid, split(1), split(2), split(3), hi];
-
+        let bounds = self.child_runs(mid, hi, level);
         let own_hi = self.active.len() + (mid - lo);
         for k in lo..mid {
-            self.active.push(self.items.get(k));
+            self.active.push(self.columns.get(k));
         }
         for c in 0..4 {
             let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
@@ -503,181 +462,154 @@ impl Quadtree {
                     self.active.push(it);
                 }
             }
-            self.visit(pass, c_lo, c_hi, level + 1, child, child_active);
+            self.visit(sink, c_lo, c_hi, level + 1, child, child_active);
             self.active.truncate(child_active);
         }
         self.active.truncate(own_hi - (mid - lo));
     }
-}
 
-/// What one detection pass needs besides the tree buffers.
-struct Pass<'a> {
-    lines: &'a [Line],
-    magnitude: &'a [f64],
-    dt: f64,
-    events: &'a mut Vec<Event>,
-    counts: PairCounts,
-    nodes: u64,
-    deepest: u32,
-    /// Reused buffer of the sweep.
-    sweep: Vec<Probe>,
-}
-
-/// A line in a sweep: its interval on the sweep axis, whether it belongs to
-/// the node (rather than to the active list), and its cells.
-#[derive(Clone, Copy, Debug)]
-struct Probe {
-    lo: u16,
-    hi: u16,
-    own: bool,
-    cells: Cells,
-}
-
-/// Below this many lines in a node's pair set, plain loops beat sorting.
-const SWEEP_MIN: usize = 48;
-
-impl Pass<'_> {
-    /// The exact path for a pair whose boxes overlap; kept out of line so
-    /// that the loops over candidates stay small.
-    #[inline(never)]
-    fn hit(&mut self, a: u32, b: u32) {
-        test_pair(
-            self.lines,
-            self.magnitude,
-            a,
-            b,
-            self.dt,
-            self.events,
-            &mut self.counts,
-        );
+    /// The runs of a node's four children within `entries[mid..hi]` (the
+    /// node's lines past its misfits), as five boundaries.
+    fn child_runs(&self, mid: usize, hi: usize, level: u32) -> [usize; 5] {
+        // The two key bits below the node's level choose the quadrant.
+        let shift = LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
+        let run = &self.entries[mid..hi];
+        let split = |c: u64| mid + run.partition_point(|e| (e.key >> shift) & 3 < c);
+        [mid, split(1), split(2), split(3), hi]
     }
 
-    /// The pairs a node owes: every pair within `items[lo..hi]` and every
-    /// pair between those lines and the `active` ones.
-    fn pairs(&mut self, active: &[Cells], items: &Columns, lo: usize, hi: usize) {
-        let (a, n) = (active.len() as u64, (hi - lo) as u64);
+    /// The pairs a node owes: every pair within `entries[lo..hi]` and every
+    /// pair between those lines and the active ones.
+    fn node_pairs<S: FnMut(u32, u32)>(
+        &mut self,
+        sink: &mut S,
+        active_lo: usize,
+        lo: usize,
+        hi: usize,
+    ) {
+        let (a, n) = ((self.active.len() - active_lo) as u64, (hi - lo) as u64);
         self.counts.candidates += a * n + n * n.saturating_sub(1) / 2;
+        let active = &self.active[active_lo..];
         if active.len() + (hi - lo) >= SWEEP_MIN {
-            self.sweep_pairs(active, items, lo, hi);
+            sweep_pairs(&mut self.sweep, sink, active, &self.columns, lo, hi);
             return;
         }
         for a in active {
-            items.overlapping(a, lo, hi, |b| self.hit(a.id, b));
+            self.columns.overlapping(a, lo, hi, |b| sink(a.id, b));
         }
         for k in lo..hi {
-            let a = items.get(k);
-            items.overlapping(&a, k + 1, hi, |b| self.hit(a.id, b));
+            let a = self.columns.get(k);
+            self.columns.overlapping(&a, k + 1, hi, |b| sink(a.id, b));
         }
     }
 
-    /// [`Pass::pairs`] by sweep and prune along whichever of the four
-    /// directions the lines spread least on (relative to their span), so
-    /// that only pairs overlapping on that direction are compared. Large
-    /// pair sets are misfit-heavy nodes: their lines straddle the node's
-    /// centre lines and lie spread along them, where a sweep prunes well.
-    fn sweep_pairs(&mut self, active: &[Cells], items: &Columns, lo: usize, hi: usize) {
-        let mut probes = std::mem::take(&mut self.sweep);
-        probes.clear();
-        probes.extend(active.iter().map(|&cells| Probe {
-            lo: 0,
-            hi: 0,
-            own: false,
-            cells,
-        }));
-        probes.extend((lo..hi).map(|k| Probe {
-            lo: 0,
-            hi: 0,
-            own: true,
-            cells: items.get(k),
-        }));
+    /// Calls `sink(id)` for every line whose cells overlap `probe`'s
+    /// (entries must be sorted). The probe's own line is reported too if it
+    /// is in the tree.
+    pub fn query(&mut self, probe: &Cells, mut sink: impl FnMut(u32)) {
+        let n = self.entries.len();
+        if n > 0 {
+            self.query_node(probe, &mut sink, 0, n, 0, Self::root());
+        }
+    }
 
-        let axes: [fn(&Cells) -> (u16, u16); 4] = [
-            |c| (c.x0, c.x1),
-            |c| (c.y0, c.y1),
-            |c| (c.u0, c.u1),
-            |c| (c.w0, c.w1),
-        ];
-        let density = |axis: &fn(&Cells) -> (u16, u16)| {
-            let (mut sum, mut least, mut most) = (0u64, u16::MAX, 0u16);
-            for p in &probes {
-                let (l, h) = axis(&p.cells);
-                sum += u64::from(h - l) + 1;
-                least = least.min(l);
-                most = most.max(h);
-            }
-            sum as f64 / (f64::from(most - least) + 1.0)
+    fn query_node(
+        &mut self,
+        probe: &Cells,
+        sink: &mut impl FnMut(u32),
+        lo: usize,
+        hi: usize,
+        level: u32,
+        block: Block,
+    ) {
+        self.counts.nodes += 1;
+        let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
+        let mid = if leaf {
+            hi
+        } else {
+            lo + self.entries[lo..hi].partition_point(|e| e.level() == level)
         };
-        let axis = axes
-            .iter()
-            .min_by(|a, b| density(a).total_cmp(&density(b)))
-            .expect("four axes");
-        for p in &mut probes {
-            (p.lo, p.hi) = axis(&p.cells);
-        }
-        probes.sort_unstable_by_key(|p| p.lo);
-
-        for (i, a) in probes.iter().enumerate() {
-            for b in &probes[i + 1..] {
-                if b.lo > a.hi {
-                    break;
-                }
-                // Pairs of active lines belong to other nodes.
-                if (a.own | b.own) & a.cells.overlaps(&b.cells) {
-                    self.hit(a.cells.id, b.cells.id);
-                }
+        self.counts.candidates += (mid - lo) as u64;
+        for e in &self.entries[lo..mid] {
+            if probe.overlaps(&e.cells) {
+                sink(e.cells.id);
             }
         }
-        self.sweep = probes;
+        if leaf {
+            return;
+        }
+        let bounds = self.child_runs(mid, hi, level);
+        for c in 0..4 {
+            let child = block.child(c);
+            if bounds[c] < bounds[c + 1] && probe.overlaps_block(&child) {
+                self.query_node(probe, sink, bounds[c], bounds[c + 1], level + 1, child);
+            }
+        }
     }
 }
 
-impl Detector for Quadtree {
-    fn name(&self) -> &'static str {
-        "quadtree"
-    }
+/// A node's pairs by sweep and prune along whichever of the four
+/// directions the lines spread least on (relative to their span), so that
+/// only pairs overlapping on that direction are compared. Large pair sets
+/// are misfit-heavy nodes: their lines straddle the node's centre lines and
+/// lie spread along them, where a sweep prunes well.
+fn sweep_pairs<S: FnMut(u32, u32)>(
+    probes: &mut Vec<Probe>,
+    sink: &mut S,
+    active: &[Cells],
+    columns: &Columns,
+    lo: usize,
+    hi: usize,
+) {
+    probes.clear();
+    probes.extend(active.iter().map(|&cells| Probe {
+        lo: 0,
+        hi: 0,
+        own: false,
+        cells,
+    }));
+    probes.extend((lo..hi).map(|k| Probe {
+        lo: 0,
+        hi: 0,
+        own: true,
+        cells: columns.get(k),
+    }));
 
-    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
-        let before = events.len();
-        self.compute_entries(lines, dt);
-        let mut counts = PairCounts::default();
-        test_wild(lines, &self.boxes, dt, events, &mut counts);
-
-        let magnitude = std::mem::take(&mut self.boxes.magnitude);
-        let mut pass = Pass {
-            lines,
-            magnitude: &magnitude,
-            dt,
-            events,
-            counts,
-            nodes: 0,
-            deepest: 0,
-            sweep: std::mem::take(&mut self.sweep),
-        };
-        if self.boxes.boxed > 0 {
-            self.arrange();
-            self.active.clear();
-            let root = Block {
-                x0: 0,
-                y0: 0,
-                size: 1 << GRID_LEVELS,
-            };
-            let n = self.entries.len();
-            self.visit(&mut pass, 0, n, 0, root, 0);
+    let axes: [Axis; 4] = [
+        |c| (c.x0, c.x1),
+        |c| (c.y0, c.y1),
+        |c| (c.u0, c.u1),
+        |c| (c.w0, c.w1),
+    ];
+    let density = |axis: &Axis| {
+        let (mut sum, mut least, mut most) = (0u64, u16::MAX, 0u16);
+        for p in probes.iter() {
+            let (l, h) = axis(&p.cells);
+            sum += u64::from(h - l) + 1;
+            least = least.min(l);
+            most = most.max(h);
         }
-        let counts = pass.counts;
-        let (nodes, deepest) = (pass.nodes, pass.deepest);
-        self.sweep = pass.sweep;
-        self.boxes.magnitude = magnitude;
-
-        self.stats.candidate_pairs += counts.candidates;
-        self.stats.exact_tests += counts.exact;
-        self.stats.nodes += nodes;
-        self.stats.max_depth = self.stats.max_depth.max(deepest);
-        self.stats.events += (events.len() - before) as u64;
+        sum as f64 / (f64::from(most - least) + 1.0)
+    };
+    let axis = axes
+        .iter()
+        .min_by(|a, b| density(a).total_cmp(&density(b)))
+        .expect("four axes");
+    for p in probes.iter_mut() {
+        (p.lo, p.hi) = axis(&p.cells);
     }
+    probes.sort_unstable_by_key(|p| p.lo);
 
-    fn stats(&self) -> DetectorStats {
-        self.stats
+    for (i, a) in probes.iter().enumerate() {
+        for b in &probes[i + 1..] {
+            if b.lo > a.hi {
+                break;
+            }
+            // Pairs of active lines belong to other nodes.
+            if (a.own | b.own) & a.cells.overlaps(&b.cells) {
+                sink(a.cells.id, b.cells.id);
+            }
+        }
     }
 }
 
