@@ -77,113 +77,6 @@ impl Cells {
     }
 }
 
-const LANES: usize = 16;
-
-/// The sorted lines' cells, one array per field, so that the candidate
-/// loops compare a line with sixteen others at once (LLVM turns the
-/// fixed-size inner loop into vector compares). Each array is followed by
-/// `LANES` padding entries, so that a chunk may start anywhere.
-#[derive(Debug, Default)]
-pub struct Columns {
-    x0: Vec<u16>,
-    y0: Vec<u16>,
-    x1: Vec<u16>,
-    y1: Vec<u16>,
-    u0: Vec<u16>,
-    w0: Vec<u16>,
-    u1: Vec<u16>,
-    w1: Vec<u16>,
-    id: Vec<u32>,
-}
-
-impl Columns {
-    /// Refills the columns from entries in order, then pads them.
-    fn fill(&mut self, entries: &[Entry]) {
-        let fields = [
-            &mut self.x0,
-            &mut self.y0,
-            &mut self.x1,
-            &mut self.y1,
-            &mut self.u0,
-            &mut self.w0,
-            &mut self.u1,
-            &mut self.w1,
-        ];
-        for (f, column) in fields.into_iter().enumerate() {
-            column.clear();
-            column.extend(entries.iter().map(|e| {
-                let c = &e.cells;
-                [c.x0, c.y0, c.x1, c.y1, c.u0, c.w0, c.u1, c.w1][f]
-            }));
-            column.extend([0; LANES]);
-        }
-        self.id.clear();
-        self.id.extend(entries.iter().map(|e| e.cells.id));
-        self.id.extend([u32::MAX; LANES]);
-    }
-
-    fn get(&self, i: usize) -> Cells {
-        Cells {
-            x0: self.x0[i],
-            y0: self.y0[i],
-            x1: self.x1[i],
-            y1: self.y1[i],
-            u0: self.u0[i],
-            w0: self.w0[i],
-            u1: self.u1[i],
-            w1: self.w1[i],
-            id: self.id[i],
-        }
-    }
-
-    /// Calls `hit` with the id of every line in `lo..hi` whose cells
-    /// overlap `a`'s, sixteen lines per step; lanes past `hi` are masked.
-    #[inline]
-    fn overlapping(&self, a: &Cells, lo: usize, hi: usize, mut hit: impl FnMut(u32)) {
-        let mut i = lo;
-        while i < hi {
-            let lane =
-                |v: &[u16]| -> [u16; LANES] { v[i..i + LANES].try_into().expect("padded columns") };
-            let (x0, y0, x1, y1) = (
-                lane(&self.x0),
-                lane(&self.y0),
-                lane(&self.x1),
-                lane(&self.y1),
-            );
-            let (u0, w0, u1, w1) = (
-                lane(&self.u0),
-                lane(&self.w0),
-                lane(&self.u1),
-                lane(&self.w1),
-            );
-            let mut flags = [0u8; LANES];
-            for j in 0..LANES {
-                let fits = (a.x0 <= x1[j])
-                    & (x0[j] <= a.x1)
-                    & (a.y0 <= y1[j])
-                    & (y0[j] <= a.y1)
-                    & (a.u0 <= u1[j])
-                    & (u0[j] <= a.u1)
-                    & (a.w0 <= w1[j])
-                    & (w0[j] <= a.w1);
-                flags[j] = u8::from(fits);
-            }
-            // One byte per lane, each 0 or 1: find the set ones by bit tricks.
-            let valid = hi - i;
-            let mut bits = u128::from_ne_bytes(flags).to_le();
-            if valid < LANES {
-                bits &= (1u128 << (8 * valid)) - 1;
-            }
-            while bits != 0 {
-                let j = bits.trailing_zeros() as usize / 8;
-                hit(self.id[i + j]);
-                bits &= bits - 1;
-            }
-            i += LANES;
-        }
-    }
-}
-
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Entry {
     /// Morton key of the line's node, then its level.
@@ -370,7 +263,6 @@ pub struct Tree {
     max_depth: u32,
     /// The lines' entries; [`Tree::sort`] puts them in key order.
     pub entries: Vec<Entry>,
-    columns: Columns,
     active: Vec<Cells>,
     sweep: Vec<Probe>,
     /// What the walks have done.
@@ -385,7 +277,6 @@ impl Tree {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
             entries: Vec::new(),
-            columns: Columns::default(),
             active: Vec::new(),
             sweep: Vec::new(),
             counts: WalkCounts::default(),
@@ -413,7 +304,6 @@ impl Tree {
     /// Calls `sink(a, b)` once for every pair of lines whose cells overlap
     /// (entries must be sorted).
     pub fn pairs(&mut self, sink: &mut impl FnMut(u32, u32)) {
-        self.columns.fill(&self.entries);
         self.active.clear();
         let n = self.entries.len();
         if n > 0 {
@@ -446,9 +336,8 @@ impl Tree {
 
         let bounds = self.child_runs(mid, hi, level);
         let own_hi = self.active.len() + (mid - lo);
-        for k in lo..mid {
-            self.active.push(self.columns.get(k));
-        }
+        self.active
+            .extend(self.entries[lo..mid].iter().map(|e| e.cells));
         for c in 0..4 {
             let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
             if c_lo == c_hi {
@@ -490,16 +379,24 @@ impl Tree {
         let (a, n) = ((self.active.len() - active_lo) as u64, (hi - lo) as u64);
         self.counts.candidates += a * n + n * n.saturating_sub(1) / 2;
         let active = &self.active[active_lo..];
-        if active.len() + (hi - lo) >= SWEEP_MIN {
-            sweep_pairs(&mut self.sweep, sink, active, &self.columns, lo, hi);
+        let own = &self.entries[lo..hi];
+        if active.len() + own.len() >= SWEEP_MIN {
+            sweep_pairs(&mut self.sweep, sink, active, own);
             return;
         }
         for a in active {
-            self.columns.overlapping(a, lo, hi, |b| sink(a.id, b));
+            for b in own {
+                if a.overlaps(&b.cells) {
+                    sink(a.id, b.cells.id);
+                }
+            }
         }
-        for k in lo..hi {
-            let a = self.columns.get(k);
-            self.columns.overlapping(&a, k + 1, hi, |b| sink(a.id, b));
+        for (k, a) in own.iter().enumerate() {
+            for b in &own[k + 1..] {
+                if a.cells.overlaps(&b.cells) {
+                    sink(a.cells.id, b.cells.id);
+                }
+            }
         }
     }
 
@@ -557,9 +454,7 @@ fn sweep_pairs<S: FnMut(u32, u32)>(
     probes: &mut Vec<Probe>,
     sink: &mut S,
     active: &[Cells],
-    columns: &Columns,
-    lo: usize,
-    hi: usize,
+    own: &[Entry],
 ) {
     probes.clear();
     probes.extend(active.iter().map(|&cells| Probe {
@@ -568,11 +463,11 @@ fn sweep_pairs<S: FnMut(u32, u32)>(
         own: false,
         cells,
     }));
-    probes.extend((lo..hi).map(|k| Probe {
+    probes.extend(own.iter().map(|e| Probe {
         lo: 0,
         hi: 0,
         own: true,
-        cells: columns.get(k),
+        cells: e.cells,
     }));
 
     let axes: [Axis; 4] = [
@@ -638,49 +533,6 @@ mod tests {
             max_u: 1180.0 * max_x + 800.0 * max_y,
             min_w: 1180.0 * min_x - 800.0 * max_y,
             max_w: 1180.0 * max_x - 800.0 * min_y,
-        }
-    }
-
-    #[test]
-    fn the_lane_kernel_finds_exactly_the_overlapping_lines() {
-        // Lines 0..40 each one cell wide at x = 3 * k; a probe spanning
-        // x = 30..=45 meets lines 10..=15; ranges cut anywhere.
-        let entries: Vec<Entry> = (0..40u16)
-            .map(|k| Entry {
-                key: 0,
-                cells: Cells {
-                    x0: 3 * k,
-                    x1: 3 * k,
-                    y1: 5,
-                    u1: 5,
-                    w1: 5,
-                    id: u32::from(k),
-                    ..Cells::default()
-                },
-            })
-            .collect();
-        let mut columns = Columns::default();
-        columns.fill(&entries);
-        let probe = Cells {
-            x0: 30,
-            x1: 45,
-            y1: 1,
-            u1: 1,
-            w1: 1,
-            ..Cells::default()
-        };
-        for (lo, hi) in [(0, 40), (0, 12), (11, 14), (12, 12), (15, 40), (13, 31)] {
-            let mut found = Vec::new();
-            columns.overlapping(&probe, lo, hi, |id| found.push(id));
-            let expected: Vec<u32> = (lo as u32..hi as u32)
-                .filter(|k| (10..=15).contains(k))
-                .collect();
-            assert_eq!(found, expected, "range {lo}..{hi}");
-            let scalar: Vec<u32> = (lo..hi)
-                .filter(|&k| probe.overlaps(&columns.get(k)))
-                .map(|k| k as u32)
-                .collect();
-            assert_eq!(found, scalar);
         }
     }
 

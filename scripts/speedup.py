@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+"""Side-by-side speed comparison of screensaver configurations.
+
+Runs every configuration on every workload, interleaved round by round (so
+that machine noise hits all of them alike), reads the simulation time that
+the program prints (`--json`: elapsed_seconds, the simulation loop only),
+and prints a Markdown table of medians and of ratios to the first
+configuration.
+
+  scripts/speedup.py [--bin target/release/screensaver] [--runs 5]
+                     [--ref ../shared/reference]
+                     [--work mit:400 --work koch:20 ...]
+                     [--config "brute=--detector brute" --config "quadtree=" ...]
+
+A workload is SCENE:FRAMES, SCENE being a course scene name (read from
+REF/inputs) or `default` for the built-in scene.
+"""
+import argparse
+import json
+import os
+import shlex
+import statistics
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def run(binary, args, frames, scene_path):
+    cmd = [binary, "--json"] + args + [str(frames)] + ([scene_path] if scene_path else [])
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
+    result = json.loads(out)
+    return result["elapsed_seconds"], (result["line_wall_collisions"], result["line_line_collisions"])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--bin", default=os.path.join(ROOT, "target", "release", "screensaver"))
+    ap.add_argument("--ref", default=os.environ.get("SCREENSAVER_REFERENCE", os.path.join(ROOT, "..", "shared", "reference")))
+    ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--work", action="append", default=[])
+    ap.add_argument("--config", action="append", default=[])
+    a = ap.parse_args()
+    works = a.work or ["mit:400", "koch:20"]
+    configs = a.config or ["brute=--detector brute", "quadtree=--detector quadtree"]
+    configs = [(c.split("=", 1)[0], shlex.split(c.split("=", 1)[1] if "=" in c else "")) for c in configs]
+
+    rows = []
+    for work in works:
+        scene, frames = work.rsplit(":", 1)
+        path = None if scene == "default" else os.path.join(a.ref, "inputs", scene + ".in")
+        times = {name: [] for name, _ in configs}
+        counts = {}
+        for _ in range(a.runs):
+            for name, args in configs:
+                t, c = run(a.bin, args, int(frames), path)
+                times[name].append(t)
+                counts.setdefault(name, c)
+        if len(set(counts.values())) != 1:
+            sys.exit("configurations disagree on %s: %s" % (work, counts))
+        base = statistics.median(times[configs[0][0]])
+        for name, _ in configs:
+            m = statistics.median(times[name])
+            rows.append((work, name, m, base / m if m > 0 else float("inf"), counts[name]))
+
+    print("| workload | configuration | median simulation time | speed-up vs %s | wall, line collisions |" % configs[0][0])
+    print("| --- | --- | ---: | ---: | --- |")
+    for work, name, m, ratio, c in rows:
+        print("| %s | %s | %.6f s | %.1fx | %d, %d |" % (work, name, m, ratio, c[0], c[1]))
+
+
+if __name__ == "__main__":
+    main()
