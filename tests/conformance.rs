@@ -9,8 +9,19 @@
 
 mod common;
 
-use common::check_scene;
-use screensaver::DetectorKind::Brute;
+use common::{check_scene, check_scene_with};
+use screensaver::DetectorConfig;
+use screensaver::DetectorKind::{Brute, Quadtree};
+
+const SCENES: [&str; 7] = [
+    "beaver",
+    "box",
+    "explosion",
+    "koch",
+    "mit",
+    "sin_wave",
+    "smalllines",
+];
 
 #[test]
 fn brute_beaver() {
@@ -50,15 +61,50 @@ fn brute_koch_to_step_101() {
 #[test]
 #[ignore = "minutes of all-pairs work; run with --ignored"]
 fn brute_every_scene_to_the_end() {
-    for scene in [
-        "beaver",
-        "box",
-        "explosion",
-        "koch",
-        "mit",
-        "sin_wave",
-        "smalllines",
-    ] {
+    for scene in SCENES {
         check_scene(scene, Brute, None);
+    }
+}
+
+#[test]
+fn quadtree_every_scene_to_the_end() {
+    for scene in SCENES {
+        check_scene(scene, Quadtree, None);
+    }
+}
+
+#[test]
+fn quadtree_rebuilt_every_step_every_scene_to_the_end() {
+    let config = DetectorConfig {
+        cached: false,
+        ..DetectorConfig::default()
+    };
+    for scene in SCENES {
+        check_scene_with(scene, Quadtree, &config, None);
+    }
+}
+
+#[test]
+fn quadtree_odd_shapes_every_scene_to_step_1001() {
+    for config in [
+        DetectorConfig {
+            leaf_size: 1,
+            max_depth: 16,
+            cached: true,
+        },
+        DetectorConfig {
+            leaf_size: 64,
+            max_depth: 3,
+            cached: true,
+        },
+        DetectorConfig {
+            leaf_size: 2,
+            max_depth: 8,
+            cached: false,
+        },
+    ] {
+        for scene in SCENES {
+            check_scene_with(scene, Quadtree, &config, Some(1001));
+        }
     }
 }

@@ -3,7 +3,7 @@
 
 #![allow(dead_code)]
 
-use screensaver::{Counters, DetectorKind, Line, Scene, World};
+use screensaver::{Counters, DetectorConfig, DetectorKind, Line, Scene, World};
 use std::path::{Path, PathBuf};
 
 /// The reference data directory: `SCREENSAVER_REFERENCE`, or
@@ -141,12 +141,22 @@ pub fn check_world(dir: &Path, scene: &str, mut world: World, max_steps: Option<
     eprintln!("{label} {scene}: counters matched for {last} steps, {checked_states} checkpoint states bit for bit");
 }
 
-/// [`check_world`] with a fresh world using `kind`.
+/// [`check_world`] with a fresh world using `kind` with default tuning.
 pub fn check_scene(scene: &str, kind: DetectorKind, max_steps: Option<u64>) {
-    let test = format!("{scene} ({kind})");
-    let Some(dir) = reference_dir(&test) else {
+    check_scene_with(scene, kind, &DetectorConfig::default(), max_steps);
+}
+
+/// [`check_world`] with a fresh world using `kind` tuned by `config`.
+pub fn check_scene_with(
+    scene: &str,
+    kind: DetectorKind,
+    config: &DetectorConfig,
+    max_steps: Option<u64>,
+) {
+    let label = format!("{kind} {config:?}");
+    let Some(dir) = reference_dir(&format!("{scene} ({label})")) else {
         return;
     };
-    let world = World::with_detector(&load_scene(&dir, scene), kind);
-    check_world(&dir, scene, world, max_steps, kind.name());
+    let world = World::from_scene(&load_scene(&dir, scene), kind.build_with(config));
+    check_world(&dir, scene, world, max_steps, &label);
 }
