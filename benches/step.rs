@@ -6,8 +6,9 @@
 //! steps, so the state is a typical mid-run one.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use screensaver::detect::TreeMode;
 use screensaver::generate::default_scene;
-use screensaver::{DetectorKind, Scene, World};
+use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::path::PathBuf;
 
 fn reference_dir() -> PathBuf {
@@ -28,16 +29,37 @@ fn scenes() -> Vec<(String, Scene)> {
     scenes
 }
 
+/// The detectors measured: the all-pairs oracle and both ways of keeping
+/// the quadtree (auto mode switches between them by timing, which would
+/// make the benchmark measure itself).
+fn detectors() -> Vec<(&'static str, DetectorKind, DetectorConfig)> {
+    let with = |tree_mode| DetectorConfig {
+        tree_mode,
+        ..DetectorConfig::default()
+    };
+    vec![
+        ("brute", DetectorKind::Brute, DetectorConfig::default()),
+        (
+            "quadtree-cached",
+            DetectorKind::Quadtree,
+            with(TreeMode::Cached),
+        ),
+        (
+            "quadtree-rebuilt",
+            DetectorKind::Quadtree,
+            with(TreeMode::Rebuilt),
+        ),
+    ]
+}
+
 fn one_step(c: &mut Criterion) {
     let mut group = c.benchmark_group("step");
-    group.sample_size(20);
+    group.sample_size(10);
     for (name, scene) in scenes() {
-        for &kind in DetectorKind::ALL {
-            let mut world = World::with_detector(&scene, kind);
+        for (label, kind, config) in detectors() {
+            let mut world = World::from_scene(&scene, kind.build_with(&config));
             world.run(3);
-            group.bench_function(BenchmarkId::new(kind.name(), &name), |b| {
-                b.iter(|| world.step())
-            });
+            group.bench_function(BenchmarkId::new(label, &name), |b| b.iter(|| world.step()));
         }
     }
     group.finish();

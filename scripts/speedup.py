@@ -5,9 +5,12 @@ Runs every configuration on every workload, interleaved round by round (so
 that machine noise hits all of them alike), reads the simulation time that
 the program prints (`--json`: elapsed_seconds, the simulation loop only),
 and prints a Markdown table of medians and of ratios to the first
-configuration.
+configuration. With `--measure instructions` it counts the instructions
+of whole runs under `valgrind --tool=callgrind` instead (repeatable on a
+noisy machine; one run each is enough).
 
   scripts/speedup.py [--bin target/release/screensaver] [--runs 5]
+                     [--measure time|instructions]
                      [--ref ../shared/reference]
                      [--work mit:400 --work koch:20 ...]
                      [--config "brute=--detector brute" --config "quadtree=" ...]
@@ -18,6 +21,7 @@ REF/inputs) or `default` for the built-in scene.
 import argparse
 import json
 import os
+import re
 import shlex
 import statistics
 import subprocess
@@ -27,11 +31,16 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 
 
-def run(binary, args, frames, scene_path):
+def run(binary, args, frames, scene_path, measure):
     cmd = [binary, "--json"] + args + [str(frames)] + ([scene_path] if scene_path else [])
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True).stdout
-    result = json.loads(out)
-    return result["elapsed_seconds"], (result["line_wall_collisions"], result["line_line_collisions"])
+    if measure == "instructions":
+        cmd = ["valgrind", "--tool=callgrind", "--callgrind-out-file=/dev/null"] + cmd
+    p = subprocess.run(cmd, capture_output=True, text=True, check=True)
+    result = json.loads(p.stdout)
+    counts = (result["line_wall_collisions"], result["line_line_collisions"])
+    if measure == "instructions":
+        return int(re.search(r"Collected : (\d+)", p.stderr).group(1)), counts
+    return result["elapsed_seconds"], counts
 
 
 def main():
@@ -39,6 +48,7 @@ def main():
     ap.add_argument("--bin", default=os.path.join(ROOT, "target", "release", "screensaver"))
     ap.add_argument("--ref", default=os.environ.get("SCREENSAVER_REFERENCE", os.path.join(ROOT, "..", "shared", "reference")))
     ap.add_argument("--runs", type=int, default=5)
+    ap.add_argument("--measure", choices=["time", "instructions"], default="time")
     ap.add_argument("--work", action="append", default=[])
     ap.add_argument("--config", action="append", default=[])
     a = ap.parse_args()
@@ -54,7 +64,7 @@ def main():
         counts = {}
         for _ in range(a.runs):
             for name, args in configs:
-                t, c = run(a.bin, args, int(frames), path)
+                t, c = run(a.bin, args, int(frames), path, a.measure)
                 times[name].append(t)
                 counts.setdefault(name, c)
         if len(set(counts.values())) != 1:
@@ -64,10 +74,12 @@ def main():
             m = statistics.median(times[name])
             rows.append((work, name, m, base / m if m > 0 else float("inf"), counts[name]))
 
-    print("| workload | configuration | median simulation time | speed-up vs %s | wall, line collisions |" % configs[0][0])
+    what = "median simulation time" if a.measure == "time" else "instructions (whole run)"
+    print("| workload | configuration | %s | speed-up vs %s | wall, line collisions |" % (what, configs[0][0]))
     print("| --- | --- | ---: | ---: | --- |")
     for work, name, m, ratio, c in rows:
-        print("| %s | %s | %.6f s | %.1fx | %d, %d |" % (work, name, m, ratio, c[0], c[1]))
+        value = "%.6f s" % m if a.measure == "time" else "{:,}".format(int(m))
+        print("| %s | %s | %s | %.2fx | %d, %d |" % (work, name, value, ratio, c[0], c[1]))
 
 
 if __name__ == "__main__":

@@ -3,7 +3,7 @@
 
 use clap::Parser;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use screensaver::detect::{Brute, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+use screensaver::detect::{Brute, TreeMode, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{default_scene, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
@@ -38,10 +38,11 @@ struct Cli {
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH)]
     max_depth: u32,
 
-    /// Quadtree: rebuild the tree over the swept hulls every step, instead of
-    /// keeping fat hulls and the pairs they give from step to step.
-    #[arg(long)]
-    rebuild: bool,
+    /// Quadtree: `cached` keeps fat hulls and the pairs they give from step
+    /// to step; `rebuilt` rebuilds the tree every step; `auto` uses the
+    /// cached way except while rebuilding is measured to be faster.
+    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse_tree_mode)]
+    tree_mode: TreeMode,
 
     /// Run the all-pairs detector beside the chosen one at every step and
     /// stop at the first step whose events differ, printing both lists.
@@ -63,6 +64,10 @@ struct Cli {
 }
 
 fn parse_detector(s: &str) -> Result<DetectorKind, String> {
+    s.parse()
+}
+
+fn parse_tree_mode(s: &str) -> Result<TreeMode, String> {
     s.parse()
 }
 
@@ -91,7 +96,7 @@ fn run(cli: &Cli) -> Result<(), String> {
     let config = DetectorConfig {
         leaf_size: cli.leaf_size,
         max_depth: cli.max_depth,
-        cached: !cli.rebuild,
+        tree_mode: cli.tree_mode,
     };
     let mut world = World::from_scene(&scene, cli.detector.build_with(&config));
     world.set_timing(cli.stats);
@@ -151,7 +156,7 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
         "detector": kind.name(),
         "leaf_size": config.leaf_size,
         "max_depth": config.max_depth,
-        "cached": config.cached,
+        "tree_mode": config.tree_mode.name(),
         "candidate_pairs": s.candidate_pairs,
         "exact_tests": s.exact_tests,
         "events": s.events,
@@ -159,6 +164,7 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
         "tree_depth": s.max_depth,
         "refits": s.refits,
         "rebuilds": s.rebuilds,
+        "rebuilt_steps": s.rebuilt_steps,
         "seconds": {
             "detect": t.detect.as_secs_f64(),
             "resolve": t.resolve.as_secs_f64(),
@@ -186,14 +192,8 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
     };
     let tuning = match kind {
         DetectorKind::Quadtree => format!(
-            " ({}, leaf size {}, max depth {})",
-            if config.cached {
-                "cached pairs"
-            } else {
-                "rebuilt every step"
-            },
-            config.leaf_size,
-            config.max_depth
+            " (tree mode {}, leaf size {}, max depth {})",
+            config.tree_mode, config.leaf_size, config.max_depth
         ),
         DetectorKind::Brute => String::new(),
     };
@@ -211,6 +211,7 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
         ("tree nodes", s.nodes),
         ("refits", s.refits),
         ("rebuilds", s.rebuilds),
+        ("rebuilt steps", s.rebuilt_steps),
     ] {
         out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
     }

@@ -10,6 +10,7 @@
 mod common;
 
 use common::{check_scene, check_scene_with};
+use screensaver::detect::TreeMode;
 use screensaver::DetectorConfig;
 use screensaver::DetectorKind::{Brute, Quadtree};
 
@@ -76,7 +77,7 @@ fn quadtree_every_scene_to_the_end() {
 #[test]
 fn quadtree_rebuilt_every_step_every_scene_to_the_end() {
     let config = DetectorConfig {
-        cached: false,
+        tree_mode: TreeMode::Rebuilt,
         ..DetectorConfig::default()
     };
     for scene in SCENES {
@@ -90,17 +91,17 @@ fn quadtree_odd_shapes_every_scene_to_step_1001() {
         DetectorConfig {
             leaf_size: 1,
             max_depth: 16,
-            cached: true,
+            tree_mode: TreeMode::Cached,
         },
         DetectorConfig {
             leaf_size: 64,
             max_depth: 3,
-            cached: true,
+            tree_mode: TreeMode::Cached,
         },
         DetectorConfig {
             leaf_size: 2,
             max_depth: 8,
-            cached: false,
+            tree_mode: TreeMode::Rebuilt,
         },
     ] {
         for scene in SCENES {

@@ -5,60 +5,68 @@
 
 use proptest::prelude::*;
 use screensaver::detect::Brute;
+use screensaver::detect::TreeMode;
 use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
 
 /// Tree shapes to try, cached and rebuilt: leaves of 1, 2 and many lines, no
 /// splitting at all, and very deep trees.
 const CONFIGS: &[DetectorConfig] = &[
+    // Auto starts with a trial of the rebuilt way, then switches: 25 steps
+    // cover both and the switch.
     DetectorConfig {
-        leaf_size: 1,
+        leaf_size: 4,
         max_depth: 12,
-        cached: true,
+        tree_mode: TreeMode::Auto,
     },
     DetectorConfig {
         leaf_size: 1,
         max_depth: 12,
-        cached: false,
+        tree_mode: TreeMode::Cached,
+    },
+    DetectorConfig {
+        leaf_size: 1,
+        max_depth: 12,
+        tree_mode: TreeMode::Rebuilt,
     },
     DetectorConfig {
         leaf_size: 2,
         max_depth: 40,
-        cached: true,
+        tree_mode: TreeMode::Cached,
     },
     DetectorConfig {
         leaf_size: 2,
         max_depth: 40,
-        cached: false,
+        tree_mode: TreeMode::Rebuilt,
     },
     DetectorConfig {
         leaf_size: 1000,
         max_depth: 12,
-        cached: true,
+        tree_mode: TreeMode::Cached,
     },
     DetectorConfig {
         leaf_size: 1000,
         max_depth: 12,
-        cached: false,
+        tree_mode: TreeMode::Rebuilt,
     },
     DetectorConfig {
         leaf_size: 16,
         max_depth: 0,
-        cached: true,
+        tree_mode: TreeMode::Cached,
     },
     DetectorConfig {
         leaf_size: 16,
         max_depth: 0,
-        cached: false,
+        tree_mode: TreeMode::Rebuilt,
     },
     DetectorConfig {
         leaf_size: 3,
         max_depth: 2,
-        cached: true,
+        tree_mode: TreeMode::Cached,
     },
     DetectorConfig {
         leaf_size: 16,
         max_depth: 12,
-        cached: true,
+        tree_mode: TreeMode::Cached,
     },
 ];
 

@@ -11,7 +11,7 @@ mod quadtree;
 pub mod swept;
 
 pub use brute::Brute;
-pub use quadtree::{Quadtree, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+pub use quadtree::{Quadtree, TreeMode, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 
 use crate::line::Line;
 use crate::narrow::Event;
@@ -37,6 +37,8 @@ pub struct DetectorStats {
     /// Times the tree and its cached pairs were rebuilt from scratch (cached
     /// quadtree only).
     pub rebuilds: u64,
+    /// Steps run with the tree rebuilt over the swept hulls (quadtree only).
+    pub rebuilt_steps: u64,
 }
 
 /// A broad phase: finds every colliding pair of lines for one step.
@@ -69,9 +71,8 @@ pub struct DetectorConfig {
     pub leaf_size: usize,
     /// Deepest level a tree node may split at.
     pub max_depth: u32,
-    /// Quadtree: keep fat hulls and the pairs they give from step to step
-    /// (true), or rebuild the tree over the swept hulls every step (false).
-    pub cached: bool,
+    /// Quadtree: how the tree is kept from step to step.
+    pub tree_mode: TreeMode,
 }
 
 impl Default for DetectorConfig {
@@ -79,7 +80,7 @@ impl Default for DetectorConfig {
         Self {
             leaf_size: DEFAULT_LEAF_SIZE,
             max_depth: DEFAULT_MAX_DEPTH,
-            cached: true,
+            tree_mode: TreeMode::Auto,
         }
     }
 }
@@ -111,7 +112,7 @@ impl DetectorKind {
             DetectorKind::Quadtree => Box::new(Quadtree::new(
                 config.leaf_size,
                 config.max_depth,
-                config.cached,
+                config.tree_mode,
             )),
         }
     }

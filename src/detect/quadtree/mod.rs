@@ -1,5 +1,5 @@
 //! The quadtree detector: the design write-up's tree (see [`tree`]), used in
-//! one of two ways.
+//! one of two ways, or in whichever of the two is faster at the moment.
 //!
 //! - **Cached** (the default): each line gets a *fat hull*, its swept hull
 //!   grown by a few steps' worth of its motion. The tree is built over fat
@@ -14,9 +14,16 @@
 //! - **Rebuilt**: the tree is built over the swept hulls every step and its
 //!   pairs go straight to the exact test, as in the write-up.
 //!
-//! Both find exactly the all-pairs detector's events. The buffers live in
-//! the detector and are reused: once they have grown to the scene's size, a
-//! step allocates nothing.
+//! - **Auto** (the default): the cached way, except while the rebuilt way is
+//!   measured to be faster. Scenes where lines change course all the time
+//!   (dense collisions) wear out fat hulls faster than they pay off. Every
+//!   [`PERIOD`] steps the detector runs the other way for a few steps and
+//!   keeps whichever took less time per step.
+//!
+//! All find exactly the all-pairs detector's events, so the choice affects
+//! speed only, never results. The buffers live in the detector and are
+//! reused: once they have grown to the scene's size, a step allocates
+//! nothing.
 
 pub mod tree;
 
@@ -26,6 +33,9 @@ use super::swept::{
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
+use std::fmt;
+use std::str::FromStr;
+use std::time::Instant;
 use tree::{Grid, Tree};
 
 /// Default for the largest number of lines a leaf holds before it splits.
@@ -43,11 +53,112 @@ const FAT_MIN: f64 = 1.0 / 4096.0;
 /// leave their fat hulls in one step.
 const REBUILD_SHARE: usize = 4;
 
+/// How the quadtree detector keeps its tree from step to step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum TreeMode {
+    /// Cached, or rebuilt while that is measured to be faster.
+    Auto,
+    /// Fat hulls and their pairs kept from step to step.
+    Cached,
+    /// The tree rebuilt over the swept hulls every step.
+    Rebuilt,
+}
+
+impl TreeMode {
+    /// Every mode, in the order they are listed to users.
+    pub const ALL: &'static [TreeMode] = &[TreeMode::Auto, TreeMode::Cached, TreeMode::Rebuilt];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            TreeMode::Auto => "auto",
+            TreeMode::Cached => "cached",
+            TreeMode::Rebuilt => "rebuilt",
+        }
+    }
+}
+
+impl fmt::Display for TreeMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for TreeMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        Self::ALL
+            .iter()
+            .copied()
+            .find(|m| m.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
+                format!(
+                    "unknown tree mode `{s}`; expected one of: {}",
+                    names.join(", ")
+                )
+            })
+    }
+}
+
+/// Auto mode: steps between two trials of the way not in use.
+pub const PERIOD: u64 = 256;
+/// Auto mode: steps each trial lasts.
+const TRIAL: u64 = 16;
+/// Auto mode: first steps of a stint left out of its timing (a switch to
+/// the cached way starts with a rebuild).
+const WARM_UP: u64 = 2;
+
+/// Auto mode's bookkeeping: which way is preferred, and the time per step
+/// of each way in the current period.
+#[derive(Debug, Default)]
+struct Chooser {
+    prefer_rebuilt: bool,
+    steps: u64,
+    /// Seconds and steps timed: index 0 for the trial, 1 for the rest.
+    timed: [(f64, u32); 2],
+}
+
+impl Chooser {
+    /// Whether this step should use the rebuilt way.
+    fn rebuilt_now(&self) -> bool {
+        let trial = self.steps % PERIOD < TRIAL;
+        self.prefer_rebuilt != trial
+    }
+
+    /// Records this step's detection time; at the end of a period, keeps
+    /// the faster way (the trial must win by 5% to take over).
+    fn record(&mut self, seconds: f64) {
+        let phase = self.steps % PERIOD;
+        let (slot, into_stint) = if phase < TRIAL {
+            (0, phase)
+        } else {
+            (1, phase - TRIAL)
+        };
+        if into_stint >= WARM_UP {
+            self.timed[slot].0 += seconds;
+            self.timed[slot].1 += 1;
+        }
+        if phase == PERIOD - 1 {
+            let mean = |(t, n): (f64, u32)| (n > 0).then(|| t / f64::from(n));
+            if let (Some(trial), Some(rest)) = (mean(self.timed[0]), mean(self.timed[1])) {
+                if trial < 0.95 * rest {
+                    self.prefer_rebuilt = !self.prefer_rebuilt;
+                }
+            }
+            self.timed = [(0.0, 0); 2];
+        }
+        self.steps += 1;
+    }
+}
+
 /// A quadtree broad phase.
 #[derive(Debug)]
 pub struct Quadtree {
     tree: Tree,
-    cached: bool,
+    mode: TreeMode,
+    chooser: Chooser,
     boxes: SweptBoxes,
     grid: Grid,
     /// Each line's swept hull this step, by id.
@@ -72,7 +183,7 @@ pub struct Quadtree {
 
 impl Default for Quadtree {
     fn default() -> Self {
-        Self::new(DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH, true)
+        Self::new(DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH, TreeMode::Auto)
     }
 }
 
@@ -114,12 +225,13 @@ fn holds(outer: &SweptBox, inner: &SweptBox) -> bool {
 
 impl Quadtree {
     /// A quadtree whose leaves hold at most `leaf_size` lines (at least 1)
-    /// unless `max_depth` (at most [`tree::GRID_LEVELS`]) stops the splitting;
-    /// `cached` chooses the cached mode over rebuilding every step.
-    pub fn new(leaf_size: usize, max_depth: u32, cached: bool) -> Self {
+    /// unless `max_depth` (at most [`tree::GRID_LEVELS`]) stops the
+    /// splitting, kept from step to step as `mode` says.
+    pub fn new(leaf_size: usize, max_depth: u32, mode: TreeMode) -> Self {
         Self {
             tree: Tree::new(leaf_size, max_depth),
-            cached,
+            mode,
+            chooser: Chooser::default(),
             boxes: SweptBoxes::default(),
             grid: Grid::over(&SweptBox {
                 min_x: BOX_MIN,
@@ -142,12 +254,12 @@ impl Quadtree {
 
     /// Classifies the lines and records every boxed line's swept hull (and,
     /// in cached mode with a valid cache, which lines left their fat hulls).
-    fn compute_hulls(&mut self, lines: &[Line], dt: f64) {
+    fn compute_hulls(&mut self, lines: &[Line], dt: f64, cached: bool) {
         let n = lines.len();
         self.hull.resize(n, SweptBox::default());
         self.moved.clear();
         let (hull, moved, fat) = (&mut self.hull, &mut self.moved, &self.fat);
-        let check = self.cached && self.valid;
+        let check = cached && self.valid;
         self.boxes.compute(lines, dt, |id, b| {
             hull[id as usize] = *b;
             if check && !holds(&fat[id as usize], b) {
@@ -351,14 +463,26 @@ impl Detector for Quadtree {
 
     fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
         let before = events.len();
-        self.compute_hulls(lines, dt);
+        let start = Instant::now();
+        let rebuilt = match self.mode {
+            TreeMode::Auto => self.chooser.rebuilt_now(),
+            TreeMode::Cached => false,
+            TreeMode::Rebuilt => true,
+        };
+        self.compute_hulls(lines, dt, !rebuilt);
         let mut counts = PairCounts::default();
         test_wild(lines, &self.boxes, dt, events, &mut counts);
         self.tree.counts = tree::WalkCounts::default();
-        if self.cached {
-            self.detect_cached(lines, dt, events, &mut counts);
-        } else {
+        if rebuilt {
+            // The tree now holds swept hulls: the cache must be rebuilt
+            // before it is used again.
+            self.valid = false;
             self.detect_rebuilt(lines, dt, events, &mut counts);
+        } else {
+            self.detect_cached(lines, dt, events, &mut counts);
+        }
+        if self.mode == TreeMode::Auto {
+            self.chooser.record(start.elapsed().as_secs_f64());
         }
         let walk = self.tree.counts;
         self.stats.candidate_pairs += counts.candidates + walk.candidates;
@@ -366,9 +490,52 @@ impl Detector for Quadtree {
         self.stats.nodes += walk.nodes;
         self.stats.max_depth = self.stats.max_depth.max(walk.deepest);
         self.stats.events += (events.len() - before) as u64;
+        self.stats.rebuilt_steps += u64::from(rebuilt);
     }
 
     fn stats(&self) -> DetectorStats {
         self.stats
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_chooser_tries_the_other_way_then_keeps_the_faster() {
+        let mut c = Chooser::default();
+        let mut rebuilt_steps = 0;
+        for _ in 0..PERIOD {
+            let rebuilt = c.rebuilt_now();
+            rebuilt_steps += u64::from(rebuilt);
+            // Rebuilding is twice as fast here.
+            c.record(if rebuilt { 1.0 } else { 2.0 });
+        }
+        assert_eq!(rebuilt_steps, TRIAL);
+        assert!(c.prefer_rebuilt);
+        // Now the cached way is the trial, and it stays slower.
+        for _ in 0..PERIOD {
+            let rebuilt = c.rebuilt_now();
+            c.record(if rebuilt { 1.0 } else { 2.0 });
+        }
+        assert!(c.prefer_rebuilt);
+        // A near tie does not switch.
+        for _ in 0..PERIOD {
+            let rebuilt = c.rebuilt_now();
+            c.record(if rebuilt { 1.0 } else { 0.98 });
+        }
+        assert!(c.prefer_rebuilt);
+    }
+
+    #[test]
+    fn mode_names_round_trip() {
+        for &m in TreeMode::ALL {
+            assert_eq!(m.name().parse::<TreeMode>(), Ok(m));
+        }
+        assert!("sometimes"
+            .parse::<TreeMode>()
+            .unwrap_err()
+            .contains("auto"));
     }
 }
