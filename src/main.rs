@@ -1,10 +1,10 @@
 //! The `screensaver` command: runs a scene for a number of frames and prints
 //! the collision counts, compatible with the original program's output.
 
-use clap::Parser;
+use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::detect::{Brute, TreeMode, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
-use screensaver::generate::{default_scene, DEFAULT_LINES, DEFAULT_SEED};
+use screensaver::generate::{default_scene, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
 use std::path::PathBuf;
@@ -15,12 +15,23 @@ use std::time::{Duration, Instant};
 ///
 /// Runs FRAMES frames of the scene in INPUT (or of a built-in scene) and
 /// prints the line-wall and line-line collision counts. Like the original
-/// program, N frames run N + 1 simulation steps.
+/// program, N frames run N + 1 simulation steps. `screensaver gen` writes
+/// generated scenes of any size.
 #[derive(Debug, Parser)]
-#[command(version, about, long_about)]
+#[command(
+    version,
+    about,
+    long_about,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
 struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+
     /// Number of frames to run (the simulation runs FRAMES + 1 steps).
-    frames: u64,
+    #[arg(required = true)]
+    frames: Option<u64>,
 
     /// Scene file to run; without it, a built-in scene of 1000 lines.
     input: Option<PathBuf>,
@@ -63,6 +74,36 @@ struct Cli {
     state_out: Option<PathBuf>,
 }
 
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Write a generated scene (the same arguments always give the same
+    /// scene), with the density and speeds of the course scenes at any size.
+    Gen(GenArgs),
+}
+
+#[derive(Debug, Args)]
+struct GenArgs {
+    /// Number of lines (up to 100,000,000).
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=100_000_000))]
+    lines: usize,
+
+    /// Seed of the random generator.
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    seed: u64,
+
+    /// Arrangement: uniform, clustered, ring or grid.
+    #[arg(long, default_value = "uniform", value_parser = parse_scene_kind)]
+    kind: SceneKind,
+
+    /// Write to FILE instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+fn parse_scene_kind(s: &str) -> Result<SceneKind, String> {
+    s.parse()
+}
+
 fn parse_detector(s: &str) -> Result<DetectorKind, String> {
     s.parse()
 }
@@ -73,7 +114,11 @@ fn parse_tree_mode(s: &str) -> Result<TreeMode, String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(&cli) {
+    let outcome = match &cli.command {
+        Some(Command::Gen(args)) => gen(args),
+        None => run(&cli),
+    };
+    match outcome {
         Ok(()) => ExitCode::SUCCESS,
         Err(message) => {
             eprintln!("screensaver: error: {message}");
@@ -82,7 +127,26 @@ fn main() -> ExitCode {
     }
 }
 
+/// `screensaver gen`: streams the scene out, so that even huge scenes are
+/// never held in memory.
+fn gen(args: &GenArgs) -> Result<(), String> {
+    let lines = generate_iter(args.kind, args.lines, args.seed);
+    match &args.output {
+        Some(path) => {
+            let mut file = std::fs::File::create(path)
+                .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
+            screensaver::scene::write_scene(&mut file, args.lines, lines)
+                .map_err(|e| format!("{}: cannot write: {e}", path.display()))
+        }
+        None => screensaver::scene::write_scene(&mut std::io::stdout().lock(), args.lines, lines)
+            .map_err(|e| format!("cannot write the scene: {e}")),
+    }
+}
+
 fn run(cli: &Cli) -> Result<(), String> {
+    let frames = cli
+        .frames
+        .expect("clap requires FRAMES without a subcommand");
     let (scene, input_name) = match &cli.input {
         Some(path) => (
             Scene::load(path).map_err(|e| e.to_string())?,
@@ -100,13 +164,13 @@ fn run(cli: &Cli) -> Result<(), String> {
     };
     let mut world = World::from_scene(&scene, cli.detector.build_with(&config));
     world.set_timing(cli.stats);
-    let steps = cli.frames.saturating_add(1);
+    let steps = frames.saturating_add(1);
 
     let mut stdout = std::io::stdout().lock();
     if !cli.json {
         let header = format!(
             "Number of frames = {}\nInput file path is: {}\n",
-            cli.frames, input_name
+            frames, input_name
         );
         write_out(&mut stdout, &header)?;
     }
@@ -121,7 +185,7 @@ fn run(cli: &Cli) -> Result<(), String> {
 
     let report = if cli.json {
         let mut value = serde_json::json!({
-            "frames": cli.frames,
+            "frames": frames,
             "steps": steps,
             "input": cli.input.as_ref().map(|p| p.display().to_string()),
             "lines": world.lines().len(),

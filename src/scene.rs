@@ -13,7 +13,8 @@
 
 use crate::geometry::Vec2;
 use crate::line::Color;
-use std::fmt::{self, Write as _};
+use std::fmt;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
 /// One line of a scene, in window coordinates, as written in the file.
@@ -381,24 +382,45 @@ impl Scene {
     /// The scene as text that [`Scene::parse`] reads back to an identical
     /// scene (every value printed as the shortest decimal that round-trips).
     pub fn to_text(&self) -> String {
-        let mut out = String::with_capacity(16 + self.lines.len() * 64);
-        writeln!(out, "{}", self.lines.len()).expect("writing to a String");
-        for l in &self.lines {
-            writeln!(
-                out,
-                "({}, {}), ({}, {}), {}, {}, {}",
-                l.p1.x,
-                l.p1.y,
-                l.p2.x,
-                l.p2.y,
-                l.v.x,
-                l.v.y,
-                l.color.code()
-            )
-            .expect("writing to a String");
-        }
-        out
+        let mut out = Vec::with_capacity(16 + self.lines.len() * 64);
+        write_scene(&mut out, self.lines.len(), self.lines.iter().copied())
+            .expect("writing to memory");
+        String::from_utf8(out).expect("scene text is ASCII")
     }
+}
+
+/// Writes a scene of `count` lines, given one at a time, in the format
+/// [`Scene::parse`] reads: huge generated scenes never need to be held in
+/// memory. Returns an error if writing fails or if `lines` does not yield
+/// exactly `count` lines (the header would lie).
+pub fn write_scene(
+    out: &mut impl Write,
+    count: usize,
+    lines: impl IntoIterator<Item = SceneLine>,
+) -> std::io::Result<()> {
+    let mut out = std::io::BufWriter::with_capacity(1 << 16, out);
+    writeln!(out, "{count}")?;
+    let mut written = 0;
+    for l in lines {
+        writeln!(
+            out,
+            "({}, {}), ({}, {}), {}, {}, {}",
+            l.p1.x,
+            l.p1.y,
+            l.p2.x,
+            l.p2.y,
+            l.v.x,
+            l.v.y,
+            l.color.code()
+        )?;
+        written += 1;
+    }
+    if written != count {
+        return Err(std::io::Error::other(format!(
+            "declared {count} lines but wrote {written}"
+        )));
+    }
+    out.flush()
 }
 
 #[cfg(test)]

@@ -1,19 +1,20 @@
-//! Swept bounding boxes, the currency of every broad phase, and the pair
-//! test that every broad phase ends in.
+//! Swept hulls, the currency of every broad phase, and the pair test that
+//! every broad phase ends in.
 //!
-//! A line's swept box holds its segment now and one step ahead. If two lines
-//! collide during the step, their swept boxes overlap (the meeting point
-//! lies in both), so a broad phase may skip any pair whose boxes are apart.
-//! Boxes are padded by `2^-20` of their largest coordinate, which keeps them
+//! A line's swept hull holds its segment now and one step ahead. If two
+//! lines collide during the step, their hulls overlap (the meeting point
+//! lies in both), so a broad phase may skip any pair whose hulls are apart.
+//! Hulls are padded by `2^-20` of their largest coordinate, which keeps them
 //! conservative for the floating-point predicates of `intersect` (whose
 //! errors are near `2^-50` of the coordinates).
 //!
 //! Lines fall into three groups:
 //! - *inert* lines (NaN in both endpoints) can never collide again and are
 //!   left out;
-//! - lines with a finite box go through the broad phase;
-//! - the rest (a finite segment with a non-finite velocity, or a box beyond
-//!   `f32` range) are *wild*: each is tested against every other line.
+//! - lines with a finite hull go through the broad phase;
+//! - the rest (a finite segment with a non-finite velocity, or coordinates
+//!   too large to bound) are *wild*: each is tested against every other
+//!   line.
 
 use crate::geometry::Vec2;
 use crate::line::{Line, WINDOW_HEIGHT, WINDOW_WIDTH};
@@ -81,73 +82,19 @@ impl SweptBox {
     }
 }
 
-/// How a line takes part in this step's broad phase.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Class {
-    /// A finite swept box: goes through the broad phase.
-    Boxed,
-    /// Not finite but not inert: tested against every line.
-    Wild,
-    /// NaN in both endpoints: can never collide again.
-    Inert,
-}
-
-/// This step's classification of every line, indexed by line id.
-#[derive(Debug, Default)]
-pub struct SweptBoxes {
-    /// Each line's class.
-    pub class: Vec<Class>,
-    /// Each line's bound on the absolute value of its coordinates now and
-    /// one step ahead, for the margin of [`may_intersect`].
-    pub magnitude: Vec<f64>,
-    /// Ids of wild lines, in id order.
-    pub wild: Vec<u32>,
-    /// Number of boxed lines.
-    pub boxed: usize,
-    /// The union of the boxed lines' boxes (`None` when there are none).
-    pub bounds: Option<SweptBox>,
-}
-
-impl SweptBoxes {
-    /// Classifies every line of `lines` for a step of `dt`, reusing the
-    /// buffers, and hands each boxed line's id and box to `on_boxed` (so
-    /// that a broad phase can use the box without storing it).
-    #[inline]
-    pub fn compute(&mut self, lines: &[Line], dt: f64, mut on_boxed: impl FnMut(u32, &SweptBox)) {
-        self.class.clear();
-        self.magnitude.clear();
-        self.wild.clear();
-        self.boxed = 0;
-        let mut bounds = SweptBox {
-            min_x: f64::INFINITY,
-            min_y: f64::INFINITY,
-            max_x: f64::NEG_INFINITY,
-            max_y: f64::NEG_INFINITY,
-            min_u: f64::INFINITY,
-            max_u: f64::NEG_INFINITY,
-            min_w: f64::INFINITY,
-            max_w: f64::NEG_INFINITY,
-        };
-        for (id, line) in lines.iter().enumerate() {
-            let (b, magnitude) = swept_box(line, dt);
-            let class = match b {
-                Some(b) => {
-                    bounds = bounds.union(&b);
-                    self.boxed += 1;
-                    on_boxed(id as u32, &b);
-                    Class::Boxed
-                }
-                None if line.is_inert() => Class::Inert,
-                None => {
-                    self.wild.push(id as u32);
-                    Class::Wild
-                }
-            };
-            self.class.push(class);
-            self.magnitude.push(magnitude);
-        }
-        self.bounds = (self.boxed > 0).then_some(bounds);
-    }
+/// A line as a broad phase's pair test sees it: a copy of the line, its id,
+/// and the magnitude of its coordinates (for the prefilter's margin).
+/// Broad phases keep these in their own order, so that lines near each
+/// other in space are near each other in memory.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Slot {
+    /// The line.
+    pub line: Line,
+    /// Bound on the absolute value of its coordinates now and one step
+    /// ahead.
+    pub magnitude: f64,
+    /// Its id.
+    pub id: u32,
 }
 
 /// `min` without NaN handling: one instruction. Callers rule NaN out.
@@ -232,68 +179,43 @@ pub struct PairCounts {
 /// Tests one pair whose hulls overlap: the cheap prefilter, then the exact
 /// test, pushing the event (lower id first) if there is one.
 #[inline]
-pub fn test_pair(
-    lines: &[Line],
-    magnitude: &[f64],
-    a: u32,
-    b: u32,
-    dt: f64,
-    events: &mut Vec<Event>,
-    counts: &mut PairCounts,
-) {
-    let (first, second) = if a < b { (a, b) } else { (b, a) };
-    let (l1, l2) = (&lines[first as usize], &lines[second as usize]);
-    let m = max(magnitude[first as usize], magnitude[second as usize]);
-    if !may_intersect(l1, l2, dt, m) {
+pub fn test_slots(a: &Slot, b: &Slot, dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
+    let (s1, s2) = if a.id < b.id { (a, b) } else { (b, a) };
+    if !may_intersect(&s1.line, &s2.line, dt, max(s1.magnitude, s2.magnitude)) {
         return;
     }
     counts.exact += 1;
-    if let Some(kind) = intersect(l1, l2, dt) {
+    if let Some(kind) = intersect(&s1.line, &s2.line, dt) {
         events.push(Event {
-            first,
-            second,
+            first: s1.id,
+            second: s2.id,
             kind,
         });
     }
 }
 
-/// Tests every wild line against every other line that is not inert (each
-/// pair once). Wild lines are rare and short-lived: a line whose velocity
-/// turned NaN becomes inert one step later.
+/// Tests every wild line (a finite segment with a non-finite velocity or
+/// box) against every slotted line and every other wild line, each pair
+/// once, with the exact test alone. Wild lines are rare and short-lived: a
+/// line whose velocity turned NaN is inert a step later.
 pub fn test_wild(
     lines: &[Line],
-    boxes: &SweptBoxes,
+    wild: &[u32],
+    slots: &[Slot],
     dt: f64,
     events: &mut Vec<Event>,
     counts: &mut PairCounts,
 ) {
-    for &w in &boxes.wild {
-        for (other, class) in boxes.class.iter().enumerate() {
-            let other = other as u32;
-            // Wild pairs are tested once, from their lower id.
-            let wanted = match class {
-                Class::Boxed => true,
-                Class::Wild => other > w,
-                Class::Inert => false,
-            };
-            if wanted {
-                counts.candidates += 1;
-                counts.exact += 1;
-                exact_pair(lines, w, other, dt, events);
+    let others = slots.iter().map(|s| s.id);
+    for (k, &w) in wild.iter().enumerate() {
+        for other in others.clone().chain(wild[k + 1..].iter().copied()) {
+            counts.candidates += 1;
+            counts.exact += 1;
+            let (first, second) = if w < other { (w, other) } else { (other, w) };
+            if let Some(kind) = intersect(&lines[first as usize], &lines[second as usize], dt) {
+                events.push(Event { first, second, kind });
             }
         }
-    }
-}
-
-#[inline]
-fn exact_pair(lines: &[Line], a: u32, b: u32, dt: f64, events: &mut Vec<Event>) {
-    let (first, second) = if a < b { (a, b) } else { (b, a) };
-    if let Some(kind) = intersect(&lines[first as usize], &lines[second as usize], dt) {
-        events.push(Event {
-            first,
-            second,
-            kind,
-        });
     }
 }
 
@@ -358,50 +280,34 @@ mod tests {
     }
 
     #[test]
-    fn lines_are_sorted_into_boxed_wild_and_inert() {
-        let lines = [
-            line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0)),
-            line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
-            line(
-                (f64::NAN, f64::NAN),
-                (f64::NAN, f64::NAN),
-                (f64::NAN, f64::NAN),
-            ),
-            line((1e308, 0.6), (0.7, 0.7), (1e308, 0.0)),
-            line((0.8, 0.9), (0.8, 0.95), (0.0, 0.0)),
-        ];
-        let mut boxes = SweptBoxes::default();
-        let mut seen = Vec::new();
-        boxes.compute(&lines, 0.5, |id, _| seen.push(id));
-        assert_eq!(seen, vec![0, 4]);
-        use Class::*;
-        assert_eq!(boxes.class, vec![Boxed, Wild, Inert, Wild, Boxed]);
-        assert_eq!(boxes.wild, vec![1, 3]);
-        assert_eq!(boxes.boxed, 2);
-        let u = boxes.bounds.unwrap();
-        assert!(u.min_x < 0.6 && u.max_x > 0.8 && u.max_y > 0.95);
-    }
-
-    #[test]
-    fn wild_lines_are_tested_against_all_but_inert_ones() {
+    fn wild_lines_meet_slotted_and_other_wild_lines_once() {
         let lines = [
             line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
             line((0.6, 0.7), (0.7, 0.6), (0.0, 0.0)),
-            line(
-                (f64::NAN, f64::NAN),
-                (f64::NAN, f64::NAN),
-                (f64::NAN, f64::NAN),
-            ),
+            line((f64::NAN, f64::NAN), (f64::NAN, f64::NAN), (f64::NAN, f64::NAN)),
             line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
         ];
-        let mut boxes = SweptBoxes::default();
-        boxes.compute(&lines, 0.5, |_, _| {});
+        assert!(swept_box(&lines[0], 0.5).0.is_none() && !lines[0].is_inert());
+        assert!(lines[2].is_inert());
+        let slots = [Slot { line: lines[1], magnitude: 0.7, id: 1 }];
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
-        test_wild(&lines, &boxes, 0.5, &mut events, &mut counts);
+        test_wild(&lines, &[0, 3], &slots, 0.5, &mut events, &mut counts);
         // 0-1, 0-3, 3-1: all three cross now.
         assert_eq!(counts.exact, 3);
         events.sort_unstable_by_key(Event::order_key);
         let pairs: Vec<_> = events.iter().map(|e| (e.first, e.second)).collect();
         assert_eq!(pairs, vec![(0, 1), (0, 3), (1, 3)]);
+    }
+
+    #[test]
+    fn slots_are_tested_lower_id_first() {
+        let a = Slot { line: line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)), magnitude: 0.7, id: 9 };
+        let b = Slot { line: line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)), magnitude: 0.7, id: 4 };
+        let (mut events, mut counts) = (Vec::new(), PairCounts::default());
+        test_slots(&a, &b, 0.5, &mut events, &mut counts);
+        assert_eq!(counts.exact, 1);
+        assert_eq!((events[0].first, events[0].second), (4, 9));
+        // Roles matter: with id 4 as l1 the event is L1WithL2 from l2's view.
+        assert_eq!(Some(events[0].kind), intersect(&b.line, &a.line, 0.5));
     }
 }

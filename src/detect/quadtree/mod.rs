@@ -27,16 +27,14 @@
 
 pub mod tree;
 
-use super::swept::{
-    test_pair, test_wild, Class, PairCounts, SweptBox, SweptBoxes, DIAGONAL_X, DIAGONAL_Y,
-};
+use super::swept::{swept_box, test_slots, test_wild, PairCounts, Slot, SweptBox, DIAGONAL_X, DIAGONAL_Y};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
 use std::fmt;
 use std::str::FromStr;
 use std::time::Instant;
-use tree::{Grid, Tree};
+use tree::{Entry, Grid, Tree};
 
 /// Default for the largest number of lines a leaf holds before it splits.
 pub const DEFAULT_LEAF_SIZE: usize = 16;
@@ -154,29 +152,41 @@ impl Chooser {
 }
 
 /// A quadtree broad phase.
+///
+/// Each step the lines are copied into *slots*, in the order of the last
+/// walk of the tree (boxed lines in key order, then the others), so that
+/// lines near each other in space are near each other in memory: the tree,
+/// the cached pairs and the pair test all work on slot numbers, and only
+/// the one gather per step reads the lines in scattered order.
 #[derive(Debug)]
 pub struct Quadtree {
     tree: Tree,
     mode: TreeMode,
     chooser: Chooser,
-    boxes: SweptBoxes,
     grid: Grid,
-    /// Each line's swept hull this step, by id.
-    hull: Vec<SweptBox>,
-    /// Rebuilt mode: ids of the boxed lines in last step's key order.
+    /// Every line's id, in the order slots are filled.
     order: Vec<u32>,
-    /// Cached mode: each line's fat hull, by id.
+    /// This step's lines in `order`, as gathered.
+    gathered: Vec<Line>,
+    /// This step's boxed lines.
+    slots: Vec<Slot>,
+    /// Each slot's swept hull this step.
+    hulls: Vec<SweptBox>,
+    /// Ids of this step's lines without a slot: wild ones, then inert ones
+    /// (kept in `order` after the slotted ones).
+    unslotted: Vec<u32>,
+    /// Ids of this step's wild lines.
+    wild: Vec<u32>,
+    /// Cached mode: each slot's fat hull.
     fat: Vec<SweptBox>,
-    /// Cached mode: whether each line is in the tree and the pair cache.
-    in_cache: Vec<bool>,
-    /// Cached mode: whether each line left its fat hull this step.
+    /// Cached mode: whether each slot left its fat hull this step.
     is_moved: Vec<bool>,
-    /// Cached mode: the lines that left their fat hulls this step.
+    /// Cached mode: the slots that left their fat hulls this step.
     moved: Vec<u32>,
-    /// Cached mode: every pair of cached lines whose fat hulls overlap.
+    /// Cached mode: every pair of slots whose fat hulls overlap.
     pairs: Vec<(u32, u32)>,
-    /// Cached mode: whether the tree and the pairs can be updated rather
-    /// than rebuilt.
+    /// Cached mode: whether the slots, the tree and the pairs are those of
+    /// the last step and can be updated rather than rebuilt.
     valid: bool,
     stats: DetectorStats,
 }
@@ -232,7 +242,6 @@ impl Quadtree {
             tree: Tree::new(leaf_size, max_depth),
             mode,
             chooser: Chooser::default(),
-            boxes: SweptBoxes::default(),
             grid: Grid::over(&SweptBox {
                 min_x: BOX_MIN,
                 min_y: BOX_MIN,
@@ -240,10 +249,13 @@ impl Quadtree {
                 max_y: BOX_MAX,
                 ..SweptBox::default()
             }),
-            hull: Vec::new(),
             order: Vec::new(),
+            gathered: Vec::new(),
+            slots: Vec::new(),
+            hulls: Vec::new(),
+            unslotted: Vec::new(),
+            wild: Vec::new(),
             fat: Vec::new(),
-            in_cache: Vec::new(),
             is_moved: Vec::new(),
             moved: Vec::new(),
             pairs: Vec::new(),
@@ -252,174 +264,165 @@ impl Quadtree {
         }
     }
 
-    /// Classifies the lines and records every boxed line's swept hull (and,
-    /// in cached mode with a valid cache, which lines left their fat hulls).
-    fn compute_hulls(&mut self, lines: &[Line], dt: f64, cached: bool) {
-        let n = lines.len();
-        self.hull.resize(n, SweptBox::default());
-        self.moved.clear();
-        let (hull, moved, fat) = (&mut self.hull, &mut self.moved, &self.fat);
-        let check = cached && self.valid;
-        self.boxes.compute(lines, dt, |id, b| {
-            hull[id as usize] = *b;
-            if check && !holds(&fat[id as usize], b) {
-                moved.push(id);
+    /// Copies the lines into slots in `order`, with their swept hulls, and
+    /// sorts out the wild and inert ones. Returns the union of the hulls,
+    /// and whether every line kept its place (slotted or not) since the
+    /// order was set.
+    fn fill_slots(&mut self, lines: &[Line], dt: f64) -> (Option<SweptBox>, bool) {
+        if self.order.len() != lines.len() {
+            self.order.clear();
+            self.order.extend(0..lines.len() as u32);
+            self.valid = false;
+        }
+        self.slots.clear();
+        self.hulls.clear();
+        self.unslotted.clear();
+        self.wild.clear();
+        // Gather first, in a loop tight enough to keep many of its scattered
+        // reads in flight; then work on the copies in order.
+        self.gathered.clear();
+        self.gathered.extend(self.order.iter().map(|&id| lines[id as usize]));
+        let mut bounds: Option<SweptBox> = None;
+        for (&id, line) in self.order.iter().zip(&self.gathered) {
+            match swept_box(line, dt) {
+                (Some(hull), magnitude) => {
+                    bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
+                    self.slots.push(Slot { line: *line, magnitude, id });
+                    self.hulls.push(hull);
+                }
+                _ => {
+                    self.unslotted.push(id);
+                    if !line.is_inert() {
+                        self.wild.push(id);
+                    }
+                }
             }
-        });
+        }
+        // The order lists slotted lines first: if as many lines are slotted
+        // as before and the first unslotted one is where it was, no line
+        // changed sides.
+        let settled = self.order[..self.slots.len()]
+            .iter()
+            .zip(&self.slots)
+            .all(|(&id, slot)| id == slot.id);
+        (bounds, settled)
+    }
+
+    /// Sets `order` to the tree's order of the slots, then the unslotted
+    /// lines.
+    fn reorder(&mut self) {
+        let slots = &self.slots;
+        self.order.clear();
+        self.order.extend(self.tree.entries.iter().map(|e| slots[e.cells.id as usize].id));
+        self.order.extend_from_slice(&self.unslotted);
     }
 
     /// Rebuilt mode: builds the tree over this step's swept hulls and tests
     /// its pairs.
-    fn detect_rebuilt(
-        &mut self,
-        lines: &[Line],
-        dt: f64,
-        events: &mut Vec<Event>,
-        counts: &mut PairCounts,
-    ) {
-        let Some(bounds) = self.boxes.bounds else {
-            return;
-        };
+    fn detect_rebuilt(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
+        let (bounds, _) = self.fill_slots(lines, dt);
+        test_wild(lines, &self.wild, &self.slots, dt, events, counts);
+        let Some(bounds) = bounds else { return };
         if !self.grid.holds(&bounds) {
             self.grid = Grid::over(&bounds);
         }
-        let (grid, hull, class) = (self.grid, &self.hull, &self.boxes.class);
-        let max_depth = self.tree.max_depth();
+        self.set_entries(false);
+        let slots = &self.slots;
+        self.tree.pairs(&mut |a, b| test_slots(&slots[a as usize], &slots[b as usize], dt, events, counts));
+        self.reorder();
+    }
+
+    /// Fills the tree's entries, in slot order, from the fat hulls or the
+    /// swept ones, and sorts them (nearly sorted already when the slots are
+    /// in last step's tree order).
+    fn set_entries(&mut self, fat: bool) {
+        let (grid, max_depth) = (self.grid, self.tree.max_depth());
+        let hulls = if fat { &self.fat } else { &self.hulls };
         let entries = &mut self.tree.entries;
         entries.clear();
-        let entry = |id: u32| {
-            let cells = grid.cells(&hull[id as usize], id);
-            tree::Entry {
+        entries.extend(hulls.iter().enumerate().map(|(s, h)| {
+            let cells = grid.cells(h, s as u32);
+            Entry {
                 key: tree::key(&cells, max_depth),
                 cells,
             }
-        };
-        // Last step's order is nearly sorted: start from it unless the set
-        // of boxed lines changed.
-        entries.extend(
-            self.order
-                .iter()
-                .filter(|&&id| class.get(id as usize) == Some(&Class::Boxed))
-                .map(|&id| entry(id)),
-        );
-        if entries.len() != self.boxes.boxed {
-            entries.clear();
-            entries.extend(
-                (0..class.len() as u32)
-                    .filter(|&id| class[id as usize] == Class::Boxed)
-                    .map(entry),
-            );
-        }
+        }));
         self.tree.sort();
-        self.order.clear();
-        self.order
-            .extend(self.tree.entries.iter().map(|e| e.cells.id));
-        let magnitude = &self.boxes.magnitude;
-        self.tree
-            .pairs(&mut |a, b| test_pair(lines, magnitude, a, b, dt, events, counts));
     }
 
-    /// Cached mode: brings the tree and the pairs up to date, then tests the
-    /// pairs whose swept hulls overlap.
-    fn detect_cached(
-        &mut self,
-        lines: &[Line],
-        dt: f64,
-        events: &mut Vec<Event>,
-        counts: &mut PairCounts,
-    ) {
-        let n = lines.len();
-        self.fat.resize(n, SweptBox::default());
-        self.in_cache.resize(n, false);
-        self.is_moved.resize(n, false);
-
+    /// Cached mode: brings the slots, the tree and the pairs up to date, then
+    /// tests the pairs whose swept hulls overlap.
+    fn detect_cached(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
+        let (bounds, settled) = self.fill_slots(lines, dt);
+        test_wild(lines, &self.wild, &self.slots, dt, events, counts);
+        let n = self.slots.len();
+        self.valid &= settled && self.fat.len() == n;
+        self.moved.clear();
         if self.valid {
-            let class = &self.boxes.class;
-            let same_lines = self
-                .in_cache
-                .iter()
-                .zip(class)
-                .all(|(&cached, &c)| cached == (c == Class::Boxed));
-            self.valid = same_lines && self.moved.len() <= n / REBUILD_SHARE;
+            let (fat, hulls) = (&self.fat, &self.hulls);
+            self.moved.extend((0..n as u32).filter(|&s| !holds(&fat[s as usize], &hulls[s as usize])));
+            self.valid = self.moved.len() <= n / REBUILD_SHARE;
         }
         if self.valid {
             for &m in &self.moved {
-                self.fat[m as usize] = fatten(&self.hull[m as usize], &lines[m as usize], dt);
+                let m = m as usize;
+                self.fat[m] = fatten(&self.hulls[m], &self.slots[m].line, dt);
             }
             let grid = self.grid;
-            self.valid = self
-                .moved
-                .iter()
-                .all(|&m| grid.holds(&self.fat[m as usize]));
+            self.valid = self.moved.iter().all(|&m| grid.holds(&self.fat[m as usize]));
         }
         if self.valid {
             self.stats.refits += self.moved.len() as u64;
             self.update_cache();
-        } else {
+        } else if let Some(bounds) = bounds {
             self.stats.rebuilds += 1;
-            self.rebuild_cache(lines, dt);
+            self.rebuild_cache(lines, dt, bounds);
+        } else {
+            self.pairs.clear();
         }
 
-        let (hull, magnitude) = (&self.hull, &self.boxes.magnitude);
+        let (hulls, slots) = (&self.hulls, &self.slots);
         counts.candidates += self.pairs.len() as u64;
         for &(a, b) in &self.pairs {
-            if hull[a as usize].overlaps(&hull[b as usize]) {
-                test_pair(lines, magnitude, a, b, dt, events, counts);
+            let (a, b) = (a as usize, b as usize);
+            if hulls[a].overlaps(&hulls[b]) {
+                test_slots(&slots[a], &slots[b], dt, events, counts);
             }
         }
     }
 
-    /// Rebuilds the tree over fresh fat hulls of every boxed line, and the
-    /// pairs from it.
-    fn rebuild_cache(&mut self, lines: &[Line], dt: f64) {
+    /// Rebuilds the cache: puts the slots in the tree order of their fat
+    /// hulls (refilling them in that order, for locality), then builds the
+    /// tree over the fat hulls and takes all its pairs.
+    fn rebuild_cache(&mut self, lines: &[Line], dt: f64, bounds: SweptBox) {
+        self.fat_hulls(dt, bounds);
+        self.set_entries(true);
+        self.reorder();
+        let (bounds, _) = self.fill_slots(lines, dt);
+        self.fat_hulls(dt, bounds.expect("the same lines are boxed"));
+        self.set_entries(true);
         self.pairs.clear();
-        let class = &self.boxes.class;
-        // The tree's entries are last step's lines in key order: keep that
-        // order (nearly sorted still) unless the set of lines changed.
-        let same_lines = self.tree.entries.len() == self.boxes.boxed
-            && self
-                .tree
-                .entries
-                .iter()
-                .all(|e| class[e.cells.id as usize] == Class::Boxed);
-        for (id, cached) in self.in_cache.iter_mut().enumerate() {
-            *cached = class[id] == Class::Boxed;
-        }
-        let Some(mut bounds) = self.boxes.bounds else {
-            self.tree.entries.clear();
-            self.valid = true;
-            return;
-        };
-        for id in (0..class.len()).filter(|&id| class[id] == Class::Boxed) {
-            self.fat[id] = fatten(&self.hull[id], &lines[id], dt);
-            bounds = bounds.union(&self.fat[id]);
+        let pairs = &mut self.pairs;
+        self.tree.pairs(&mut |a, b| pairs.push(if a < b { (a, b) } else { (b, a) }));
+        self.is_moved.clear();
+        self.is_moved.resize(self.slots.len(), false);
+        self.valid = true;
+    }
+
+    /// Fresh fat hulls for every slot, growing the grid if they leave it.
+    fn fat_hulls(&mut self, dt: f64, mut bounds: SweptBox) {
+        let (hulls, slots) = (&self.hulls, &self.slots);
+        self.fat.clear();
+        self.fat.extend(hulls.iter().zip(slots).map(|(h, s)| fatten(h, &s.line, dt)));
+        for f in &self.fat {
+            bounds = bounds.union(f);
         }
         if !self.grid.holds(&bounds) {
             self.grid = Grid::over(&bounds);
         }
-        let (grid, fat) = (self.grid, &self.fat);
-        let max_depth = self.tree.max_depth();
-        if same_lines {
-            for e in &mut self.tree.entries {
-                e.cells = grid.cells(&fat[e.cells.id as usize], e.cells.id);
-                e.key = tree::key(&e.cells, max_depth);
-            }
-        } else {
-            self.tree.entries.clear();
-            for id in (0..class.len()).filter(|&id| class[id] == Class::Boxed) {
-                let cells = grid.cells(&fat[id], id as u32);
-                let key = tree::key(&cells, max_depth);
-                self.tree.entries.push(tree::Entry { key, cells });
-            }
-        }
-        self.tree.sort();
-        let pairs = &mut self.pairs;
-        self.tree
-            .pairs(&mut |a, b| pairs.push(if a < b { (a, b) } else { (b, a) }));
-        self.valid = true;
     }
 
-    /// Moves the lines that left their fat hulls (their new fat hulls are
+    /// Moves the slots that left their fat hulls (their new fat hulls are
     /// set): new cells and keys, their old pairs out, their new pairs in.
     fn update_cache(&mut self) {
         if self.moved.is_empty() {
@@ -431,19 +434,18 @@ impl Quadtree {
         let (grid, fat, is_moved) = (self.grid, &self.fat, &self.is_moved);
         let max_depth = self.tree.max_depth();
         for e in &mut self.tree.entries {
-            let id = e.cells.id;
-            if is_moved[id as usize] {
-                e.cells = grid.cells(&fat[id as usize], id);
+            let s = e.cells.id;
+            if is_moved[s as usize] {
+                e.cells = grid.cells(&fat[s as usize], s);
                 e.key = tree::key(&e.cells, max_depth);
             }
         }
         self.tree.sort();
-        self.pairs
-            .retain(|&(a, b)| !is_moved[a as usize] && !is_moved[b as usize]);
+        self.pairs.retain(|&(a, b)| !is_moved[a as usize] && !is_moved[b as usize]);
         for &m in &self.moved {
             let probe = grid.cells(&fat[m as usize], m);
             let pairs = &mut self.pairs;
-            // A pair of two moved lines is taken from the lower id's query.
+            // A pair of two moved slots is taken from the lower one's query.
             self.tree.query(&probe, |j| {
                 if j != m && (!is_moved[j as usize] || j > m) {
                     pairs.push(if m < j { (m, j) } else { (j, m) });
@@ -469,13 +471,11 @@ impl Detector for Quadtree {
             TreeMode::Cached => false,
             TreeMode::Rebuilt => true,
         };
-        self.compute_hulls(lines, dt, !rebuilt);
         let mut counts = PairCounts::default();
-        test_wild(lines, &self.boxes, dt, events, &mut counts);
         self.tree.counts = tree::WalkCounts::default();
         if rebuilt {
-            // The tree now holds swept hulls: the cache must be rebuilt
-            // before it is used again.
+            // The tree will hold swept hulls and the slots another order:
+            // the cache must be rebuilt before it is used again.
             self.valid = false;
             self.detect_rebuilt(lines, dt, events, &mut counts);
         } else {
