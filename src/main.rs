@@ -3,7 +3,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use screensaver::detect::{Brute, TreeMode, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+use screensaver::detect::{Brute, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{default_scene, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
@@ -54,6 +54,15 @@ struct Cli {
     /// cached way except while rebuilding is measured to be faster.
     #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse_tree_mode)]
     tree_mode: TreeMode,
+
+    /// Threads to run on (default: all cores). Results are the same for any
+    /// number; 1 runs everything on one thread with no pool.
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
+    threads: Option<usize>,
+
+    /// The smallest piece of work handed to a thread, in lines.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRAIN, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    grain: usize,
 
     /// Run the all-pairs detector beside the chosen one at every step and
     /// stop at the first step whose events differ, printing both lists.
@@ -161,8 +170,13 @@ fn run(cli: &Cli) -> Result<(), String> {
         leaf_size: cli.leaf_size,
         max_depth: cli.max_depth,
         tree_mode: cli.tree_mode,
+        threads: cli
+            .threads
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
+        grain: cli.grain,
     };
-    let mut world = World::from_scene(&scene, cli.detector.build_with(&config));
+    let mut world = World::with_config(&scene, cli.detector, &config)
+        .map_err(|e| format!("cannot start {} threads: {e}", config.threads))?;
     world.set_timing(cli.stats);
     let steps = frames.saturating_add(1);
 
@@ -190,6 +204,7 @@ fn run(cli: &Cli) -> Result<(), String> {
             "input": cli.input.as_ref().map(|p| p.display().to_string()),
             "lines": world.lines().len(),
             "detector": cli.detector.name(),
+            "threads": config.threads,
             "elapsed_seconds": elapsed.as_secs_f64(),
             "line_wall_collisions": counts.wall,
             "line_line_collisions": counts.line,
@@ -220,6 +235,7 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
         "detector": kind.name(),
         "leaf_size": config.leaf_size,
         "max_depth": config.max_depth,
+        "threads": config.threads,
         "tree_mode": config.tree_mode.name(),
         "candidate_pairs": s.candidate_pairs,
         "exact_tests": s.exact_tests,
@@ -262,10 +278,11 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
         DetectorKind::Brute => String::new(),
     };
     let mut out = format!(
-        "---- STATS ----\ndetector: {}{tuning}\nlines: {}, steps: {}\n",
+        "---- STATS ----\ndetector: {}{tuning}\nlines: {}, steps: {}, threads: {}\n",
         kind.name(),
         world.lines().len(),
-        world.steps()
+        world.steps(),
+        world.threads()
     );
     out += &format!("{:<18}{:>16}{:>16}\n", "", "total", "per step");
     for (name, n) in [

@@ -1,7 +1,7 @@
 //! The world: every line, the two collision counters, and one step of the
 //! simulation (detect, resolve, move, walls).
 
-use crate::detect::{Detector, DetectorKind, DetectorStats};
+use crate::detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
 use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_MAX, BOX_MIN, DT};
 use crate::narrow::Event;
 use crate::response::resolve;
@@ -88,7 +88,14 @@ pub struct World {
     detector: Box<dyn Detector>,
     events: Vec<Event>,
     timing: Option<PhaseTimes>,
+    /// The threads a step runs on, when more than one.
+    pool: Option<rayon::ThreadPool>,
 }
+
+/// Below this many lines, moving and wall checks stay on one thread.
+const PARALLEL_LINES: usize = 64 * 1024;
+/// Lines per task when moving and checking walls in parallel.
+const LINE_CHUNK: usize = 16 * 1024;
 
 impl World {
     /// A world holding `lines` (in box coordinates, ids by position) that
@@ -111,7 +118,42 @@ impl World {
             detector,
             events: Vec::new(),
             timing: None,
+            pool: None,
         }
+    }
+
+    /// A world from a scene with a detector chosen by kind and tuned by
+    /// `config`, running on `config.threads` threads.
+    pub fn with_config(
+        scene: &Scene,
+        kind: DetectorKind,
+        config: &DetectorConfig,
+    ) -> Result<Self, rayon::ThreadPoolBuildError> {
+        let mut world = Self::from_scene(scene, kind.build_with(config));
+        world.set_threads(config.threads)?;
+        Ok(world)
+    }
+
+    /// Runs steps on a pool of `threads` threads (1: on the calling thread,
+    /// with no pool). Detectors split their work over the pool when their
+    /// own configuration asks for more than one thread. Results are the
+    /// same for any number of threads.
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
+        self.pool = if threads > 1 {
+            Some(
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()?,
+            )
+        } else {
+            None
+        };
+        Ok(())
+    }
+
+    /// Threads a step runs on.
+    pub fn threads(&self) -> usize {
+        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
     }
 
     /// A world built from a scene (window coordinates converted to box
@@ -187,6 +229,18 @@ impl World {
 
     /// Runs one step: detect, resolve in `(first, second)` order, move, walls.
     pub fn step(&mut self) {
+        match self.pool.take() {
+            Some(pool) => {
+                pool.install(|| self.step_here(true));
+                self.pool = Some(pool);
+            }
+            None => self.step_here(false),
+        }
+    }
+
+    /// [`World::step`] on the current thread, or on the current rayon pool
+    /// where it pays if `parallel`.
+    fn step_here(&mut self, parallel: bool) {
         let t0 = self.timing.map(|_| Instant::now());
 
         self.events.clear();
@@ -201,16 +255,34 @@ impl World {
         }
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
-        for line in &mut self.lines {
-            line.p1 = line.p1 + line.v * DT;
-            line.p2 = line.p2 + line.v * DT;
+        let parallel = parallel && self.lines.len() >= PARALLEL_LINES;
+        let advance = |lines: &mut [Line]| {
+            for line in lines {
+                line.p1 = line.p1 + line.v * DT;
+                line.p2 = line.p2 + line.v * DT;
+            }
+        };
+        let walls = |lines: &mut [Line]| {
+            lines
+                .iter_mut()
+                .map(|l| u64::from(bounce_off_walls(l)))
+                .sum::<u64>()
+        };
+        if parallel {
+            use rayon::prelude::*;
+            self.lines.par_chunks_mut(LINE_CHUNK).for_each(advance);
+        } else {
+            advance(&mut self.lines);
         }
         let t3 = self.lap(t2, |t, d| t.advance += d);
 
-        let mut hits = 0;
-        for line in &mut self.lines {
-            hits += u64::from(bounce_off_walls(line));
-        }
+        // The wall counter is a sum, the same in any order.
+        let hits = if parallel {
+            use rayon::prelude::*;
+            self.lines.par_chunks_mut(LINE_CHUNK).map(walls).sum()
+        } else {
+            walls(&mut self.lines)
+        };
         self.counters.wall += hits;
         self.lap(t3, |t, d| t.walls += d);
 

@@ -8,67 +8,45 @@ use screensaver::detect::Brute;
 use screensaver::detect::TreeMode;
 use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
 
-/// Tree shapes to try, cached and rebuilt: leaves of 1, 2 and many lines, no
-/// splitting at all, and very deep trees.
-const CONFIGS: &[DetectorConfig] = &[
-    // Auto starts with a trial of the rebuilt way, then switches: 25 steps
-    // cover both and the switch.
-    DetectorConfig {
-        leaf_size: 4,
-        max_depth: 12,
-        tree_mode: TreeMode::Auto,
-    },
-    DetectorConfig {
-        leaf_size: 1,
-        max_depth: 12,
-        tree_mode: TreeMode::Cached,
-    },
-    DetectorConfig {
-        leaf_size: 1,
-        max_depth: 12,
-        tree_mode: TreeMode::Rebuilt,
-    },
-    DetectorConfig {
+/// Tree shapes to try, in every tree mode: leaves of 1, 2 and many lines,
+/// no splitting at all and very deep trees; and 2, 3 and 8 threads with
+/// work split into pieces of a few lines. (Auto mode starts with a trial of
+/// the rebuilt way and then switches: the steps below cover both and the
+/// switch.)
+fn configs() -> Vec<DetectorConfig> {
+    let shape = |leaf_size, max_depth, tree_mode| DetectorConfig {
+        leaf_size,
+        max_depth,
+        tree_mode,
+        ..DetectorConfig::default()
+    };
+    let threads = |threads, grain, tree_mode| DetectorConfig {
+        threads,
+        grain,
+        tree_mode,
         leaf_size: 2,
-        max_depth: 40,
-        tree_mode: TreeMode::Cached,
-    },
-    DetectorConfig {
-        leaf_size: 2,
-        max_depth: 40,
-        tree_mode: TreeMode::Rebuilt,
-    },
-    DetectorConfig {
-        leaf_size: 1000,
-        max_depth: 12,
-        tree_mode: TreeMode::Cached,
-    },
-    DetectorConfig {
-        leaf_size: 1000,
-        max_depth: 12,
-        tree_mode: TreeMode::Rebuilt,
-    },
-    DetectorConfig {
-        leaf_size: 16,
-        max_depth: 0,
-        tree_mode: TreeMode::Cached,
-    },
-    DetectorConfig {
-        leaf_size: 16,
-        max_depth: 0,
-        tree_mode: TreeMode::Rebuilt,
-    },
-    DetectorConfig {
-        leaf_size: 3,
-        max_depth: 2,
-        tree_mode: TreeMode::Cached,
-    },
-    DetectorConfig {
-        leaf_size: 16,
-        max_depth: 12,
-        tree_mode: TreeMode::Cached,
-    },
-];
+        ..DetectorConfig::default()
+    };
+    let mut all = Vec::new();
+    for mode in [TreeMode::Auto, TreeMode::Cached, TreeMode::Rebuilt] {
+        all.extend([
+            shape(1, 12, mode),
+            shape(2, 40, mode),
+            shape(1000, 12, mode),
+            shape(16, 0, mode),
+            shape(3, 2, mode),
+            shape(16, 12, mode),
+        ]);
+    }
+    for mode in [TreeMode::Cached, TreeMode::Rebuilt] {
+        all.extend([
+            threads(2, 1, mode),
+            threads(3, 2, mode),
+            threads(8, 4, mode),
+        ]);
+    }
+    all
+}
 
 const STEPS: usize = 25;
 
@@ -83,9 +61,10 @@ fn fast_detectors() -> impl Iterator<Item = DetectorKind> {
 /// step against the oracle; returns a description of the first mismatch.
 fn check_all(lines: &[Line], steps: usize) -> Result<(), String> {
     for kind in fast_detectors() {
-        for config in CONFIGS {
+        for config in &configs() {
             let colors = vec![Color::Red; lines.len()];
             let mut world = World::new(lines.to_vec(), colors, kind.build_with(config));
+            world.set_threads(config.threads).expect("a thread pool");
             let mut oracle = Brute::default();
             for _ in 0..steps {
                 world

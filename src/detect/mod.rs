@@ -11,7 +11,7 @@ mod quadtree;
 pub mod swept;
 
 pub use brute::Brute;
-pub use quadtree::{Quadtree, TreeMode, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+pub use quadtree::{Quadtree, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 
 use crate::line::Line;
 use crate::narrow::Event;
@@ -73,6 +73,13 @@ pub struct DetectorConfig {
     pub max_depth: u32,
     /// Quadtree: how the tree is kept from step to step.
     pub tree_mode: TreeMode,
+    /// Threads to split the work over, on the rayon pool the step runs in
+    /// (see [`World::set_threads`](crate::World::set_threads)); 1 keeps
+    /// everything on the calling thread. Results never depend on it.
+    pub threads: usize,
+    /// The smallest piece of work handed to a thread, in lines (tree walks
+    /// split subtrees of a sixteenth of this and up). Speed only.
+    pub grain: usize,
 }
 
 impl Default for DetectorConfig {
@@ -81,6 +88,8 @@ impl Default for DetectorConfig {
             leaf_size: DEFAULT_LEAF_SIZE,
             max_depth: DEFAULT_MAX_DEPTH,
             tree_mode: TreeMode::Auto,
+            threads: 1,
+            grain: DEFAULT_GRAIN,
         }
     }
 }
@@ -113,6 +122,8 @@ impl DetectorKind {
                 config.leaf_size,
                 config.max_depth,
                 config.tree_mode,
+                config.threads,
+                config.grain,
             )),
         }
     }

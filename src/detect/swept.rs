@@ -176,6 +176,14 @@ pub struct PairCounts {
     pub exact: u64,
 }
 
+impl PairCounts {
+    /// Adds another tally to this one.
+    pub fn add(&mut self, other: &PairCounts) {
+        self.candidates += other.candidates;
+        self.exact += other.exact;
+    }
+}
+
 /// Tests one pair whose hulls overlap: the cheap prefilter, then the exact
 /// test, pushing the event (lower id first) if there is one.
 #[inline]
@@ -195,25 +203,28 @@ pub fn test_slots(a: &Slot, b: &Slot, dt: f64, events: &mut Vec<Event>, counts: 
 }
 
 /// Tests every wild line (a finite segment with a non-finite velocity or
-/// box) against every slotted line and every other wild line, each pair
+/// box) against every line in `others` and every other wild line, each pair
 /// once, with the exact test alone. Wild lines are rare and short-lived: a
 /// line whose velocity turned NaN is inert a step later.
 pub fn test_wild(
     lines: &[Line],
     wild: &[u32],
-    slots: &[Slot],
+    others: impl Iterator<Item = u32> + Clone,
     dt: f64,
     events: &mut Vec<Event>,
     counts: &mut PairCounts,
 ) {
-    let others = slots.iter().map(|s| s.id);
     for (k, &w) in wild.iter().enumerate() {
         for other in others.clone().chain(wild[k + 1..].iter().copied()) {
             counts.candidates += 1;
             counts.exact += 1;
             let (first, second) = if w < other { (w, other) } else { (other, w) };
             if let Some(kind) = intersect(&lines[first as usize], &lines[second as usize], dt) {
-                events.push(Event { first, second, kind });
+                events.push(Event {
+                    first,
+                    second,
+                    kind,
+                });
             }
         }
     }
@@ -284,14 +295,24 @@ mod tests {
         let lines = [
             line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
             line((0.6, 0.7), (0.7, 0.6), (0.0, 0.0)),
-            line((f64::NAN, f64::NAN), (f64::NAN, f64::NAN), (f64::NAN, f64::NAN)),
+            line(
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+            ),
             line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
         ];
         assert!(swept_box(&lines[0], 0.5).0.is_none() && !lines[0].is_inert());
         assert!(lines[2].is_inert());
-        let slots = [Slot { line: lines[1], magnitude: 0.7, id: 1 }];
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
-        test_wild(&lines, &[0, 3], &slots, 0.5, &mut events, &mut counts);
+        test_wild(
+            &lines,
+            &[0, 3],
+            [1].into_iter(),
+            0.5,
+            &mut events,
+            &mut counts,
+        );
         // 0-1, 0-3, 3-1: all three cross now.
         assert_eq!(counts.exact, 3);
         events.sort_unstable_by_key(Event::order_key);
@@ -301,8 +322,16 @@ mod tests {
 
     #[test]
     fn slots_are_tested_lower_id_first() {
-        let a = Slot { line: line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)), magnitude: 0.7, id: 9 };
-        let b = Slot { line: line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)), magnitude: 0.7, id: 4 };
+        let a = Slot {
+            line: line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
+            magnitude: 0.7,
+            id: 9,
+        };
+        let b = Slot {
+            line: line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
+            magnitude: 0.7,
+            id: 4,
+        };
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
         test_slots(&a, &b, 0.5, &mut events, &mut counts);
         assert_eq!(counts.exact, 1);

@@ -157,6 +157,6 @@ pub fn check_scene_with(
     let Some(dir) = reference_dir(&format!("{scene} ({label})")) else {
         return;
     };
-    let world = World::from_scene(&load_scene(&dir, scene), kind.build_with(config));
+    let world = World::with_config(&load_scene(&dir, scene), kind, config).expect("a thread pool");
     check_world(&dir, scene, world, max_steps, &label);
 }

@@ -27,7 +27,9 @@
 
 pub mod tree;
 
-use super::swept::{swept_box, test_slots, test_wild, PairCounts, Slot, SweptBox, DIAGONAL_X, DIAGONAL_Y};
+use super::swept::{
+    swept_box, test_slots, test_wild, PairCounts, Slot, SweptBox, DIAGONAL_X, DIAGONAL_Y,
+};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
@@ -162,21 +164,26 @@ impl Chooser {
 pub struct Quadtree {
     tree: Tree,
     mode: TreeMode,
+    threads: usize,
+    grain: usize,
     chooser: Chooser,
     grid: Grid,
     /// Every line's id, in the order slots are filled.
     order: Vec<u32>,
     /// This step's lines in `order`, as gathered.
     gathered: Vec<Line>,
-    /// This step's boxed lines.
+    /// This step's lines in `order`, with what the pair test needs.
     slots: Vec<Slot>,
-    /// Each slot's swept hull this step.
+    /// Each slot's swept hull this step (meaningful where `boxed`).
     hulls: Vec<SweptBox>,
-    /// Ids of this step's lines without a slot: wild ones, then inert ones
-    /// (kept in `order` after the slotted ones).
-    unslotted: Vec<u32>,
+    /// Whether each slot's line has a finite hull and is in the tree.
+    boxed: Vec<bool>,
+    /// Ids of this step's lines that are not boxed: wild, then inert.
+    unboxed: Vec<u32>,
     /// Ids of this step's wild lines.
     wild: Vec<u32>,
+    /// Cached mode: `boxed` as it was when the cache was built.
+    cached_boxed: Vec<bool>,
     /// Cached mode: each slot's fat hull.
     fat: Vec<SweptBox>,
     /// Cached mode: whether each slot left its fat hull this step.
@@ -193,9 +200,18 @@ pub struct Quadtree {
 
 impl Default for Quadtree {
     fn default() -> Self {
-        Self::new(DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH, TreeMode::Auto)
+        Self::new(
+            DEFAULT_LEAF_SIZE,
+            DEFAULT_MAX_DEPTH,
+            TreeMode::Auto,
+            1,
+            DEFAULT_GRAIN,
+        )
     }
 }
+
+/// Default for the smallest piece of work handed to a thread, in lines.
+pub const DEFAULT_GRAIN: usize = 16 * 1024;
 
 /// Grows a swept hull into a fat hull: stretched forward by `FAT_STEPS`
 /// more steps of the line's motion, so that a line keeping its velocity
@@ -233,14 +249,112 @@ fn holds(outer: &SweptBox, inner: &SweptBox) -> bool {
         & (outer.max_w >= inner.max_w)
 }
 
+/// Collects a walk's pairs into events, testing each pair on the spot.
+struct EventCollector<'a> {
+    slots: &'a [Slot],
+    dt: f64,
+    events: Vec<Event>,
+    counts: PairCounts,
+}
+
+impl tree::Collector for EventCollector<'_> {
+    #[inline]
+    fn pair(&mut self, a: u32, b: u32) {
+        test_slots(
+            &self.slots[a as usize],
+            &self.slots[b as usize],
+            self.dt,
+            &mut self.events,
+            &mut self.counts,
+        );
+    }
+
+    fn fork(&self) -> Self {
+        EventCollector {
+            slots: self.slots,
+            dt: self.dt,
+            events: Vec::new(),
+            counts: PairCounts::default(),
+        }
+    }
+
+    fn join(&mut self, mut other: Self) {
+        self.events.append(&mut other.events);
+        self.counts.add(&other.counts);
+    }
+}
+
+/// Collects a walk's pairs as they are, lower slot first.
+struct PairCollector(Vec<(u32, u32)>);
+
+impl tree::Collector for PairCollector {
+    #[inline]
+    fn pair(&mut self, a: u32, b: u32) {
+        self.0.push(if a < b { (a, b) } else { (b, a) });
+    }
+
+    fn fork(&self) -> Self {
+        PairCollector(Vec::new())
+    }
+
+    fn join(&mut self, mut other: Self) {
+        self.0.append(&mut other.0);
+    }
+}
+
+/// Fills one run of slots from the gathered lines; returns the union of the
+/// hulls of the boxed ones.
+fn fill_run(
+    ids: &[u32],
+    gathered: &[Line],
+    slots: &mut [Slot],
+    hulls: &mut [SweptBox],
+    boxed: &mut [bool],
+    dt: f64,
+) -> Option<SweptBox> {
+    let mut bounds: Option<SweptBox> = None;
+    for k in 0..ids.len() {
+        let line = gathered[k];
+        let (hull, magnitude) = swept_box(&line, dt);
+        slots[k] = Slot {
+            line,
+            magnitude,
+            id: ids[k],
+        };
+        boxed[k] = hull.is_some();
+        if let Some(hull) = hull {
+            bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
+            hulls[k] = hull;
+        }
+    }
+    bounds
+}
+
+fn union(a: Option<SweptBox>, b: Option<SweptBox>) -> Option<SweptBox> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.union(&b)),
+        (a, b) => a.or(b),
+    }
+}
+
 impl Quadtree {
     /// A quadtree whose leaves hold at most `leaf_size` lines (at least 1)
     /// unless `max_depth` (at most [`tree::GRID_LEVELS`]) stops the
-    /// splitting, kept from step to step as `mode` says.
-    pub fn new(leaf_size: usize, max_depth: u32, mode: TreeMode) -> Self {
+    /// splitting, kept from step to step as `mode` says. With `threads`
+    /// above 1 it splits its work on the current rayon pool, in pieces of at
+    /// least `grain` lines.
+    pub fn new(
+        leaf_size: usize,
+        max_depth: u32,
+        mode: TreeMode,
+        threads: usize,
+        grain: usize,
+    ) -> Self {
         Self {
             tree: Tree::new(leaf_size, max_depth),
             mode,
+            threads: threads.max(1),
+            grain: grain.max(1),
             chooser: Chooser::default(),
             grid: Grid::over(&SweptBox {
                 min_x: BOX_MIN,
@@ -253,8 +367,10 @@ impl Quadtree {
             gathered: Vec::new(),
             slots: Vec::new(),
             hulls: Vec::new(),
-            unslotted: Vec::new(),
+            boxed: Vec::new(),
+            unboxed: Vec::new(),
             wild: Vec::new(),
+            cached_boxed: Vec::new(),
             fat: Vec::new(),
             is_moved: Vec::new(),
             moved: Vec::new(),
@@ -264,103 +380,175 @@ impl Quadtree {
         }
     }
 
+    fn parallel(&self) -> bool {
+        self.threads > 1
+    }
+
     /// Copies the lines into slots in `order`, with their swept hulls, and
-    /// sorts out the wild and inert ones. Returns the union of the hulls,
-    /// and whether every line kept its place (slotted or not) since the
-    /// order was set.
-    fn fill_slots(&mut self, lines: &[Line], dt: f64) -> (Option<SweptBox>, bool) {
-        if self.order.len() != lines.len() {
+    /// sorts out the wild and inert ones. Returns the union of the hulls.
+    fn fill_slots(&mut self, lines: &[Line], dt: f64) -> Option<SweptBox> {
+        let n = lines.len();
+        if self.order.len() != n {
             self.order.clear();
-            self.order.extend(0..lines.len() as u32);
+            self.order.extend(0..n as u32);
             self.valid = false;
         }
-        self.slots.clear();
-        self.hulls.clear();
-        self.unslotted.clear();
-        self.wild.clear();
+        self.gathered.resize(n, Line::default());
+        self.slots.resize(n, Slot::default());
+        self.hulls.resize(n, SweptBox::default());
+        self.boxed.resize(n, false);
         // Gather first, in a loop tight enough to keep many of its scattered
         // reads in flight; then work on the copies in order.
-        self.gathered.clear();
-        self.gathered.extend(self.order.iter().map(|&id| lines[id as usize]));
-        let mut bounds: Option<SweptBox> = None;
-        for (&id, line) in self.order.iter().zip(&self.gathered) {
-            match swept_box(line, dt) {
-                (Some(hull), magnitude) => {
-                    bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
-                    self.slots.push(Slot { line: *line, magnitude, id });
-                    self.hulls.push(hull);
-                }
-                _ => {
-                    self.unslotted.push(id);
-                    if !line.is_inert() {
-                        self.wild.push(id);
-                    }
+        let chunk = self.grain;
+        let bounds = if self.parallel() && n >= 2 * chunk {
+            use rayon::prelude::*;
+            self.gathered
+                .par_iter_mut()
+                .zip(self.order.par_iter())
+                .for_each(|(g, &id)| *g = lines[id as usize]);
+            self.order
+                .par_chunks(chunk)
+                .zip(self.gathered.par_chunks(chunk))
+                .zip(self.slots.par_chunks_mut(chunk))
+                .zip(self.hulls.par_chunks_mut(chunk))
+                .zip(self.boxed.par_chunks_mut(chunk))
+                .map(|((((ids, g), s), h), b)| fill_run(ids, g, s, h, b, dt))
+                .reduce(|| None, union)
+        } else {
+            for (g, &id) in self.gathered.iter_mut().zip(&self.order) {
+                *g = lines[id as usize];
+            }
+            fill_run(
+                &self.order,
+                &self.gathered,
+                &mut self.slots,
+                &mut self.hulls,
+                &mut self.boxed,
+                dt,
+            )
+        };
+        self.unboxed.clear();
+        self.wild.clear();
+        for (k, &is_boxed) in self.boxed.iter().enumerate() {
+            if !is_boxed {
+                let id = self.order[k];
+                self.unboxed.push(id);
+                if !self.gathered[k].is_inert() {
+                    self.wild.push(id);
                 }
             }
         }
-        // The order lists slotted lines first: if as many lines are slotted
-        // as before and the first unslotted one is where it was, no line
-        // changed sides.
-        let settled = self.order[..self.slots.len()]
-            .iter()
-            .zip(&self.slots)
-            .all(|(&id, slot)| id == slot.id);
-        (bounds, settled)
+        bounds
     }
 
-    /// Sets `order` to the tree's order of the slots, then the unslotted
-    /// lines.
+    /// Tests the wild lines against every boxed line and each other.
+    fn test_wild(&self, lines: &[Line], dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
+        if self.wild.is_empty() {
+            return;
+        }
+        let boxed_ids = self
+            .slots
+            .iter()
+            .zip(&self.boxed)
+            .filter(|(_, &b)| b)
+            .map(|(s, _)| s.id);
+        test_wild(lines, &self.wild, boxed_ids, dt, events, counts);
+    }
+
+    /// Sets `order` to the tree's order of the boxed slots, then the others.
     fn reorder(&mut self) {
         let slots = &self.slots;
         self.order.clear();
-        self.order.extend(self.tree.entries.iter().map(|e| slots[e.cells.id as usize].id));
-        self.order.extend_from_slice(&self.unslotted);
+        self.order.extend(
+            self.tree
+                .entries
+                .iter()
+                .map(|e| slots[e.cells.id as usize].id),
+        );
+        self.order.extend_from_slice(&self.unboxed);
+    }
+
+    /// Fills the tree's entries, in slot order, from the boxed slots' fat
+    /// hulls or swept ones, and sorts them (nearly sorted already when the
+    /// slots are in last step's tree order).
+    fn set_entries(&mut self, fat: bool) {
+        let (grid, max_depth) = (self.grid, self.tree.max_depth());
+        let hulls = if fat { &self.fat } else { &self.hulls };
+        let entry = |(s, (h, &b)): (usize, (&SweptBox, &bool))| {
+            b.then(|| {
+                let cells = grid.cells(h, s as u32);
+                Entry {
+                    key: tree::key(&cells, max_depth),
+                    cells,
+                }
+            })
+        };
+        let parallel = self.parallel() && hulls.len() >= 2 * self.grain;
+        let entries = &mut self.tree.entries;
+        entries.clear();
+        if parallel {
+            use rayon::prelude::*;
+            entries.par_extend(
+                hulls
+                    .par_iter()
+                    .zip(self.boxed.par_iter())
+                    .enumerate()
+                    .filter_map(entry),
+            );
+        } else {
+            entries.extend(hulls.iter().zip(&self.boxed).enumerate().filter_map(entry));
+        }
+        self.tree.sort(self.threads > 1);
     }
 
     /// Rebuilt mode: builds the tree over this step's swept hulls and tests
     /// its pairs.
-    fn detect_rebuilt(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
-        let (bounds, _) = self.fill_slots(lines, dt);
-        test_wild(lines, &self.wild, &self.slots, dt, events, counts);
+    fn detect_rebuilt(
+        &mut self,
+        lines: &[Line],
+        dt: f64,
+        events: &mut Vec<Event>,
+        counts: &mut PairCounts,
+    ) {
+        let bounds = self.fill_slots(lines, dt);
+        self.test_wild(lines, dt, events, counts);
         let Some(bounds) = bounds else { return };
         if !self.grid.holds(&bounds) {
             self.grid = Grid::over(&bounds);
         }
         self.set_entries(false);
-        let slots = &self.slots;
-        self.tree.pairs(&mut |a, b| test_slots(&slots[a as usize], &slots[b as usize], dt, events, counts));
+        let mut collector = EventCollector {
+            slots: &self.slots,
+            dt,
+            events: std::mem::take(events),
+            counts: PairCounts::default(),
+        };
+        self.tree.pairs(&mut collector, self.threads, self.grain);
+        *events = collector.events;
+        counts.add(&collector.counts);
         self.reorder();
-    }
-
-    /// Fills the tree's entries, in slot order, from the fat hulls or the
-    /// swept ones, and sorts them (nearly sorted already when the slots are
-    /// in last step's tree order).
-    fn set_entries(&mut self, fat: bool) {
-        let (grid, max_depth) = (self.grid, self.tree.max_depth());
-        let hulls = if fat { &self.fat } else { &self.hulls };
-        let entries = &mut self.tree.entries;
-        entries.clear();
-        entries.extend(hulls.iter().enumerate().map(|(s, h)| {
-            let cells = grid.cells(h, s as u32);
-            Entry {
-                key: tree::key(&cells, max_depth),
-                cells,
-            }
-        }));
-        self.tree.sort();
     }
 
     /// Cached mode: brings the slots, the tree and the pairs up to date, then
     /// tests the pairs whose swept hulls overlap.
-    fn detect_cached(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
-        let (bounds, settled) = self.fill_slots(lines, dt);
-        test_wild(lines, &self.wild, &self.slots, dt, events, counts);
+    fn detect_cached(
+        &mut self,
+        lines: &[Line],
+        dt: f64,
+        events: &mut Vec<Event>,
+        counts: &mut PairCounts,
+    ) {
+        let bounds = self.fill_slots(lines, dt);
+        self.test_wild(lines, dt, events, counts);
         let n = self.slots.len();
-        self.valid &= settled && self.fat.len() == n;
+        self.valid &= self.cached_boxed == self.boxed;
         self.moved.clear();
         if self.valid {
-            let (fat, hulls) = (&self.fat, &self.hulls);
-            self.moved.extend((0..n as u32).filter(|&s| !holds(&fat[s as usize], &hulls[s as usize])));
+            let (fat, hulls, boxed) = (&self.fat, &self.hulls, &self.boxed);
+            self.moved.extend((0..n as u32).filter(|&s| {
+                let s = s as usize;
+                boxed[s] && !holds(&fat[s], &hulls[s])
+            }));
             self.valid = self.moved.len() <= n / REBUILD_SHARE;
         }
         if self.valid {
@@ -369,7 +557,10 @@ impl Quadtree {
                 self.fat[m] = fatten(&self.hulls[m], &self.slots[m].line, dt);
             }
             let grid = self.grid;
-            self.valid = self.moved.iter().all(|&m| grid.holds(&self.fat[m as usize]));
+            self.valid = self
+                .moved
+                .iter()
+                .all(|&m| grid.holds(&self.fat[m as usize]));
         }
         if self.valid {
             self.stats.refits += self.moved.len() as u64;
@@ -380,14 +571,40 @@ impl Quadtree {
         } else {
             self.pairs.clear();
         }
-
-        let (hulls, slots) = (&self.hulls, &self.slots);
         counts.candidates += self.pairs.len() as u64;
-        for &(a, b) in &self.pairs {
-            let (a, b) = (a as usize, b as usize);
-            if hulls[a].overlaps(&hulls[b]) {
-                test_slots(&slots[a], &slots[b], dt, events, counts);
+        self.test_cached_pairs(dt, events, counts);
+    }
+
+    /// Tests the cached pairs whose swept hulls overlap (in parallel runs
+    /// merged in order, if there are many).
+    fn test_cached_pairs(&self, dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
+        let (hulls, slots) = (&self.hulls, &self.slots);
+        let test = |pairs: &[(u32, u32)], events: &mut Vec<Event>, counts: &mut PairCounts| {
+            for &(a, b) in pairs {
+                let (a, b) = (a as usize, b as usize);
+                if hulls[a].overlaps(&hulls[b]) {
+                    test_slots(&slots[a], &slots[b], dt, events, counts);
+                }
             }
+        };
+        let chunk = 2 * self.grain;
+        if self.parallel() && self.pairs.len() >= 2 * chunk {
+            use rayon::prelude::*;
+            let runs: Vec<(Vec<Event>, PairCounts)> = self
+                .pairs
+                .par_chunks(chunk)
+                .map(|run| {
+                    let (mut events, mut counts) = (Vec::new(), PairCounts::default());
+                    test(run, &mut events, &mut counts);
+                    (events, counts)
+                })
+                .collect();
+            for (mut run_events, run_counts) in runs {
+                events.append(&mut run_events);
+                counts.add(&run_counts);
+            }
+        } else {
+            test(&self.pairs, events, counts);
         }
     }
 
@@ -398,24 +615,32 @@ impl Quadtree {
         self.fat_hulls(dt, bounds);
         self.set_entries(true);
         self.reorder();
-        let (bounds, _) = self.fill_slots(lines, dt);
-        self.fat_hulls(dt, bounds.expect("the same lines are boxed"));
+        let bounds = self
+            .fill_slots(lines, dt)
+            .expect("the same lines are boxed");
+        self.fat_hulls(dt, bounds);
         self.set_entries(true);
-        self.pairs.clear();
-        let pairs = &mut self.pairs;
-        self.tree.pairs(&mut |a, b| pairs.push(if a < b { (a, b) } else { (b, a) }));
+        let mut collector = PairCollector(std::mem::take(&mut self.pairs));
+        collector.0.clear();
+        self.tree.pairs(&mut collector, self.threads, self.grain);
+        self.pairs = collector.0;
         self.is_moved.clear();
         self.is_moved.resize(self.slots.len(), false);
+        self.cached_boxed.clone_from(&self.boxed);
         self.valid = true;
     }
 
-    /// Fresh fat hulls for every slot, growing the grid if they leave it.
+    /// Fresh fat hulls for every boxed slot, growing the grid if they leave
+    /// it.
     fn fat_hulls(&mut self, dt: f64, mut bounds: SweptBox) {
-        let (hulls, slots) = (&self.hulls, &self.slots);
+        let (hulls, slots, boxed) = (&self.hulls, &self.slots, &self.boxed);
         self.fat.clear();
-        self.fat.extend(hulls.iter().zip(slots).map(|(h, s)| fatten(h, &s.line, dt)));
-        for f in &self.fat {
-            bounds = bounds.union(f);
+        self.fat
+            .extend(hulls.iter().zip(slots).map(|(h, s)| fatten(h, &s.line, dt)));
+        for (f, &b) in self.fat.iter().zip(boxed) {
+            if b {
+                bounds = bounds.union(f);
+            }
         }
         if !self.grid.holds(&bounds) {
             self.grid = Grid::over(&bounds);
@@ -440,8 +665,9 @@ impl Quadtree {
                 e.key = tree::key(&e.cells, max_depth);
             }
         }
-        self.tree.sort();
-        self.pairs.retain(|&(a, b)| !is_moved[a as usize] && !is_moved[b as usize]);
+        self.tree.sort(self.threads > 1);
+        self.pairs
+            .retain(|&(a, b)| !is_moved[a as usize] && !is_moved[b as usize]);
         for &m in &self.moved {
             let probe = grid.cells(&fat[m as usize], m);
             let pairs = &mut self.pairs;

@@ -208,9 +208,10 @@ pub fn key(c: &Cells, max_depth: u32) -> u64 {
     (u64::from(morton) << LEVEL_BITS) | u64::from(level)
 }
 
-/// Sorts entries by key, fast when they are nearly sorted already; falls
-/// back to a full in-place sort when too many have moved far.
-pub fn sort_nearly_sorted(entries: &mut [Entry]) {
+/// Sorts entries by key by insertion, fast when they are nearly sorted
+/// already. Gives up, returning false with the entries in some order, once
+/// too many have had to move far; the caller then sorts in full.
+pub fn sort_nearly_sorted(entries: &mut [Entry]) -> bool {
     let mut budget = 8 * entries.len() + 64;
     for i in 1..entries.len() {
         let e = entries[i];
@@ -222,10 +223,23 @@ pub fn sort_nearly_sorted(entries: &mut [Entry]) {
         entries[j] = e;
         budget = budget.saturating_sub(i - j);
         if budget == 0 {
-            entries.sort_unstable_by_key(|e| e.key);
-            return;
+            return false;
         }
     }
+    true
+}
+
+/// Where a walk's pairs go. Parallel walks give each task a fresh
+/// collector ([`Collector::fork`]) and merge them back in tree order
+/// ([`Collector::join`]), so the merged result does not depend on how the
+/// work was split.
+pub trait Collector: Send + Sized {
+    /// Takes a pair of lines whose cells overlap.
+    fn pair(&mut self, a: u32, b: u32);
+    /// An empty collector for a task of a parallel walk.
+    fn fork(&self) -> Self;
+    /// Takes in what a task collected.
+    fn join(&mut self, other: Self);
 }
 
 /// A line in a sweep: its interval on the sweep axis, whether it belongs to
@@ -255,6 +269,22 @@ pub struct WalkCounts {
     pub deepest: u32,
 }
 
+impl WalkCounts {
+    fn add(&mut self, other: &WalkCounts) {
+        self.candidates += other.candidates;
+        self.nodes += other.nodes;
+        self.deepest = self.deepest.max(other.deepest);
+    }
+}
+
+/// The buffers of one task of a walk.
+#[derive(Debug, Default)]
+struct Scratch {
+    active: Vec<Cells>,
+    sweep: Vec<Probe>,
+    counts: WalkCounts,
+}
+
 /// The quadtree over a set of lines: their entries in key order and the
 /// buffers of the walks, reused from call to call.
 #[derive(Debug)]
@@ -263,10 +293,19 @@ pub struct Tree {
     max_depth: u32,
     /// The lines' entries; [`Tree::sort`] puts them in key order.
     pub entries: Vec<Entry>,
-    active: Vec<Cells>,
-    sweep: Vec<Probe>,
+    scratch: Scratch,
     /// What the walks have done.
     pub counts: WalkCounts,
+}
+
+/// A walk's fixed settings, shared by its tasks.
+struct Walk<'t> {
+    entries: &'t [Entry],
+    leaf_size: usize,
+    max_depth: u32,
+    /// Subtrees of at least this many lines are split among threads; zero
+    /// for a serial walk.
+    parallel_min: usize,
 }
 
 impl Tree {
@@ -277,8 +316,7 @@ impl Tree {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
             entries: Vec::new(),
-            active: Vec::new(),
-            sweep: Vec::new(),
+            scratch: Scratch::default(),
             counts: WalkCounts::default(),
         }
     }
@@ -288,9 +326,17 @@ impl Tree {
         self.max_depth
     }
 
-    /// Puts the entries in key order; fast when they nearly are already.
-    pub fn sort(&mut self) {
-        sort_nearly_sorted(&mut self.entries);
+    /// Puts the entries in key order; fast when they nearly are already
+    /// (and on all threads when they are far from it, if `parallel`).
+    pub fn sort(&mut self, parallel: bool) {
+        if !sort_nearly_sorted(&mut self.entries) {
+            if parallel {
+                use rayon::slice::ParallelSliceMut;
+                self.entries.par_sort_unstable_by_key(|e| e.key);
+            } else {
+                self.entries.sort_unstable_by_key(|e| e.key);
+            }
+        }
     }
 
     fn root() -> Block {
@@ -301,60 +347,150 @@ impl Tree {
         }
     }
 
-    /// Calls `sink(a, b)` once for every pair of lines whose cells overlap
-    /// (entries must be sorted).
-    pub fn pairs(&mut self, sink: &mut impl FnMut(u32, u32)) {
-        self.active.clear();
+    /// Hands `collector` once every pair of lines whose cells overlap
+    /// (entries must be sorted). With `threads` above 1, subtrees are walked
+    /// in parallel on the current rayon pool, none smaller than `grain / 16`
+    /// lines.
+    pub fn pairs<C: Collector>(&mut self, collector: &mut C, threads: usize, grain: usize) {
         let n = self.entries.len();
-        if n > 0 {
-            self.visit(sink, 0, n, 0, Self::root(), 0);
+        if n == 0 {
+            return;
         }
+        let walk = Walk {
+            entries: &self.entries,
+            leaf_size: self.leaf_size,
+            max_depth: self.max_depth,
+            // Enough tasks to balance the threads, none too small to pay.
+            parallel_min: if threads > 1 {
+                (n / (8 * threads)).max(grain / 16).max(1)
+            } else {
+                0
+            },
+        };
+        self.scratch.active.clear();
+        self.scratch.counts = WalkCounts::default();
+        walk.visit(&mut self.scratch, collector, 0, n, 0, Self::root(), 0);
+        self.counts.add(&self.scratch.counts);
     }
 
+    /// Calls `sink(id)` for every line whose cells overlap `probe`'s
+    /// (entries must be sorted). The probe's own line is reported too if it
+    /// is in the tree.
+    pub fn query(&mut self, probe: &Cells, mut sink: impl FnMut(u32)) {
+        let n = self.entries.len();
+        if n > 0 {
+            let walk = Walk {
+                entries: &self.entries,
+                leaf_size: self.leaf_size,
+                max_depth: self.max_depth,
+                parallel_min: 0,
+            };
+            walk.query_node(&mut self.counts, probe, &mut sink, 0, n, 0, Self::root());
+        }
+    }
+}
+
+impl Walk<'_> {
     /// Visits the node at `level` covering `block`, whose subtree is
     /// `entries[lo..hi]`; the misfits from above that reach it are
-    /// `active[active_lo..]`.
-    fn visit<S: FnMut(u32, u32)>(
-        &mut self,
-        sink: &mut S,
+    /// `scratch.active[active_lo..]`.
+    #[allow(clippy::too_many_arguments)]
+    fn visit<C: Collector>(
+        &self,
+        scratch: &mut Scratch,
+        collector: &mut C,
         lo: usize,
         hi: usize,
         level: u32,
         block: Block,
         active_lo: usize,
     ) {
-        self.counts.nodes += 1;
-        self.counts.deepest = self.counts.deepest.max(level);
+        scratch.counts.nodes += 1;
+        scratch.counts.deepest = scratch.counts.deepest.max(level);
         if hi - lo <= self.leaf_size || level >= self.max_depth {
-            self.node_pairs(sink, active_lo, lo, hi);
+            node_pairs(scratch, collector, active_lo, &self.entries[lo..hi]);
             return;
         }
 
         // This node's misfits come first in its run.
         let mid = lo + self.entries[lo..hi].partition_point(|e| e.level() == level);
-        self.node_pairs(sink, active_lo, lo, mid);
+        node_pairs(scratch, collector, active_lo, &self.entries[lo..mid]);
 
         let bounds = self.child_runs(mid, hi, level);
-        let own_hi = self.active.len() + (mid - lo);
-        self.active
+        let own_hi = scratch.active.len() + (mid - lo);
+        scratch
+            .active
             .extend(self.entries[lo..mid].iter().map(|e| e.cells));
-        for c in 0..4 {
-            let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
-            if c_lo == c_hi {
-                continue;
+        let reaching = |active: &[Cells], child: &Block| -> Vec<Cells> {
+            active
+                .iter()
+                .filter(|it| it.overlaps_block(child))
+                .copied()
+                .collect()
+        };
+
+        if self.parallel_min > 0 && hi - mid >= self.parallel_min {
+            // Each child a task with its own buffers and collector; results
+            // merged back in child order.
+            use rayon::prelude::*;
+            let tasks: Vec<(usize, usize, Block, Vec<Cells>, C)> = (0..4)
+                .filter(|&c| bounds[c] < bounds[c + 1])
+                .map(|c| {
+                    let child = block.child(c);
+                    let active = reaching(&scratch.active[active_lo..own_hi], &child);
+                    (bounds[c], bounds[c + 1], child, active, collector.fork())
+                })
+                .collect();
+            let done: Vec<(Scratch, C)> = tasks
+                .into_par_iter()
+                .map(|(c_lo, c_hi, child, active, mut sub_collector)| {
+                    let mut sub = Scratch {
+                        active,
+                        ..Scratch::default()
+                    };
+                    self.visit(
+                        &mut sub,
+                        &mut sub_collector,
+                        c_lo,
+                        c_hi,
+                        level + 1,
+                        child,
+                        0,
+                    );
+                    (sub, sub_collector)
+                })
+                .collect();
+            for (sub, sub_collector) in done {
+                scratch.counts.add(&sub.counts);
+                collector.join(sub_collector);
             }
-            let child = block.child(c);
-            let child_active = self.active.len();
-            for k in active_lo..own_hi {
-                let it = self.active[k];
-                if it.overlaps_block(&child) {
-                    self.active.push(it);
+        } else {
+            for c in 0..4 {
+                let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
+                if c_lo == c_hi {
+                    continue;
                 }
+                let child = block.child(c);
+                let child_active = scratch.active.len();
+                for k in active_lo..own_hi {
+                    let it = scratch.active[k];
+                    if it.overlaps_block(&child) {
+                        scratch.active.push(it);
+                    }
+                }
+                self.visit(
+                    scratch,
+                    collector,
+                    c_lo,
+                    c_hi,
+                    level + 1,
+                    child,
+                    child_active,
+                );
+                scratch.active.truncate(child_active);
             }
-            self.visit(sink, c_lo, c_hi, level + 1, child, child_active);
-            self.active.truncate(child_active);
         }
-        self.active.truncate(own_hi - (mid - lo));
+        scratch.active.truncate(own_hi - (mid - lo));
     }
 
     /// The runs of a node's four children within `entries[mid..hi]` (the
@@ -367,51 +503,10 @@ impl Tree {
         [mid, split(1), split(2), split(3), hi]
     }
 
-    /// The pairs a node owes: every pair within `entries[lo..hi]` and every
-    /// pair between those lines and the active ones.
-    fn node_pairs<S: FnMut(u32, u32)>(
-        &mut self,
-        sink: &mut S,
-        active_lo: usize,
-        lo: usize,
-        hi: usize,
-    ) {
-        let (a, n) = ((self.active.len() - active_lo) as u64, (hi - lo) as u64);
-        self.counts.candidates += a * n + n * n.saturating_sub(1) / 2;
-        let active = &self.active[active_lo..];
-        let own = &self.entries[lo..hi];
-        if active.len() + own.len() >= SWEEP_MIN {
-            sweep_pairs(&mut self.sweep, sink, active, own);
-            return;
-        }
-        for a in active {
-            for b in own {
-                if a.overlaps(&b.cells) {
-                    sink(a.id, b.cells.id);
-                }
-            }
-        }
-        for (k, a) in own.iter().enumerate() {
-            for b in &own[k + 1..] {
-                if a.cells.overlaps(&b.cells) {
-                    sink(a.cells.id, b.cells.id);
-                }
-            }
-        }
-    }
-
-    /// Calls `sink(id)` for every line whose cells overlap `probe`'s
-    /// (entries must be sorted). The probe's own line is reported too if it
-    /// is in the tree.
-    pub fn query(&mut self, probe: &Cells, mut sink: impl FnMut(u32)) {
-        let n = self.entries.len();
-        if n > 0 {
-            self.query_node(probe, &mut sink, 0, n, 0, Self::root());
-        }
-    }
-
+    #[allow(clippy::too_many_arguments)]
     fn query_node(
-        &mut self,
+        &self,
+        counts: &mut WalkCounts,
         probe: &Cells,
         sink: &mut impl FnMut(u32),
         lo: usize,
@@ -419,14 +514,14 @@ impl Tree {
         level: u32,
         block: Block,
     ) {
-        self.counts.nodes += 1;
+        counts.nodes += 1;
         let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
         let mid = if leaf {
             hi
         } else {
             lo + self.entries[lo..hi].partition_point(|e| e.level() == level)
         };
-        self.counts.candidates += (mid - lo) as u64;
+        counts.candidates += (mid - lo) as u64;
         for e in &self.entries[lo..mid] {
             if probe.overlaps(&e.cells) {
                 sink(e.cells.id);
@@ -439,7 +534,46 @@ impl Tree {
         for c in 0..4 {
             let child = block.child(c);
             if bounds[c] < bounds[c + 1] && probe.overlaps_block(&child) {
-                self.query_node(probe, sink, bounds[c], bounds[c + 1], level + 1, child);
+                self.query_node(
+                    counts,
+                    probe,
+                    sink,
+                    bounds[c],
+                    bounds[c + 1],
+                    level + 1,
+                    child,
+                );
+            }
+        }
+    }
+}
+
+/// The pairs a node owes: every pair within `own` (its misfits, or a leaf's
+/// lines) and every pair between those and the active lines.
+fn node_pairs<C: Collector>(
+    scratch: &mut Scratch,
+    collector: &mut C,
+    active_lo: usize,
+    own: &[Entry],
+) {
+    let active = &scratch.active[active_lo..];
+    let (a, n) = (active.len() as u64, own.len() as u64);
+    scratch.counts.candidates += a * n + n * n.saturating_sub(1) / 2;
+    if active.len() + own.len() >= SWEEP_MIN {
+        sweep_pairs(&mut scratch.sweep, collector, active, own);
+        return;
+    }
+    for a in active {
+        for b in own {
+            if a.overlaps(&b.cells) {
+                collector.pair(a.id, b.cells.id);
+            }
+        }
+    }
+    for (k, a) in own.iter().enumerate() {
+        for b in &own[k + 1..] {
+            if a.cells.overlaps(&b.cells) {
+                collector.pair(a.cells.id, b.cells.id);
             }
         }
     }
@@ -450,9 +584,9 @@ impl Tree {
 /// only pairs overlapping on that direction are compared. Large pair sets
 /// are misfit-heavy nodes: their lines straddle the node's centre lines and
 /// lie spread along them, where a sweep prunes well.
-fn sweep_pairs<S: FnMut(u32, u32)>(
+fn sweep_pairs<C: Collector>(
     probes: &mut Vec<Probe>,
-    sink: &mut S,
+    collector: &mut C,
     active: &[Cells],
     own: &[Entry],
 ) {
@@ -502,7 +636,7 @@ fn sweep_pairs<S: FnMut(u32, u32)>(
             }
             // Pairs of active lines belong to other nodes.
             if (a.own | b.own) & a.cells.overlaps(&b.cells) {
-                sink(a.cells.id, b.cells.id);
+                collector.pair(a.cells.id, b.cells.id);
             }
         }
     }
@@ -601,10 +735,13 @@ mod tests {
             cells: Cells::default(),
         };
         let mut near: Vec<Entry> = (0..1000u64).map(|k| mk(k ^ 1)).collect();
-        sort_nearly_sorted(&mut near);
+        assert!(sort_nearly_sorted(&mut near));
         assert!(near.windows(2).all(|w| w[0].key <= w[1].key));
         let mut reversed: Vec<Entry> = (0..1000u64).rev().map(mk).collect();
-        sort_nearly_sorted(&mut reversed);
-        assert!(reversed.windows(2).all(|w| w[0].key <= w[1].key));
+        assert!(!sort_nearly_sorted(&mut reversed));
+        let mut tree = Tree::new(4, 12);
+        tree.entries = reversed;
+        tree.sort(false);
+        assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
     }
 }

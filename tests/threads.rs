@@ -1,0 +1,53 @@
+//! Results are bit-identical for any number of threads, on a scene large
+//! enough that every parallel path (filling, tree walks, cached pairs,
+//! moving, walls) splits its work with the default grain.
+
+use screensaver::detect::TreeMode;
+use screensaver::generate::{generate, SceneKind};
+use screensaver::{DetectorConfig, DetectorKind, Line, World};
+
+fn run(
+    threads: usize,
+    tree_mode: TreeMode,
+    kind: SceneKind,
+    steps: u64,
+) -> (Vec<Line>, (u64, u64)) {
+    let scene = generate(kind, 100_000, 7);
+    let config = DetectorConfig {
+        threads,
+        tree_mode,
+        ..DetectorConfig::default()
+    };
+    let mut world =
+        World::with_config(&scene, DetectorKind::Quadtree, &config).expect("a thread pool");
+    world.run(steps);
+    let c = world.counters();
+    (world.lines().to_vec(), (c.wall, c.line))
+}
+
+fn same_bits(a: &[Line], b: &[Line]) -> bool {
+    let bits = |l: &Line| [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits);
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| bits(x) == bits(y))
+}
+
+#[test]
+fn any_thread_count_gives_the_same_bits() {
+    for (kind, tree_mode) in [
+        (SceneKind::Uniform, TreeMode::Cached),
+        (SceneKind::Clustered, TreeMode::Rebuilt),
+    ] {
+        let (lines, counts) = run(1, tree_mode, kind, 6);
+        assert!(counts.1 > 0, "the scene should have collisions");
+        for threads in [2, 3, 8] {
+            let (other, other_counts) = run(threads, tree_mode, kind, 6);
+            assert_eq!(
+                counts, other_counts,
+                "{kind} {tree_mode} on {threads} threads"
+            );
+            assert!(
+                same_bits(&lines, &other),
+                "{kind} {tree_mode} on {threads} threads"
+            );
+        }
+    }
+}
