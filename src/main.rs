@@ -7,6 +7,7 @@ use screensaver::detect::{Brute, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEF
 use screensaver::generate::{default_scene, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
+use std::ops::ControlFlow;
 use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
@@ -310,45 +311,51 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
 /// appears on stderr once a run has taken a second, if stderr is a terminal.
 /// With `verify`, every step is checked against the all-pairs detector.
 fn simulate(world: &mut World, steps: u64, verify: bool) -> Result<Duration, String> {
+    if verify {
+        world.set_oracle(Box::new(Brute::default()));
+    }
     let show_progress = std::io::stderr().is_terminal();
-    let mut oracle = Brute::default();
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
-    for done in 0..steps {
-        if verify {
-            if let Err(mismatch) = world.step_verified(&mut oracle) {
-                if let Some(bar) = &bar {
-                    bar.abandon();
-                }
-                return Err(format!("--verify: {mismatch}"));
-            }
-        } else {
-            world.step();
+    let mut done = 0;
+    let stopped = world.run_with(steps, |world| {
+        done += 1;
+        if world.mismatch().is_some() {
+            return ControlFlow::Break(());
         }
         if show_progress {
             match &bar {
-                Some(bar) => bar.set_position(done + 1),
+                Some(bar) => bar.set_position(done),
                 None if start.elapsed() > Duration::from_secs(1) => {
-                    let new =
-                        ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
-                    new.set_style(
-                        ProgressStyle::with_template(
-                            "{bar:40} {pos}/{len} steps  {per_sec}  eta {eta}",
-                        )
-                        .expect("valid progress template"),
-                    );
-                    new.set_position(done + 1);
-                    bar = Some(new);
+                    bar = Some(progress_bar(steps, done))
                 }
                 None => {}
             }
         }
-    }
+        ControlFlow::Continue(())
+    });
     let elapsed = start.elapsed();
     if let Some(bar) = bar {
-        bar.finish_and_clear();
+        if stopped.is_some() {
+            bar.abandon();
+        } else {
+            bar.finish_and_clear();
+        }
     }
-    Ok(elapsed)
+    match world.mismatch() {
+        Some(mismatch) => Err(format!("--verify: {mismatch}")),
+        None => Ok(elapsed),
+    }
+}
+
+fn progress_bar(steps: u64, done: u64) -> ProgressBar {
+    let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
+    bar.set_style(
+        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {per_sec}  eta {eta}")
+            .expect("valid progress template"),
+    );
+    bar.set_position(done);
+    bar
 }
 
 fn write_out(out: &mut impl Write, text: &str) -> Result<(), String> {

@@ -90,6 +90,17 @@ pub struct World {
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
+    /// A detector every step is checked against, and the first mismatch.
+    oracle: Option<Box<dyn Detector>>,
+    mismatch: Option<Mismatch>,
+}
+
+/// The events `oracle` finds in `lines`, sorted.
+fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
+    let mut events = Vec::new();
+    oracle.detect(lines, DT, &mut events);
+    events.sort_unstable_by_key(Event::order_key);
+    events
 }
 
 /// Below this many lines, moving and wall checks stay on one thread.
@@ -119,6 +130,8 @@ impl World {
             events: Vec::new(),
             timing: None,
             pool: None,
+            oracle: None,
+            mismatch: None,
         }
     }
 
@@ -241,6 +254,10 @@ impl World {
     /// [`World::step`] on the current thread, or on the current rayon pool
     /// where it pays if `parallel`.
     fn step_here(&mut self, parallel: bool) {
+        let expected = match (&mut self.oracle, &self.mismatch) {
+            (Some(oracle), None) => Some(oracle_events(oracle.as_mut(), &self.lines)),
+            _ => None,
+        };
         let t0 = self.timing.map(|_| Instant::now());
 
         self.events.clear();
@@ -250,6 +267,12 @@ impl World {
 
         // Pairs are unique, so an unstable sort gives the one sorted order.
         self.events.sort_unstable_by_key(Event::order_key);
+        if let Some(expected) = expected {
+            // Counted as the step it belongs to.
+            self.steps += 1;
+            self.mismatch = self.compare(expected).err();
+            self.steps -= 1;
+        }
         for event in &self.events {
             resolve(&mut self.lines, event);
         }
@@ -306,30 +329,70 @@ impl World {
         out
     }
 
-    /// Runs one step, first running `oracle` on the same state; if the two
-    /// detectors' events differ, returns them without stepping.
+    /// Runs one step, with `oracle` finding events on the same state; if the
+    /// two detectors' events differ, returns both lists (the step has been
+    /// taken all the same).
     pub fn step_verified(&mut self, oracle: &mut dyn Detector) -> Result<(), Mismatch> {
-        let mut expected = Vec::new();
-        oracle.detect(&self.lines, DT, &mut expected);
-        expected.sort_unstable_by_key(Event::order_key);
-        let mut found = Vec::new();
-        self.detector.detect(&self.lines, DT, &mut found);
-        found.sort_unstable_by_key(Event::order_key);
-        if expected != found {
-            return Err(Mismatch {
-                step: self.steps + 1,
-                expected,
-                found,
-            });
-        }
+        let expected = oracle_events(oracle, &self.lines);
         self.step();
-        Ok(())
+        self.compare(expected)
+    }
+
+    /// From now on, checks every step's events against `oracle` (typically
+    /// the all-pairs detector); the first step that differs is kept, see
+    /// [`World::mismatch`].
+    pub fn set_oracle(&mut self, oracle: Box<dyn Detector>) {
+        self.oracle = Some(oracle);
+    }
+
+    /// The first step whose events differed from the oracle's, if any.
+    pub fn mismatch(&self) -> Option<&Mismatch> {
+        self.mismatch.as_ref()
+    }
+
+    fn compare(&self, expected: Vec<Event>) -> Result<(), Mismatch> {
+        if expected == self.events {
+            return Ok(());
+        }
+        Err(Mismatch {
+            step: self.steps,
+            expected,
+            found: self.events.clone(),
+        })
     }
 
     /// Runs `n` steps.
     pub fn run(&mut self, n: u64) {
-        for _ in 0..n {
-            self.step();
+        self.run_with(n, |_| std::ops::ControlFlow::<()>::Continue(()));
+    }
+
+    /// Runs up to `n` steps, calling `after_step` after each; it may stop
+    /// the run early. The whole run happens inside the thread pool, which
+    /// spares each step the hand-off to the pool that [`World::step`] pays.
+    pub fn run_with<B>(
+        &mut self,
+        n: u64,
+        mut after_step: impl FnMut(&mut World) -> std::ops::ControlFlow<B> + Send,
+    ) -> Option<B>
+    where
+        B: Send,
+    {
+        let mut run = |world: &mut World, parallel: bool| {
+            for _ in 0..n {
+                world.step_here(parallel);
+                if let std::ops::ControlFlow::Break(b) = after_step(world) {
+                    return Some(b);
+                }
+            }
+            None
+        };
+        match self.pool.take() {
+            Some(pool) => {
+                let outcome = pool.install(|| run(self, true));
+                self.pool = Some(pool);
+                outcome
+            }
+            None => run(self, false),
         }
     }
 
@@ -485,7 +548,17 @@ mod tests {
                 && text.contains("missing (found by the oracle only): (0, 1, L2WithL1)"),
             "{text}"
         );
-        assert_eq!(w.steps(), 0);
+        assert_eq!(w.steps(), 1);
+
+        // The same through an oracle kept by the world.
+        let lines = vec![
+            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
+            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
+        ];
+        let mut w = World::new(lines, vec![Color::Red; 2], Box::new(Blind));
+        w.set_oracle(Box::new(Brute::default()));
+        w.run(3);
+        assert_eq!(w.mismatch().map(|m| m.step), Some(1));
     }
 
     #[test]
