@@ -16,8 +16,9 @@
 //!
 //! - **Auto** (the default): the cached way, except while the rebuilt way is
 //!   measured to be faster. Scenes where lines change course all the time
-//!   (dense collisions) wear out fat hulls faster than they pay off. Every
-//!   [`PERIOD`] steps the detector runs the other way for a few steps and
+//!   (dense collisions) wear out fat hulls faster than they pay off, and so
+//!   do huge scenes of tiny lines. After 32 steps, and then every
+//!   [`PERIOD`] steps, the detector runs the other way for a few steps and
 //!   keeps whichever took less time per step.
 //!
 //! All find exactly the all-pairs detector's events, so the choice affects
@@ -47,7 +48,8 @@ pub const DEFAULT_MAX_DEPTH: u32 = 12;
 /// alike leave their hulls together and bring a rebuild, which is cheaper
 /// than refitting them one by one.)
 const FAT_STEPS: f64 = 8.0;
-/// The least margin of a fat hull, in box units (about a fifth of a pixel).
+/// The margin of a fat hull all round, in box units (about a third of a
+/// pixel).
 const FAT_MIN: f64 = 1.0 / 4096.0;
 /// The cache is rebuilt from scratch when more than this share of the lines
 /// leave their fat hulls in one step.
@@ -121,16 +123,28 @@ struct Chooser {
 }
 
 impl Chooser {
+    /// Where the current step falls: in a trial or not, and how far into
+    /// that stint. The first period is short, so that a choice is made early
+    /// in short runs; later ones last [`PERIOD`] steps.
+    fn phase(&self) -> (u64, u64) {
+        let first = 2 * TRIAL;
+        if self.steps < first {
+            (self.steps, first)
+        } else {
+            ((self.steps - first) % PERIOD, PERIOD)
+        }
+    }
+
     /// Whether this step should use the rebuilt way.
     fn rebuilt_now(&self) -> bool {
-        let trial = self.steps % PERIOD < TRIAL;
+        let trial = self.phase().0 < TRIAL;
         self.prefer_rebuilt != trial
     }
 
     /// Records this step's detection time; at the end of a period, keeps
     /// the faster way (the trial must win by 5% to take over).
     fn record(&mut self, seconds: f64) {
-        let phase = self.steps % PERIOD;
+        let (phase, length) = self.phase();
         let (slot, into_stint) = if phase < TRIAL {
             (0, phase)
         } else {
@@ -140,7 +154,7 @@ impl Chooser {
             self.timed[slot].0 += seconds;
             self.timed[slot].1 += 1;
         }
-        if phase == PERIOD - 1 {
+        if phase == length - 1 {
             let mean = |(t, n): (f64, u32)| (n > 0).then(|| t / f64::from(n));
             if let (Some(trial), Some(rest)) = (mean(self.timed[0]), mean(self.timed[1])) {
                 if trial < 0.95 * rest {
@@ -192,6 +206,8 @@ pub struct Quadtree {
     moved: Vec<u32>,
     /// Cached mode: every pair of slots whose fat hulls overlap.
     pairs: Vec<(u32, u32)>,
+    /// Cached mode: a second buffer for filtering `pairs` in parallel.
+    spare_pairs: Vec<(u32, u32)>,
     /// Cached mode: whether the slots, the tree and the pairs are those of
     /// the last step and can be updated rather than rebuilt.
     valid: bool,
@@ -375,6 +391,7 @@ impl Quadtree {
             is_moved: Vec::new(),
             moved: Vec::new(),
             pairs: Vec::new(),
+            spare_pairs: Vec::new(),
             valid: false,
             stats: DetectorStats::default(),
         }
@@ -545,10 +562,17 @@ impl Quadtree {
         self.moved.clear();
         if self.valid {
             let (fat, hulls, boxed) = (&self.fat, &self.hulls, &self.boxed);
-            self.moved.extend((0..n as u32).filter(|&s| {
+            let left = |&s: &u32| {
                 let s = s as usize;
                 boxed[s] && !holds(&fat[s], &hulls[s])
-            }));
+            };
+            if self.parallel() && n >= 2 * self.grain {
+                use rayon::prelude::*;
+                self.moved
+                    .par_extend((0..n as u32).into_par_iter().filter(left));
+            } else {
+                self.moved.extend((0..n as u32).filter(left));
+            }
             self.valid = self.moved.len() <= n / REBUILD_SHARE;
         }
         if self.valid {
@@ -656,27 +680,60 @@ impl Quadtree {
         for &m in &self.moved {
             self.is_moved[m as usize] = true;
         }
+        let parallel = self.parallel() && self.slots.len() >= 2 * self.grain;
         let (grid, fat, is_moved) = (self.grid, &self.fat, &self.is_moved);
         let max_depth = self.tree.max_depth();
-        for e in &mut self.tree.entries {
+        let refit = |e: &mut Entry| {
             let s = e.cells.id;
             if is_moved[s as usize] {
                 e.cells = grid.cells(&fat[s as usize], s);
                 e.key = tree::key(&e.cells, max_depth);
             }
-        }
-        self.tree.sort(self.threads > 1);
-        self.pairs
-            .retain(|&(a, b)| !is_moved[a as usize] && !is_moved[b as usize]);
-        for &m in &self.moved {
+        };
+        let kept = |&(a, b): &(u32, u32)| !is_moved[a as usize] && !is_moved[b as usize];
+        // A pair of two moved slots is taken from the lower one's query.
+        let new_pairs = |tree: &Tree, m: u32, out: &mut Vec<(u32, u32)>| {
             let probe = grid.cells(&fat[m as usize], m);
-            let pairs = &mut self.pairs;
-            // A pair of two moved slots is taken from the lower one's query.
-            self.tree.query(&probe, |j| {
+            tree.query(&probe, |j| {
                 if j != m && (!is_moved[j as usize] || j > m) {
-                    pairs.push(if m < j { (m, j) } else { (j, m) });
+                    out.push(if m < j { (m, j) } else { (j, m) });
                 }
-            });
+            })
+        };
+        if parallel {
+            use rayon::prelude::*;
+            self.tree.entries.par_iter_mut().for_each(refit);
+            self.tree.sort(true);
+            let mut spare = std::mem::take(&mut self.spare_pairs);
+            spare.clear();
+            spare.par_extend(self.pairs.par_iter().copied().filter(kept));
+            std::mem::swap(&mut self.pairs, &mut spare);
+            self.spare_pairs = spare;
+            let tree = &self.tree;
+            let found: Vec<(Vec<(u32, u32)>, tree::WalkCounts)> = self
+                .moved
+                .par_chunks(64)
+                .map(|run| {
+                    let mut out = Vec::new();
+                    let mut counts = tree::WalkCounts::default();
+                    for &m in run {
+                        counts.add(&new_pairs(tree, m, &mut out));
+                    }
+                    (out, counts)
+                })
+                .collect();
+            for (mut pairs, counts) in found {
+                self.pairs.append(&mut pairs);
+                self.tree.count(&counts);
+            }
+        } else {
+            self.tree.entries.iter_mut().for_each(refit);
+            self.tree.sort(false);
+            self.pairs.retain(kept);
+            for &m in &self.moved {
+                let counts = new_pairs(&self.tree, m, &mut self.pairs);
+                self.tree.count(&counts);
+            }
         }
         for &m in &self.moved {
             self.is_moved[m as usize] = false;
@@ -732,7 +789,7 @@ mod tests {
     fn the_chooser_tries_the_other_way_then_keeps_the_faster() {
         let mut c = Chooser::default();
         let mut rebuilt_steps = 0;
-        for _ in 0..PERIOD {
+        for _ in 0..2 * TRIAL {
             let rebuilt = c.rebuilt_now();
             rebuilt_steps += u64::from(rebuilt);
             // Rebuilding is twice as fast here.

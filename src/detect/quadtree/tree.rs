@@ -270,7 +270,8 @@ pub struct WalkCounts {
 }
 
 impl WalkCounts {
-    fn add(&mut self, other: &WalkCounts) {
+    /// Adds another tally to this one.
+    pub fn add(&mut self, other: &WalkCounts) {
         self.candidates += other.candidates;
         self.nodes += other.nodes;
         self.deepest = self.deepest.max(other.deepest);
@@ -375,8 +376,10 @@ impl Tree {
 
     /// Calls `sink(id)` for every line whose cells overlap `probe`'s
     /// (entries must be sorted). The probe's own line is reported too if it
-    /// is in the tree.
-    pub fn query(&mut self, probe: &Cells, mut sink: impl FnMut(u32)) {
+    /// is in the tree. Returns what the query did (queries take `&self`, so
+    /// that many can run at once; add the counts to [`Tree::counts`]).
+    pub fn query(&self, probe: &Cells, mut sink: impl FnMut(u32)) -> WalkCounts {
+        let mut counts = WalkCounts::default();
         let n = self.entries.len();
         if n > 0 {
             let walk = Walk {
@@ -385,8 +388,14 @@ impl Tree {
                 max_depth: self.max_depth,
                 parallel_min: 0,
             };
-            walk.query_node(&mut self.counts, probe, &mut sink, 0, n, 0, Self::root());
+            walk.query_node(&mut counts, probe, &mut sink, 0, n, 0, Self::root());
         }
+        counts
+    }
+
+    /// Adds a query's counts to the tree's.
+    pub fn count(&mut self, counts: &WalkCounts) {
+        self.counts.add(counts);
     }
 }
 
