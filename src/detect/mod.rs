@@ -7,7 +7,7 @@
 //! all-pairs [`Brute`] detector is the oracle the others are tested against.
 
 mod brute;
-mod quadtree;
+pub mod quadtree;
 pub mod swept;
 
 pub use brute::Brute;
