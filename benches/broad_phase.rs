@@ -56,7 +56,9 @@ fn broad_phase(c: &mut Criterion) {
         group.bench_function(BenchmarkId::new("quadtree", lines), |b| {
             b.iter(|| count_overlapping(&boxes, &config))
         });
-        group.bench_function(BenchmarkId::new("broccoli", lines), |b| b.iter(|| broccoli_pairs(&boxes)));
+        group.bench_function(BenchmarkId::new("broccoli", lines), |b| {
+            b.iter(|| broccoli_pairs(&boxes))
+        });
     }
     group.finish();
 }

@@ -21,6 +21,7 @@ pub mod generate;
 pub mod geometry;
 pub mod line;
 pub mod narrow;
+pub mod render;
 pub mod response;
 pub mod scene;
 pub mod world;

@@ -5,6 +5,7 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::detect::{Brute, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{default_scene, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
+use screensaver::render::{window, Recorder, Size, Target};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
 use std::ops::ControlFlow;
@@ -79,6 +80,33 @@ struct Cli {
     #[arg(long)]
     json: bool,
 
+    /// Show the run in a window (keys: Space pause, Right step, +/- speed,
+    /// Q or Esc quit).
+    #[arg(short = 'g', long, conflicts_with_all = ["render", "verify"])]
+    graphics: bool,
+
+    /// Window: most frames drawn per second; GIFs: frames shown per second.
+    #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    fps: u32,
+
+    /// Window: keep the last picture until the window is closed.
+    #[arg(long, requires = "graphics")]
+    hold: bool,
+
+    /// Write pictures: FILE.png (the last frame), FILE.gif (an animation),
+    /// FILE.svg (the last frame as vectors).
+    #[arg(long, value_name = "FILE")]
+    render: Option<PathBuf>,
+
+    /// With --render: a frame every K steps (for .png, a numbered sequence
+    /// FILE-000000.png, FILE-000010.png, ...).
+    #[arg(long, value_name = "K", requires = "render", value_parser = clap::value_parser!(u64).range(1..))]
+    render_every: Option<u64>,
+
+    /// With --render: picture size.
+    #[arg(long, value_name = "WxH", default_value = "1180x800", value_parser = parse_size)]
+    size: Size,
+
     /// Write the final state to FILE, in the reference checkpoint format.
     #[arg(long, value_name = "FILE")]
     state_out: Option<PathBuf>,
@@ -115,6 +143,10 @@ fn parse_scene_kind(s: &str) -> Result<SceneKind, String> {
 }
 
 fn parse_detector(s: &str) -> Result<DetectorKind, String> {
+    s.parse()
+}
+
+fn parse_size(s: &str) -> Result<Size, String> {
     s.parse()
 }
 
@@ -190,7 +222,27 @@ fn run(cli: &Cli) -> Result<(), String> {
         write_out(&mut stdout, &header)?;
     }
 
-    let elapsed = simulate(&mut world, steps, cli.verify)?;
+    let recorder = match &cli.render {
+        Some(path) => {
+            let target =
+                Target::for_path(path, cli.render_every.is_some()).map_err(|e| e.to_string())?;
+            let every = cli.render_every.unwrap_or(1);
+            Some(Recorder::new(target, cli.size, every, cli.fps).map_err(|e| e.to_string())?)
+        }
+        None => None,
+    };
+    let elapsed = if cli.graphics {
+        let options = window::Options {
+            steps,
+            fps: cli.fps,
+            hold: cli.hold,
+        };
+        let outcome = window::run(world, options)?;
+        world = outcome.world;
+        outcome.elapsed
+    } else {
+        simulate(&mut world, steps, cli.verify, recorder)?
+    };
     let counts = world.counters();
 
     if let Some(path) = &cli.state_out {
@@ -310,10 +362,20 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
 /// Runs `steps` steps and returns the time the loop took. A progress bar
 /// appears on stderr once a run has taken a second, if stderr is a terminal.
 /// With `verify`, every step is checked against the all-pairs detector.
-fn simulate(world: &mut World, steps: u64, verify: bool) -> Result<Duration, String> {
+/// With a recorder, frames are written as the run goes.
+fn simulate(
+    world: &mut World,
+    steps: u64,
+    verify: bool,
+    mut recorder: Option<Recorder>,
+) -> Result<Duration, String> {
     if verify {
         world.set_oracle(Box::new(Brute::default()));
     }
+    if let Some(recorder) = &mut recorder {
+        recorder.start(world).map_err(|e| e.to_string())?;
+    }
+    let mut render_error = None;
     let show_progress = std::io::stderr().is_terminal();
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
@@ -322,6 +384,12 @@ fn simulate(world: &mut World, steps: u64, verify: bool) -> Result<Duration, Str
         done += 1;
         if world.mismatch().is_some() {
             return ControlFlow::Break(());
+        }
+        if let Some(recorder) = &mut recorder {
+            if let Err(e) = recorder.after_step(world) {
+                render_error = Some(e.to_string());
+                return ControlFlow::Break(());
+            }
         }
         if show_progress {
             match &bar {
@@ -342,10 +410,16 @@ fn simulate(world: &mut World, steps: u64, verify: bool) -> Result<Duration, Str
             bar.finish_and_clear();
         }
     }
-    match world.mismatch() {
-        Some(mismatch) => Err(format!("--verify: {mismatch}")),
-        None => Ok(elapsed),
+    if let Some(e) = render_error {
+        return Err(e);
     }
+    if let Some(mismatch) = world.mismatch() {
+        return Err(format!("--verify: {mismatch}"));
+    }
+    if let Some(recorder) = recorder {
+        recorder.finish(world).map_err(|e| e.to_string())?;
+    }
+    Ok(elapsed)
 }
 
 fn progress_bar(steps: u64, done: u64) -> ProgressBar {

@@ -1,0 +1,179 @@
+//! Steps per second of every detector and thread count over generated
+//! scenes of 10^3 to 10^6 lines: prints a Markdown table and draws a
+//! log-log plot.
+//!
+//! ```sh
+//! cargo run --release --example scaling -- [--max-lines N] [--out docs/scaling.png]
+//! ```
+//!
+//! Each configuration runs the same scene (`gen --lines N --seed 7`) for
+//! two warm-up steps, then for about half a second (3 to 50 steps) in one
+//! timed run. The all-pairs detector stops at 10^4 lines. Text in the plot uses
+//! DejaVu Sans from Debian's `fonts-dejavu-core`.
+
+use plotters::prelude::*;
+use screensaver::detect::TreeMode;
+use screensaver::generate::{generate, SceneKind};
+use screensaver::{DetectorConfig, DetectorKind, World};
+use std::time::{Duration, Instant};
+
+const FONT: &str = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+struct Series {
+    name: String,
+    kind: DetectorKind,
+    config: DetectorConfig,
+    max_lines: usize,
+    points: Vec<(usize, f64)>,
+}
+
+fn series(max_lines: usize) -> Vec<Series> {
+    let mut all = vec![Series {
+        name: "brute, 1 thread".into(),
+        kind: DetectorKind::Brute,
+        config: DetectorConfig::default(),
+        max_lines: max_lines.min(10_000),
+        points: Vec::new(),
+    }];
+    for mode in [TreeMode::Auto, TreeMode::Cached, TreeMode::Rebuilt] {
+        for threads in [1, 2] {
+            all.push(Series {
+                name: format!(
+                    "quadtree {mode}, {threads} thread{}",
+                    if threads > 1 { "s" } else { "" }
+                ),
+                kind: DetectorKind::Quadtree,
+                config: DetectorConfig {
+                    tree_mode: mode,
+                    threads,
+                    ..DetectorConfig::default()
+                },
+                max_lines,
+                points: Vec::new(),
+            });
+        }
+    }
+    all
+}
+
+/// Steps per second of `kind` with `config` on `lines` lines.
+fn measure(lines: usize, kind: DetectorKind, config: &DetectorConfig) -> f64 {
+    let scene = generate(SceneKind::Uniform, lines, 7);
+    let mut world = World::with_config(&scene, kind, config).expect("a thread pool");
+    // Warm up, and learn roughly how long a step takes; then time one run
+    // of half a second's worth (3 to 50 steps) inside the thread pool.
+    let start = Instant::now();
+    world.run(2);
+    let per_step = start.elapsed() / 2;
+    let steps = (Duration::from_millis(500).as_secs_f64() / per_step.as_secs_f64().max(1e-9))
+        .clamp(3.0, 50.0) as u64;
+    let start = Instant::now();
+    world.run(steps);
+    steps as f64 / start.elapsed().as_secs_f64()
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let (mut max_lines, mut out) = (1_000_000usize, String::from("docs/scaling.png"));
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--max-lines" => max_lines = args.next().ok_or("--max-lines needs a value")?.parse()?,
+            "--out" => out = args.next().ok_or("--out needs a value")?,
+            other => return Err(format!("unknown argument `{other}`").into()),
+        }
+    }
+    let sizes: Vec<usize> = [1_000, 3_000, 10_000, 30_000, 100_000, 300_000, 1_000_000]
+        .into_iter()
+        .filter(|&n| n <= max_lines)
+        .collect();
+
+    let mut all = series(max_lines);
+    for &n in &sizes {
+        for s in all.iter_mut().filter(|s| n <= s.max_lines) {
+            let rate = measure(n, s.kind, &s.config);
+            eprintln!("{n:>9} lines  {:<28} {rate:>12.1} steps/s", s.name);
+            s.points.push((n, rate));
+        }
+    }
+
+    print!("| configuration |");
+    for n in &sizes {
+        print!(" {n} |");
+    }
+    println!();
+    println!("| --- |{}", " ---: |".repeat(sizes.len()));
+    for s in &all {
+        print!("| {} |", s.name);
+        for n in &sizes {
+            match s.points.iter().find(|p| p.0 == *n) {
+                Some(p) => print!(" {:.1} |", p.1),
+                None => print!(" |"),
+            }
+        }
+        println!();
+    }
+
+    let font =
+        std::fs::read(FONT).map_err(|e| format!("{FONT}: {e} (install fonts-dejavu-core)"))?;
+    plotters::style::register_font(
+        "sans-serif",
+        FontStyle::Normal,
+        Box::leak(font.into_boxed_slice()),
+    )
+    .map_err(|_| "cannot load the font")?;
+    if let Some(dir) = std::path::Path::new(&out).parent() {
+        std::fs::create_dir_all(dir)?;
+    }
+    let root = BitMapBackend::new(&out, (1000, 700)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let top = all
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .fold(1.0, f64::max);
+    let bottom = all
+        .iter()
+        .flat_map(|s| s.points.iter().map(|p| p.1))
+        .fold(top, f64::min);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(
+            "Steps per second by scene size (generated uniform scenes)",
+            ("sans-serif", 24),
+        )
+        .margin(20)
+        .x_label_area_size(50)
+        .y_label_area_size(70)
+        .build_cartesian_2d(
+            (sizes[0] as f64 * 0.8..*sizes.last().expect("a size") as f64 * 1.25).log_scale(),
+            (bottom * 0.5..top * 2.0).log_scale(),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc("lines")
+        .y_desc("steps per second")
+        .label_style(("sans-serif", 16))
+        .draw()?;
+    for (k, s) in all.iter().enumerate() {
+        let color = Palette99::pick(k).to_rgba();
+        let points: Vec<(f64, f64)> = s.points.iter().map(|&(n, r)| (n as f64, r)).collect();
+        chart
+            .draw_series(LineSeries::new(points.clone(), color.stroke_width(2)))?
+            .label(s.name.clone())
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+            });
+        chart.draw_series(
+            points
+                .into_iter()
+                .map(|p| Circle::new(p, 4, color.filled())),
+        )?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 16))
+        .draw()?;
+    root.present()?;
+    eprintln!("wrote {out}");
+    Ok(())
+}
