@@ -189,6 +189,9 @@ fn run(cli: &Cli) -> Result<(), String> {
     let frames = cli
         .frames
         .expect("clap requires FRAMES without a subcommand");
+    if cli.graphics {
+        window::check_display()?;
+    }
     let (scene, input_name) = match &cli.input {
         Some(path) => (
             Scene::load(path).map_err(|e| e.to_string())?,
@@ -213,15 +216,6 @@ fn run(cli: &Cli) -> Result<(), String> {
     world.set_timing(cli.stats);
     let steps = frames.saturating_add(1);
 
-    let mut stdout = std::io::stdout().lock();
-    if !cli.json {
-        let header = format!(
-            "Number of frames = {}\nInput file path is: {}\n",
-            frames, input_name
-        );
-        write_out(&mut stdout, &header)?;
-    }
-
     let recorder = match &cli.render {
         Some(path) => {
             let target =
@@ -231,6 +225,15 @@ fn run(cli: &Cli) -> Result<(), String> {
         }
         None => None,
     };
+    let mut stdout = std::io::stdout().lock();
+    if !cli.json {
+        let header = format!(
+            "Number of frames = {}\nInput file path is: {}\n",
+            frames, input_name
+        );
+        write_out(&mut stdout, &header)?;
+    }
+
     let elapsed = if cli.graphics {
         let options = window::Options {
             steps,

@@ -175,3 +175,22 @@ fn no_progress_bar_in_pipes() {
     let out = screensaver(&["1", "--json"]);
     assert!(out.stderr.is_empty(), "{}", text(&out.stderr));
 }
+
+#[test]
+fn graphics_without_a_display_is_a_clear_error() {
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["-g", "5"])
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty());
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("cannot open a window: no display"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked"));
+}

@@ -107,14 +107,24 @@ pub struct Outcome {
     pub elapsed: Duration,
 }
 
+/// Fails, with a message that says what to do, when there is plainly no
+/// display to open a window on.
+pub fn check_display() -> Result<(), String> {
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    if set("DISPLAY") || set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
+        Ok(())
+    } else {
+        Err("cannot open a window: no display (DISPLAY is not set); \
+             run under xvfb-run for a virtual one, or use --render"
+            .into())
+    }
+}
+
 /// Opens the window and runs the world in it. Fails with a message when no
 /// window can be opened (no display).
 pub fn run(world: World, options: Options) -> Result<Outcome, String> {
-    let event_loop = EventLoop::new().map_err(|e| {
-        format!(
-            "cannot open a window: {e} (is there a display? set DISPLAY, or run under xvfb-run)"
-        )
-    })?;
+    check_display()?;
+    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
     let colors = world.colors().to_vec();
     let shared = Arc::new(Shared {
         paused: AtomicBool::new(false),

@@ -1,0 +1,208 @@
+//! Pictures of a hand-made scene: the right colours at known places and
+//! black elsewhere, in PNG, PNG sequences, GIF and SVG, through the command
+//! line.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use tiny_skia::Pixmap;
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir =
+        std::env::temp_dir().join(format!("screensaver-render-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// A red horizontal line across the upper half and a gray vertical one in
+/// the right half, both still.
+fn scene(dir: &Path) -> PathBuf {
+    let path = dir.join("cross.in");
+    std::fs::write(
+        &path,
+        "2\n(100, 200), (1000, 200), 0, 0, 0\n(900, 300), (900, 700), 0, 0, 1\n",
+    )
+    .unwrap();
+    path
+}
+
+fn screensaver(args: &[&str]) {
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+fn rgb(p: &Pixmap, x: u32, y: u32) -> [u8; 3] {
+    let c = p.pixel(x, y).unwrap().demultiply();
+    [c.red(), c.green(), c.blue()]
+}
+
+fn is_red(c: [u8; 3]) -> bool {
+    c[0] >= 60 && c[0] > 3 * c[1] && c[1].abs_diff(c[2]) <= 4
+}
+
+fn is_gray(c: [u8; 3]) -> bool {
+    c[0] >= 60 && c[0].abs_diff(c[1]) <= 4 && c[1].abs_diff(c[2]) <= 4
+}
+
+#[test]
+fn png_shows_the_lines_where_they_are() {
+    let dir = temp_dir("png");
+    let out = dir.join("cross.png");
+    screensaver(&[
+        "0",
+        scene(&dir).to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+    ]);
+    let p = Pixmap::load_png(&out).unwrap();
+    assert_eq!((p.width(), p.height()), (1180, 800));
+    // Window coordinates are pixel coordinates at the default size.
+    assert!(
+        is_red(rgb(&p, 500, 200)) || is_red(rgb(&p, 500, 199)),
+        "{:?}",
+        rgb(&p, 500, 200)
+    );
+    assert!(
+        is_gray(rgb(&p, 900, 500)) || is_gray(rgb(&p, 899, 500)),
+        "{:?}",
+        rgb(&p, 900, 500)
+    );
+    for (x, y) in [(5, 5), (1175, 795), (500, 400), (200, 600), (1100, 200)] {
+        assert_eq!(rgb(&p, x, y), [0, 0, 0], "at {x}, {y}");
+    }
+    let lit = p
+        .pixels()
+        .iter()
+        .filter(|c| c.red() > 0 || c.green() > 0)
+        .count();
+    // The red line is 900 pixels long, the gray 400, each 1.5 pixels wide.
+    assert!(lit > 900 && lit < 900 * 3 + 400 * 3, "{lit} lit pixels");
+}
+
+#[test]
+fn sizes_scale_the_picture() {
+    let dir = temp_dir("small");
+    let out = dir.join("small.png");
+    screensaver(&[
+        "0",
+        scene(&dir).to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+        "--size",
+        "590x400",
+    ]);
+    let p = Pixmap::load_png(&out).unwrap();
+    assert_eq!((p.width(), p.height()), (590, 400));
+    assert!(
+        is_red(rgb(&p, 250, 100)) || is_red(rgb(&p, 250, 99)),
+        "{:?}",
+        rgb(&p, 250, 100)
+    );
+    assert!(
+        is_gray(rgb(&p, 450, 250)) || is_gray(rgb(&p, 449, 250)),
+        "{:?}",
+        rgb(&p, 450, 250)
+    );
+}
+
+#[test]
+fn sequences_number_every_kth_frame() {
+    let dir = temp_dir("seq");
+    let out = dir.join("run.png");
+    screensaver(&[
+        "9",
+        scene(&dir).to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+        "--render-every",
+        "5",
+        "--size",
+        "118x80",
+    ]);
+    for step in [0, 5, 10] {
+        let frame = dir.join(format!("run-{step:06}.png"));
+        assert!(frame.is_file(), "{}", frame.display());
+    }
+    assert!(!dir.join("run-000001.png").exists());
+}
+
+#[test]
+fn gif_has_a_frame_per_kth_step_and_the_fixed_palette() {
+    let dir = temp_dir("gif");
+    let out = dir.join("run.gif");
+    screensaver(&[
+        "19",
+        scene(&dir).to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+        "--render-every",
+        "5",
+        "--size",
+        "236x160",
+    ]);
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::Indexed);
+    let mut decoder = options
+        .read_info(std::fs::File::open(&out).unwrap())
+        .unwrap();
+    // Encoders pad the palette to a power of two.
+    let palette = decoder.global_palette().unwrap().to_vec();
+    let ours: Vec<u8> = screensaver::render::gif_palette()
+        .into_iter()
+        .flatten()
+        .collect();
+    assert_eq!(&palette[..ours.len()], &ours[..]);
+    let mut frames = 0;
+    let mut seen = std::collections::BTreeSet::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        assert_eq!((frame.width, frame.height), (236, 160));
+        seen.extend(frame.buffer.iter().copied());
+        frames += 1;
+    }
+    // Steps 0, 5, 10, 15 and 20 (the last).
+    assert_eq!(frames, 5);
+    assert!(
+        seen.contains(&0)
+            && seen.iter().any(|&i| (1..=8).contains(&i))
+            && seen.iter().any(|&i| i > 8)
+    );
+}
+
+#[test]
+fn svg_has_one_line_per_segment_in_each_colour() {
+    let dir = temp_dir("svg");
+    let out = dir.join("cross.svg");
+    screensaver(&[
+        "0",
+        scene(&dir).to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+    ]);
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
+    assert_eq!(svg.matches("<line ").count(), 2);
+    assert!(
+        svg.contains(r#"stroke="rgb(170,20,20)""#) && svg.contains(r#"stroke="rgb(150,150,150)""#)
+    );
+    assert!(
+        svg.contains(r#"x1="100.00" y1="200.00" x2="1000.00" y2="200.00""#),
+        "{svg}"
+    );
+}
+
+#[test]
+fn unknown_picture_types_are_refused() {
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["0", "--render", "x.jpg"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg: unknown picture type"));
+    assert!(out.stdout.is_empty());
+}
