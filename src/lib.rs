@@ -26,6 +26,9 @@ pub mod response;
 pub mod scene;
 pub mod world;
 
+#[cfg(test)]
+mod test_util;
+
 pub use detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
 pub use line::{Color, Line};

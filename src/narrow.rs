@@ -117,15 +117,7 @@ pub fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Vec2;
-
-    fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> Line {
-        Line {
-            p1: Vec2::new(p1.0, p1.1),
-            p2: Vec2::new(p2.0, p2.1),
-            v: Vec2::new(v.0, v.1),
-        }
-    }
+    use crate::test_util::line;
 
     #[test]
     fn crossing_lines_are_already_intersected() {

@@ -437,14 +437,7 @@ mod tests {
     use super::*;
     use crate::detect::Brute;
     use crate::geometry::Vec2;
-
-    fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> Line {
-        Line {
-            p1: Vec2::new(p1.0, p1.1),
-            p2: Vec2::new(p2.0, p2.1),
-            v: Vec2::new(v.0, v.1),
-        }
-    }
+    use crate::test_util::line;
 
     fn world(lines: Vec<Line>) -> World {
         let colors = vec![Color::Red; lines.len()];
