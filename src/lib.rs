@@ -11,10 +11,11 @@
 //! ```
 //!
 //! The modules follow the simulation's concepts: [`geometry`] (vectors and
-//! exact predicates), [`line`] (segments and coordinates), [`scene`]
-//! (`.in` files), [`narrow`] (the exact pair test), [`response`] (new
-//! velocities), [`world`] (one step), [`detect`] (interchangeable broad
-//! phases) and [`generate`] (seeded scenes).
+//! exact predicates), [`line`](mod@line) (segments and coordinates),
+//! [`scene`] (`.in` files), [`narrow`] (the exact pair test), [`response`]
+//! (new velocities), [`world`] (one step), [`detect`] (interchangeable broad
+//! phases), [`render`] (pictures and the window) and [`generate`] (seeded
+//! scenes).
 
 pub mod detect;
 pub mod generate;
