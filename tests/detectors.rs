@@ -10,8 +10,8 @@ use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
 
 /// Tree shapes to try, in every tree mode: leaves of 1, 2 and many lines,
 /// no splitting at all and very deep trees; and 2, 3 and 8 threads with
-/// work split into pieces of a few lines. (Auto mode starts with a trial of
-/// the rebuilt way and then switches: the steps below cover both and the
+/// work split into pieces of a few lines. (Auto mode runs the cached way for
+/// 16 steps, then tries the rebuilt way: the steps below cover both and the
 /// switch.)
 fn configs() -> Vec<DetectorConfig> {
     let shape = |leaf_size, max_depth, tree_mode| DetectorConfig {

@@ -17,9 +17,9 @@
 //! - **Auto** (the default): the cached way, except while the rebuilt way is
 //!   measured to be faster. Scenes where lines change course all the time
 //!   (dense collisions) wear out fat hulls faster than they pay off, and so
-//!   do huge scenes of tiny lines. After 32 steps, and then every
-//!   [`PERIOD`] steps, the detector runs the other way for a few steps and
-//!   keeps whichever took less time per step.
+//!   do huge scenes of tiny lines. At the end of its first 32 steps, and of
+//!   every [`PERIOD`] steps after, the detector runs the other way for a
+//!   few steps and keeps whichever took less time per step.
 //!
 //! All find exactly the all-pairs detector's events, so the choice affects
 //! speed only, never results. The buffers live in the detector and are
@@ -123,32 +123,33 @@ struct Chooser {
 }
 
 impl Chooser {
-    /// Where the current step falls: in a trial or not, and how far into
-    /// that stint. The first period is short, so that a choice is made early
-    /// in short runs; later ones last [`PERIOD`] steps.
-    fn phase(&self) -> (u64, u64) {
+    /// Where the current step falls: its place in the current period, the
+    /// period's length, and whether it is in the trial (the period's last
+    /// [`TRIAL`] steps). The first period is short, so that a choice is made
+    /// early in short runs; later ones last [`PERIOD`] steps.
+    fn phase(&self) -> (u64, u64, bool) {
         let first = 2 * TRIAL;
-        if self.steps < first {
+        let (phase, length) = if self.steps < first {
             (self.steps, first)
         } else {
             ((self.steps - first) % PERIOD, PERIOD)
-        }
+        };
+        (phase, length, phase >= length - TRIAL)
     }
 
     /// Whether this step should use the rebuilt way.
     fn rebuilt_now(&self) -> bool {
-        let trial = self.phase().0 < TRIAL;
-        self.prefer_rebuilt != trial
+        self.prefer_rebuilt != self.phase().2
     }
 
     /// Records this step's detection time; at the end of a period, keeps
     /// the faster way (the trial must win by 5% to take over).
     fn record(&mut self, seconds: f64) {
-        let (phase, length) = self.phase();
-        let (slot, into_stint) = if phase < TRIAL {
-            (0, phase)
+        let (phase, length, trial) = self.phase();
+        let (slot, into_stint) = if trial {
+            (0, phase - (length - TRIAL))
         } else {
-            (1, phase - TRIAL)
+            (1, phase)
         };
         if into_stint >= WARM_UP {
             self.timed[slot].0 += seconds;
@@ -823,14 +824,13 @@ mod tests {
     #[test]
     fn the_chooser_tries_the_other_way_then_keeps_the_faster() {
         let mut c = Chooser::default();
-        let mut rebuilt_steps = 0;
-        for _ in 0..2 * TRIAL {
+        // The first steps use the cached way; the trial comes last.
+        for step in 0..2 * TRIAL {
             let rebuilt = c.rebuilt_now();
-            rebuilt_steps += u64::from(rebuilt);
+            assert_eq!(rebuilt, step >= TRIAL, "step {step}");
             // Rebuilding is twice as fast here.
             c.record(if rebuilt { 1.0 } else { 2.0 });
         }
-        assert_eq!(rebuilt_steps, TRIAL);
         assert!(c.prefer_rebuilt);
         // Now the cached way is the trial, and it stays slower.
         for _ in 0..PERIOD {
