@@ -1,8 +1,8 @@
 //! The quadtree detector: the design write-up's tree (see [`tree`]), used in
 //! one of two ways, or in whichever of the two is faster at the moment.
 //!
-//! - **Cached** (the default): each line gets a *fat hull*, its swept hull
-//!   grown by a few steps' worth of its motion. The tree is built over fat
+//! - **Cached**: each line gets a *fat hull*, its swept hull stretched
+//!   forward by eight more steps of its motion. The tree is built over fat
 //!   hulls and yields every pair whose fat hulls overlap; those pairs are
 //!   kept. Each step then only checks that every line's swept hull is still
 //!   inside its fat hull; the few lines that left theirs get a new one, drop
@@ -13,7 +13,6 @@
 //!   once, when the grid must grow, or when a line turns NaN.
 //! - **Rebuilt**: the tree is built over the swept hulls every step and its
 //!   pairs go straight to the exact test, as in the write-up.
-//!
 //! - **Auto** (the default): the cached way, except while the rebuilt way is
 //!   measured to be faster. Scenes where lines change course all the time
 //!   (dense collisions) wear out fat hulls faster than they pay off, and so
@@ -22,9 +21,10 @@
 //!   few steps and keeps whichever took less time per step.
 //!
 //! All find exactly the all-pairs detector's events, so the choice affects
-//! speed only, never results. The buffers live in the detector and are
-//! reused: once they have grown to the scene's size, a step allocates
-//! nothing.
+//! speed only, never results; so does the number of threads the work is
+//! split over. The buffers live in the detector and are reused: once they
+//! have grown to the scene's size, a step on one thread allocates nothing
+//! (parallel tasks get buffers of their own).
 
 pub mod tree;
 
@@ -44,7 +44,7 @@ pub const DEFAULT_LEAF_SIZE: usize = 16;
 /// Default for the deepest level a node may split at.
 pub const DEFAULT_MAX_DEPTH: u32 = 12;
 
-/// Steps of a line's motion that its fat hull has room for. (Lines moving
+/// Steps of a line's motion that its fat hull has room for ahead of it. (Lines moving
 /// alike leave their hulls together and bring a rebuild, which is cheaper
 /// than refitting them one by one.)
 const FAT_STEPS: f64 = 8.0;
