@@ -65,17 +65,7 @@ impl FromStr for SceneKind {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .iter()
-            .copied()
-            .find(|k| k.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
-                format!(
-                    "unknown scene kind `{s}`; expected one of: {}",
-                    names.join(", ")
-                )
-            })
+        crate::parse_named(Self::ALL, Self::name, "scene kind", s)
     }
 }
 

@@ -30,6 +30,23 @@ pub mod world;
 #[cfg(test)]
 mod test_util;
 
+/// Finds the value of `all` whose `name` is `s`, for the command line's
+/// named choices; the error lists the names there are.
+pub(crate) fn parse_named<T: Copy>(
+    all: &[T],
+    name: fn(T) -> &'static str,
+    what: &str,
+    s: &str,
+) -> Result<T, String> {
+    all.iter().copied().find(|&v| name(v) == s).ok_or_else(|| {
+        let names: Vec<_> = all.iter().map(|&v| name(v)).collect();
+        format!(
+            "unknown {what} `{s}`; expected one of: {}",
+            names.join(", ")
+        )
+    })
+}
+
 pub use detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
 pub use line::{Color, Line};

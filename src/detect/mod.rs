@@ -139,17 +139,7 @@ impl FromStr for DetectorKind {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .iter()
-            .copied()
-            .find(|kind| kind.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|k| k.name()).collect();
-                format!(
-                    "unknown detector `{s}`; expected one of: {}",
-                    names.join(", ")
-                )
-            })
+        crate::parse_named(Self::ALL, Self::name, "detector", s)
     }
 }
 

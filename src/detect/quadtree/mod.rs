@@ -90,17 +90,7 @@ impl FromStr for TreeMode {
     type Err = String;
 
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        Self::ALL
-            .iter()
-            .copied()
-            .find(|m| m.name() == s)
-            .ok_or_else(|| {
-                let names: Vec<_> = Self::ALL.iter().map(|m| m.name()).collect();
-                format!(
-                    "unknown tree mode `{s}`; expected one of: {}",
-                    names.join(", ")
-                )
-            })
+        crate::parse_named(Self::ALL, Self::name, "tree mode", s)
     }
 }
 
