@@ -213,6 +213,8 @@ fn run(cli: &Cli) -> Result<(), String> {
     };
     let mut world = World::with_config(&scene, cli.detector, &config)
         .map_err(|e| format!("cannot start {} threads: {e}", config.threads))?;
+    // The world holds its own copy; a huge scene's text form can go.
+    drop(scene);
     world.set_timing(cli.stats);
     let steps = frames.saturating_add(1);
 
