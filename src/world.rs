@@ -103,6 +103,8 @@ fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
     events
 }
 
+/// Below this many events, sorting them stays on one thread.
+const PARALLEL_EVENTS: usize = 16 * 1024;
 /// Below this many lines, moving and wall checks stay on one thread.
 const PARALLEL_LINES: usize = 64 * 1024;
 /// Lines per task when moving and checking walls in parallel.
@@ -266,7 +268,12 @@ impl World {
         let t1 = self.lap(t0, |t, d| t.detect += d);
 
         // Pairs are unique, so an unstable sort gives the one sorted order.
-        self.events.sort_unstable_by_key(Event::order_key);
+        if parallel && self.events.len() >= PARALLEL_EVENTS {
+            use rayon::slice::ParallelSliceMut;
+            self.events.par_sort_unstable_by_key(Event::order_key);
+        } else {
+            self.events.sort_unstable_by_key(Event::order_key);
+        }
         if let Some(expected) = expected {
             // Counted as the step it belongs to.
             self.steps += 1;

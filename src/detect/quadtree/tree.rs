@@ -327,16 +327,23 @@ impl Tree {
         self.max_depth
     }
 
-    /// Puts the entries in key order; fast when they nearly are already
-    /// (and on all threads when they are far from it, if `parallel`).
+    /// Puts the entries in key order: by insertion when they nearly are
+    /// already (few descents), else by a full sort (on all threads, if
+    /// `parallel`).
     pub fn sort(&mut self, parallel: bool) {
-        if !sort_nearly_sorted(&mut self.entries) {
-            if parallel {
-                use rayon::slice::ParallelSliceMut;
-                self.entries.par_sort_unstable_by_key(|e| e.key);
-            } else {
-                self.entries.sort_unstable_by_key(|e| e.key);
-            }
+        let descents = self
+            .entries
+            .windows(2)
+            .filter(|w| w[1].key < w[0].key)
+            .count();
+        if descents <= self.entries.len() / 32 && sort_nearly_sorted(&mut self.entries) {
+            return;
+        }
+        if parallel {
+            use rayon::slice::ParallelSliceMut;
+            self.entries.par_sort_unstable_by_key(|e| e.key);
+        } else {
+            self.entries.sort_unstable_by_key(|e| e.key);
         }
     }
 
