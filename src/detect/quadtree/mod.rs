@@ -509,17 +509,15 @@ impl Quadtree {
         self.tree.sort(self.threads > 1);
     }
 
-    /// Rebuilt mode: builds the tree over this step's swept hulls and tests
-    /// its pairs.
+    /// Rebuilt mode: builds the tree over this step's swept hulls (whose
+    /// union is `bounds`) and tests its pairs.
     fn detect_rebuilt(
         &mut self,
-        lines: &[Line],
+        bounds: Option<SweptBox>,
         dt: f64,
         events: &mut Vec<Event>,
         counts: &mut PairCounts,
     ) {
-        let bounds = self.fill_slots(lines, dt);
-        self.test_wild(lines, dt, events, counts);
         let Some(bounds) = bounds else { return };
         if !self.grid.holds(&bounds) {
             self.grid = Grid::over(&bounds);
@@ -537,17 +535,17 @@ impl Quadtree {
         self.reorder();
     }
 
-    /// Cached mode: brings the slots, the tree and the pairs up to date, then
-    /// tests the pairs whose swept hulls overlap.
+    /// Cached mode: brings the tree and the pairs up to date with this
+    /// step's slots (whose hulls' union is `bounds`), then tests the pairs
+    /// whose swept hulls overlap.
     fn detect_cached(
         &mut self,
         lines: &[Line],
+        bounds: Option<SweptBox>,
         dt: f64,
         events: &mut Vec<Event>,
         counts: &mut PairCounts,
     ) {
-        let bounds = self.fill_slots(lines, dt);
-        self.test_wild(lines, dt, events, counts);
         let n = self.slots.len();
         self.valid &= self.cached_boxed == self.boxed;
         self.moved.clear();
@@ -782,13 +780,15 @@ impl Detector for Quadtree {
         };
         let mut counts = PairCounts::default();
         self.tree.counts = tree::WalkCounts::default();
+        let bounds = self.fill_slots(lines, dt);
+        self.test_wild(lines, dt, events, &mut counts);
         if rebuilt {
             // The tree will hold swept hulls and the slots another order:
             // the cache must be rebuilt before it is used again.
             self.valid = false;
-            self.detect_rebuilt(lines, dt, events, &mut counts);
+            self.detect_rebuilt(bounds, dt, events, &mut counts);
         } else {
-            self.detect_cached(lines, dt, events, &mut counts);
+            self.detect_cached(lines, bounds, dt, events, &mut counts);
         }
         if self.mode == TreeMode::Auto {
             self.chooser.record(start.elapsed().as_secs_f64());
