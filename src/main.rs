@@ -40,7 +40,7 @@ struct Cli {
 
     /// Collision detector: `quadtree` (fast) or `brute` (all pairs, the
     /// original algorithm).
-    #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = parse_detector)]
+    #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = parse::<DetectorKind>)]
     detector: DetectorKind,
 
     /// Quadtree: most lines a leaf holds before it splits.
@@ -54,7 +54,7 @@ struct Cli {
     /// Quadtree: `cached` keeps fat hulls and the pairs they give from step
     /// to step; `rebuilt` rebuilds the tree every step; `auto` uses the
     /// cached way except while rebuilding is measured to be faster.
-    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse_tree_mode)]
+    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse::<TreeMode>)]
     tree_mode: TreeMode,
 
     /// Threads to run on (default: all cores). Results are the same for any
@@ -104,7 +104,7 @@ struct Cli {
     render_every: Option<u64>,
 
     /// With --render: picture size.
-    #[arg(long, value_name = "WxH", default_value = "1180x800", value_parser = parse_size)]
+    #[arg(long, value_name = "WxH", default_value = "1180x800", value_parser = parse::<Size>)]
     size: Size,
 
     /// Write the final state to FILE, in the reference checkpoint format.
@@ -130,7 +130,7 @@ struct GenArgs {
     seed: u64,
 
     /// Arrangement: uniform, clustered, ring or grid.
-    #[arg(long, default_value = "uniform", value_parser = parse_scene_kind)]
+    #[arg(long, default_value = "uniform", value_parser = parse::<SceneKind>)]
     kind: SceneKind,
 
     /// Write to FILE instead of standard output.
@@ -138,19 +138,8 @@ struct GenArgs {
     output: Option<PathBuf>,
 }
 
-fn parse_scene_kind(s: &str) -> Result<SceneKind, String> {
-    s.parse()
-}
-
-fn parse_detector(s: &str) -> Result<DetectorKind, String> {
-    s.parse()
-}
-
-fn parse_size(s: &str) -> Result<Size, String> {
-    s.parse()
-}
-
-fn parse_tree_mode(s: &str) -> Result<TreeMode, String> {
+/// Parses a named choice or a size for clap, keeping its own message.
+fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
     s.parse()
 }
 
