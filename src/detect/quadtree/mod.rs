@@ -220,6 +220,9 @@ impl Default for Quadtree {
 /// Default for the smallest piece of work handed to a thread, in lines.
 pub const DEFAULT_GRAIN: usize = 16 * 1024;
 
+/// The sort key given to slots left out of the tree: above every real key.
+const UNBOXED_KEY: u64 = u64::MAX;
+
 /// Grows a swept hull into a fat hull: stretched forward by `FAT_STEPS`
 /// more steps of the line's motion, so that a line keeping its velocity
 /// stays inside that long, and padded by `FAT_MIN` all round.
@@ -481,32 +484,22 @@ impl Quadtree {
     /// slots are in last step's tree order).
     fn set_entries(&mut self, fat: bool) {
         let (grid, max_depth) = (self.grid, self.tree.max_depth());
-        let hulls = if fat { &self.fat } else { &self.hulls };
-        let entry = |(s, (h, &b)): (usize, (&SweptBox, &bool))| {
-            b.then(|| {
-                let cells = grid.cells(h, s as u32);
-                Entry {
-                    key: tree::key(&cells, max_depth),
-                    cells,
-                }
-            })
+        let (hulls, boxed) = (if fat { &self.fat } else { &self.hulls }, &self.boxed);
+        // Every slot gets an entry, in place; the unboxed ones get a key
+        // past every real one, which sorts them last to be cut off.
+        let entry = |s: usize| {
+            let cells = grid.cells(&hulls[s], s as u32);
+            let key = if boxed[s] {
+                tree::key(&cells, max_depth)
+            } else {
+                UNBOXED_KEY
+            };
+            Entry { key, cells }
         };
-        let parallel = self.parallel() && hulls.len() >= 2 * self.grain;
-        let entries = &mut self.tree.entries;
-        entries.clear();
-        if parallel {
-            use rayon::prelude::*;
-            entries.par_extend(
-                hulls
-                    .par_iter()
-                    .zip(self.boxed.par_iter())
-                    .enumerate()
-                    .filter_map(entry),
-            );
-        } else {
-            entries.extend(hulls.iter().zip(&self.boxed).enumerate().filter_map(entry));
-        }
-        self.tree.sort(self.threads > 1);
+        let n = hulls.len();
+        let chunk = (self.parallel() && n >= 2 * self.grain).then_some(self.grain);
+        self.tree.refill(n, chunk, entry);
+        self.tree.entries.truncate(n - self.unboxed.len());
     }
 
     /// Rebuilt mode: builds the tree over this step's swept hulls (whose
@@ -674,9 +667,10 @@ impl Quadtree {
         let max_depth = self.tree.max_depth();
         let refit = |e: &mut Entry| {
             let s = e.cells.id;
-            if is_moved[s as usize] {
+            is_moved[s as usize] && {
                 e.cells = grid.cells(&fat[s as usize], s);
-                e.key = tree::key(&e.cells, max_depth);
+                let key = tree::key(&e.cells, max_depth);
+                std::mem::replace(&mut e.key, key) != key
             }
         };
         let kept = |&(a, b): &(u32, u32)| !is_moved[a as usize] && !is_moved[b as usize];
@@ -691,8 +685,7 @@ impl Quadtree {
         };
         if parallel {
             use rayon::prelude::*;
-            self.tree.entries.par_iter_mut().for_each(refit);
-            self.tree.sort(true);
+            self.tree.refit(true, refit);
             let mut spare = std::mem::take(&mut self.spare_pairs);
             spare.clear();
             spare.par_extend(self.pairs.par_iter().copied().filter(kept));
@@ -716,8 +709,7 @@ impl Quadtree {
                 self.tree.count(&counts);
             }
         } else {
-            self.tree.entries.iter_mut().for_each(refit);
-            self.tree.sort(false);
+            self.tree.refit(false, refit);
             self.pairs.retain(kept);
             for &m in &self.moved {
                 let counts = new_pairs(&self.tree, m, &mut self.pairs);

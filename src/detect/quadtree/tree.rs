@@ -229,6 +229,29 @@ pub fn sort_nearly_sorted(entries: &mut [Entry]) -> bool {
     true
 }
 
+/// One task's share of a sort: the entries it keeps in place (in order),
+/// and those it moves aside.
+#[derive(Debug, Default)]
+struct SortRun {
+    kept: Vec<Entry>,
+    movers: Vec<Entry>,
+}
+
+/// Merges `kept` and `movers`, both sorted, into `out`, which is as long
+/// as both. Movers are few, so the kept entries between them are copied
+/// in blocks.
+fn merge_into(mut kept: &[Entry], movers: &[Entry], mut out: &mut [Entry]) {
+    for m in movers {
+        let below = kept.iter().take_while(|e| e.key <= m.key).count();
+        let (block, rest) = std::mem::take(&mut out).split_at_mut(below + 1);
+        block[..below].copy_from_slice(&kept[..below]);
+        block[below] = *m;
+        kept = &kept[below..];
+        out = rest;
+    }
+    out.copy_from_slice(kept);
+}
+
 /// Where a walk's pairs go. Parallel walks give each task a fresh
 /// collector ([`Collector::fork`]) and merge them back in tree order
 /// ([`Collector::join`]), so the merged result does not depend on how the
@@ -254,6 +277,9 @@ struct Probe {
 
 /// One of the four directions of the cells: a line's interval on it.
 type Axis = fn(&Cells) -> (u16, u16);
+
+/// Up to this many descents, [`Tree::sort`] tries insertion first.
+const INSERTION_MAX: usize = 64;
 
 /// Below this many lines in a node's pair set, plain loops beat sorting.
 const SWEEP_MIN: usize = 48;
@@ -294,6 +320,12 @@ pub struct Tree {
     max_depth: u32,
     /// The lines' entries; [`Tree::sort`] puts them in key order.
     pub entries: Vec<Entry>,
+    /// Whether each entry's key may differ from that of the entry at its
+    /// place when the entries were last sorted (see [`Tree::refill`]).
+    changed: Vec<bool>,
+    /// Buffers of [`Tree::sort`].
+    runs: Vec<SortRun>,
+    movers: Vec<Entry>,
     scratch: Scratch,
     /// What the walks have done.
     pub counts: WalkCounts,
@@ -317,6 +349,9 @@ impl Tree {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
             entries: Vec::new(),
+            changed: Vec::new(),
+            runs: Vec::new(),
+            movers: Vec::new(),
             scratch: Scratch::default(),
             counts: WalkCounts::default(),
         }
@@ -327,16 +362,76 @@ impl Tree {
         self.max_depth
     }
 
-    /// Puts the entries in key order: by insertion when they nearly are
-    /// already (few descents), else by a full sort (on all threads, if
-    /// `parallel`).
+    /// Sets the entries to `make(0)`, ..., `make(n - 1)` (in chunks of
+    /// `chunk` on the current rayon pool, if given) and sorts them. Where an
+    /// entry's key is the one already at its place (as it is for most lines
+    /// when the entries are made in last step's tree order), the sort keeps
+    /// it in place.
+    pub fn refill(&mut self, n: usize, chunk: Option<usize>, make: impl Fn(usize) -> Entry + Sync) {
+        let old = self.entries.len();
+        self.entries.resize(n, Entry::default());
+        self.changed.resize(n, true);
+        let fill = |first: usize, entries: &mut [Entry], changed: &mut [bool]| {
+            for (k, (e, c)) in entries.iter_mut().zip(changed).enumerate() {
+                let i = first + k;
+                let new = make(i);
+                *c = i >= old || new.key != e.key;
+                *e = new;
+            }
+        };
+        match chunk {
+            Some(chunk) => {
+                use rayon::prelude::*;
+                self.entries
+                    .par_chunks_mut(chunk)
+                    .zip(self.changed.par_chunks_mut(chunk))
+                    .enumerate()
+                    .for_each(|(c, (e, changed))| fill(c * chunk, e, changed));
+            }
+            None => fill(0, &mut self.entries, &mut self.changed),
+        }
+        self.sort(chunk.is_some());
+    }
+
+    /// Applies `update` to every sorted entry (in parallel, if `parallel`),
+    /// which says whether it changed the key, and sorts them again.
+    pub fn refit(&mut self, parallel: bool, update: impl Fn(&mut Entry) -> bool + Sync) {
+        self.changed.resize(self.entries.len(), false);
+        if parallel {
+            use rayon::prelude::*;
+            self.entries
+                .par_iter_mut()
+                .zip(self.changed.par_iter_mut())
+                .for_each(|(e, c)| *c = update(e));
+        } else {
+            for (e, c) in self.entries.iter_mut().zip(&mut self.changed) {
+                *c = update(e);
+            }
+        }
+        self.sort(parallel);
+    }
+
+    /// Puts the entries in key order. Most lines keep their key from one
+    /// step to the next, so the entries are mostly in order already: with
+    /// few out of place they are fixed by insertion; with more, the ones out
+    /// of place are taken out, sorted on their own and merged back, in time
+    /// close to linear; only a scramble gets a full sort (on all threads,
+    /// if `parallel`).
     pub fn sort(&mut self, parallel: bool) {
+        let n = self.entries.len();
         let descents = self
             .entries
             .windows(2)
             .filter(|w| w[1].key < w[0].key)
             .count();
-        if descents <= self.entries.len() / 32 && sort_nearly_sorted(&mut self.entries) {
+        if descents == 0 {
+            return;
+        }
+        if descents <= INSERTION_MAX && sort_nearly_sorted(&mut self.entries) {
+            return;
+        }
+        if descents <= n / 8 {
+            self.merge_out_of_place(parallel);
             return;
         }
         if parallel {
@@ -344,6 +439,109 @@ impl Tree {
             self.entries.par_sort_unstable_by_key(|e| e.key);
         } else {
             self.entries.sort_unstable_by_key(|e| e.key);
+        }
+    }
+
+    /// Takes the entries out of place out of the way, sorts them and merges
+    /// them back. Each run of entries (one per task) keeps an ascending
+    /// subsequence of its unchanged entries (see [`Tree::refill`]; when the
+    /// changes are not known, of those not above their successor), and
+    /// moves the rest aside; then each run drops the head of its kept
+    /// entries that is below the previous run's last, so that the kept
+    /// entries of all runs, in turn, are in order. The entries moved aside
+    /// are sorted and merged with the kept ones, each run's part on its own.
+    fn merge_out_of_place(&mut self, parallel: bool) {
+        let n = self.entries.len();
+        let tasks = if parallel {
+            4 * rayon::current_num_threads()
+        } else {
+            1
+        };
+        let chunk = n.div_ceil(tasks).max(1);
+        let runs = n.div_ceil(chunk);
+        self.runs.resize_with(runs, SortRun::default);
+        let (entries, changed) = (&self.entries, &self.changed);
+        let known = changed.len() == n;
+        let split = |first: usize, part: &[Entry], run: &mut SortRun| {
+            run.kept.clear();
+            run.movers.clear();
+            let mut last = 0;
+            for (k, e) in part.iter().enumerate() {
+                let i = first + k;
+                let stays = if known {
+                    !changed[i]
+                } else {
+                    entries.get(i + 1).is_none_or(|next| e.key <= next.key)
+                };
+                if stays && e.key >= last {
+                    run.kept.push(*e);
+                    last = e.key;
+                } else {
+                    run.movers.push(*e);
+                }
+            }
+        };
+        let runs = &mut self.runs[..runs];
+        if parallel {
+            use rayon::prelude::*;
+            entries
+                .par_chunks(chunk)
+                .zip(runs.par_iter_mut())
+                .enumerate()
+                .for_each(|(c, (part, run))| split(c * chunk, part, run));
+        } else {
+            for (c, (part, run)) in entries.chunks(chunk).zip(runs.iter_mut()).enumerate() {
+                split(c * chunk, part, run);
+            }
+        }
+
+        // Join the runs' kept entries into one ascending sequence, and
+        // gather everything else.
+        let movers = &mut self.movers;
+        movers.clear();
+        let mut last = 0;
+        for run in runs.iter_mut() {
+            let below = run.kept.partition_point(|e| e.key < last);
+            movers.extend(run.kept.drain(..below));
+            movers.extend_from_slice(&run.movers);
+            if let Some(e) = run.kept.last() {
+                last = e.key;
+            }
+        }
+        if parallel {
+            use rayon::slice::ParallelSliceMut;
+            movers.par_sort_unstable_by_key(|e| e.key);
+        } else {
+            movers.sort_unstable_by_key(|e| e.key);
+        }
+
+        // Each run's part of the output: its kept entries and the movers
+        // below the next run's first kept entry.
+        let mut parts: Vec<(&[Entry], &[Entry], &mut [Entry])> = Vec::with_capacity(runs.len());
+        let mut out: &mut [Entry] = &mut self.entries;
+        let mut rest: &[Entry] = movers;
+        let nonempty: Vec<&SortRun> = runs.iter().filter(|r| !r.kept.is_empty()).collect();
+        for (k, run) in nonempty.iter().enumerate() {
+            let take = match nonempty.get(k + 1) {
+                Some(next) => rest.partition_point(|m| m.key < next.kept[0].key),
+                None => rest.len(),
+            };
+            let (mine, later) = rest.split_at(take);
+            let (part, tail) = std::mem::take(&mut out).split_at_mut(run.kept.len() + take);
+            parts.push((&run.kept, mine, part));
+            rest = later;
+            out = tail;
+        }
+        if nonempty.is_empty() {
+            out.copy_from_slice(rest);
+        }
+        let merge =
+            |(kept, movers, out): (&[Entry], &[Entry], &mut [Entry])| merge_into(kept, movers, out);
+        if parallel {
+            use rayon::prelude::*;
+            parts.into_par_iter().for_each(merge);
+        } else {
+            parts.into_iter().for_each(merge);
         }
     }
 
@@ -753,11 +951,73 @@ mod tests {
         let mut near: Vec<Entry> = (0..1000u64).map(|k| mk(k ^ 1)).collect();
         assert!(sort_nearly_sorted(&mut near));
         assert!(near.windows(2).all(|w| w[0].key <= w[1].key));
+        // One entry in ten jumped far, both ways: 100 descents, so
+        // the merge path.
+        let jumped = |k: u64| match k % 20 {
+            3 => mk(k * 7 % 1000),
+            7 => mk(1000 - k),
+            _ => mk(k),
+        };
+        let mut expected: Vec<u64> = (0..1000u64).map(|k| jumped(k).key).collect();
+        expected.sort_unstable();
+        let mut tree = Tree::new(4, 12);
+        tree.entries = (0..1000u64).map(jumped).collect();
+        tree.sort(false);
+        assert_eq!(
+            tree.entries.iter().map(|e| e.key).collect::<Vec<_>>(),
+            expected
+        );
+        tree.entries = (0..1000u64).map(jumped).collect();
+        tree.sort(true);
+        assert_eq!(
+            tree.entries.iter().map(|e| e.key).collect::<Vec<_>>(),
+            expected
+        );
         let mut reversed: Vec<Entry> = (0..1000u64).rev().map(mk).collect();
         assert!(!sort_nearly_sorted(&mut reversed));
         let mut tree = Tree::new(4, 12);
         tree.entries = reversed;
         tree.sort(false);
         assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
+    }
+
+    proptest::proptest! {
+        /// Sorted keys, some of them changed (a few far, most a little),
+        /// refilled on one thread or several: the entries come out sorted
+        /// and are the same entries.
+        #[test]
+        fn refilling_sorts_whatever_changed(
+            base in proptest::collection::vec(0u64..400, 0..3000),
+            changes in proptest::collection::vec((0usize..3000, 0u64..400), 0..400),
+            threads in 1usize..4,
+        ) {
+            let mut keys = base;
+            keys.sort_unstable();
+            let mk = |k: u64, id: usize| Entry {
+                key: k,
+                cells: Cells { id: id as u32, ..Cells::default() },
+            };
+            let mut tree = Tree::new(4, 12);
+            tree.refill(keys.len(), None, |i| mk(keys[i], i));
+            let n = keys.len();
+            for &(at, key) in &changes {
+                if at < n {
+                    keys[at] = key;
+                }
+            }
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let chunk = (threads > 1).then_some(64);
+            pool.install(|| tree.refill(n, chunk, |i| mk(keys[i], i)));
+            let got: Vec<u64> = tree.entries.iter().map(|e| e.key).collect();
+            let mut expected = keys.clone();
+            expected.sort_unstable();
+            proptest::prop_assert_eq!(got, expected);
+            let mut ids: Vec<u32> = tree.entries.iter().map(|e| e.cells.id).collect();
+            ids.sort_unstable();
+            proptest::prop_assert!(ids.iter().enumerate().all(|(i, &id)| id as usize == i));
+            for e in &tree.entries {
+                proptest::prop_assert_eq!(e.key, keys[e.cells.id as usize]);
+            }
+        }
     }
 }
