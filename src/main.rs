@@ -62,7 +62,8 @@ struct Cli {
     #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
     threads: Option<usize>,
 
-    /// The smallest piece of work handed to a thread, in lines.
+    /// The smallest piece of work handed to a thread, in lines (or events,
+    /// when resolving).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_GRAIN, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
     grain: usize,
 

@@ -1,6 +1,6 @@
 //! Collision response: new velocities for the two lines of one event.
 
-use crate::geometry::crossing_point;
+use crate::geometry::{crossing_point, Vec2};
 use crate::line::Line;
 use crate::narrow::{Event, IntersectionKind};
 
@@ -14,13 +14,117 @@ pub fn resolve(lines: &mut [Line], event: &Event) {
     lines[j].v = v2;
 }
 
+/// Events per task in a parallel wave.
+const WAVE_CHUNK: usize = 256;
+
+/// Resolves a step's events in order, on all threads when there are many.
+///
+/// Order matters only between events that share a line: the later one
+/// must see the velocity the earlier one left. So the events are put in
+/// *waves*: an event's wave is one past the last wave of any earlier event
+/// on either of its lines. Events of one wave share no line, and each
+/// line's events fall in ascending waves in their order, so resolving the
+/// waves one after another, each in any order, leaves every line exactly
+/// as resolving the events one by one would. Most events share no line
+/// with any other and fall in the first wave.
+#[derive(Debug, Default)]
+pub struct Resolver {
+    /// Per line: the last wave that touched it (zero for none; reset after
+    /// each step).
+    line_wave: Vec<u32>,
+    /// Each event's wave.
+    wave: Vec<u32>,
+    /// Where each wave starts in `grouped`, by wave number.
+    starts: Vec<usize>,
+    /// The events grouped by wave, in order within each wave.
+    grouped: Vec<Event>,
+    /// A wave's new velocities, by event.
+    velocities: Vec<(Vec2, Vec2)>,
+}
+
+impl Resolver {
+    /// Resolves `events` (sorted by [`Event::order_key`]) on `lines`. Given
+    /// a `grain`, a step of at least that many events is resolved in waves,
+    /// those of at least a quarter of it on the current rayon pool.
+    pub fn resolve_all(&mut self, lines: &mut [Line], events: &[Event], grain: Option<usize>) {
+        let Some(grain) = grain.filter(|&g| events.len() >= g.max(1)) else {
+            for event in events {
+                resolve(lines, event);
+            }
+            return;
+        };
+        self.group_by_wave(lines.len(), events);
+        for w in 1..self.starts.len() - 1 {
+            let wave = &self.grouped[self.starts[w]..self.starts[w + 1]];
+            if wave.len() < (grain / 4).max(1) {
+                for event in wave {
+                    resolve(lines, event);
+                }
+                continue;
+            }
+            use rayon::prelude::*;
+            self.velocities.resize(wave.len(), Default::default());
+            let shared: &[Line] = lines;
+            wave.par_chunks(WAVE_CHUNK)
+                .zip(self.velocities.par_chunks_mut(WAVE_CHUNK))
+                .for_each(|(events, out)| {
+                    // Copy the lines first, in a loop whose scattered reads
+                    // can all be in flight at once.
+                    let mut pairs = [(Line::default(), Line::default()); WAVE_CHUNK];
+                    for (pair, e) in pairs.iter_mut().zip(events) {
+                        *pair = (shared[e.first as usize], shared[e.second as usize]);
+                    }
+                    for ((v, (l1, l2)), e) in out.iter_mut().zip(&pairs).zip(events) {
+                        *v = respond(l1, l2, e.kind);
+                    }
+                });
+            for (e, &(v1, v2)) in wave.iter().zip(&self.velocities) {
+                lines[e.first as usize].v = v1;
+                lines[e.second as usize].v = v2;
+            }
+        }
+    }
+
+    /// Sets `grouped` to the events by wave (and in order within each) and
+    /// `starts[w]` to where wave `w` begins, for waves 1 and up; `starts`
+    /// ends with the total.
+    fn group_by_wave(&mut self, lines: usize, events: &[Event]) {
+        self.line_wave.resize(lines, 0);
+        self.wave.clear();
+        // Counts per wave, at index wave + 1, turned into starts below.
+        self.starts.clear();
+        self.starts.resize(2, 0);
+        for e in events {
+            let (a, b) = (e.first as usize, e.second as usize);
+            let w = 1 + self.line_wave[a].max(self.line_wave[b]);
+            self.line_wave[a] = w;
+            self.line_wave[b] = w;
+            self.wave.push(w);
+            let slot = w as usize + 1;
+            if slot >= self.starts.len() {
+                self.starts.resize(slot + 1, 0);
+            }
+            self.starts[slot] += 1;
+        }
+        for e in events {
+            self.line_wave[e.first as usize] = 0;
+            self.line_wave[e.second as usize] = 0;
+        }
+        for w in 1..self.starts.len() {
+            self.starts[w] += self.starts[w - 1];
+        }
+        self.grouped.resize(events.len(), events[0]);
+        let mut next = self.starts.clone();
+        for (e, &w) in events.iter().zip(&self.wave) {
+            self.grouped[next[w as usize]] = *e;
+            next[w as usize] += 1;
+        }
+    }
+}
+
 /// The velocities `l1` and `l2` leave a collision of `kind` with (`l1` is
 /// the line with the smaller id).
-pub fn respond(
-    l1: &Line,
-    l2: &Line,
-    kind: IntersectionKind,
-) -> (crate::geometry::Vec2, crate::geometry::Vec2) {
+pub fn respond(l1: &Line, l2: &Line, kind: IntersectionKind) -> (Vec2, Vec2) {
     if kind == IntersectionKind::AlreadyIntersected {
         // Push each line away from the crossing point along itself, keeping
         // its speed; both use the same point.
@@ -128,5 +232,56 @@ mod tests {
         assert_eq!(lines[0].v, Vec2::new(0.0, -2.0));
         assert_eq!(lines[2].v, Vec2::new(0.0, 0.0));
         assert_eq!(lines[1].v, Vec2::new(0.0, 0.0));
+    }
+
+    proptest::proptest! {
+        /// Events in waves, on several threads, leave every line exactly as
+        /// resolving them one by one does, however they chain.
+        #[test]
+        fn waves_resolve_like_the_plain_loop(
+            lines in proptest::collection::vec(
+                (0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+                2..40,
+            ),
+            pairs in proptest::collection::vec((0u32..40, 0u32..40, 0u8..3), 0..200),
+            grain in 1usize..8,
+            threads in 1usize..4,
+        ) {
+            let lines: Vec<Line> = lines
+                .iter()
+                .map(|&(a, b, c, d, e, f)| line((a, b), (c, d), (e, f)))
+                .collect();
+            let n = lines.len() as u32;
+            let kinds = [
+                IntersectionKind::L1WithL2,
+                IntersectionKind::L2WithL1,
+                IntersectionKind::AlreadyIntersected,
+            ];
+            let mut events: Vec<Event> = pairs
+                .iter()
+                .map(|&(a, b, k)| (a % n, b % n, k))
+                .filter(|(a, b, _)| a != b)
+                .map(|(a, b, k)| Event {
+                    first: a.min(b),
+                    second: a.max(b),
+                    kind: kinds[k as usize],
+                })
+                .collect();
+            events.sort_unstable_by_key(Event::order_key);
+            events.dedup_by_key(|e| e.order_key());
+
+            let mut expected = lines.clone();
+            for e in &events {
+                resolve(&mut expected, e);
+            }
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let mut got = lines;
+            let mut resolver = Resolver::default();
+            pool.install(|| resolver.resolve_all(&mut got, &events, Some(grain)));
+            let bits = |ls: &[Line]| -> Vec<u64> {
+                ls.iter().flat_map(|l| [l.v.x.to_bits(), l.v.y.to_bits()]).collect()
+            };
+            proptest::prop_assert_eq!(bits(&got), bits(&expected));
+        }
     }
 }

@@ -1,10 +1,10 @@
 //! The world: every line, the two collision counters, and one step of the
 //! simulation (detect, resolve, move, walls).
 
-use crate::detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
+use crate::detect::{Detector, DetectorConfig, DetectorKind, DetectorStats, DEFAULT_GRAIN};
 use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_MAX, BOX_MIN, DT};
 use crate::narrow::Event;
-use crate::response::resolve;
+use crate::response::Resolver;
 use crate::scene::Scene;
 use std::time::{Duration, Instant};
 
@@ -87,6 +87,9 @@ pub struct World {
     steps: u64,
     detector: Box<dyn Detector>,
     events: Vec<Event>,
+    resolver: Resolver,
+    /// The smallest piece of work handed to a thread, in lines or events.
+    grain: usize,
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
@@ -102,13 +105,6 @@ fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
     events.sort_unstable_by_key(Event::order_key);
     events
 }
-
-/// Below this many events, sorting them stays on one thread.
-const PARALLEL_EVENTS: usize = 16 * 1024;
-/// Below this many lines, moving and wall checks stay on one thread.
-const PARALLEL_LINES: usize = 64 * 1024;
-/// Lines per task when moving and checking walls in parallel.
-const LINE_CHUNK: usize = 16 * 1024;
 
 impl World {
     /// A world holding `lines` (in box coordinates, ids by position) that
@@ -130,6 +126,8 @@ impl World {
             steps: 0,
             detector,
             events: Vec::new(),
+            resolver: Resolver::default(),
+            grain: DEFAULT_GRAIN,
             timing: None,
             pool: None,
             oracle: None,
@@ -146,6 +144,7 @@ impl World {
     ) -> Result<Self, rayon::ThreadPoolBuildError> {
         let mut world = Self::from_scene(scene, kind.build_with(config));
         world.set_threads(config.threads)?;
+        world.set_grain(config.grain);
         Ok(world)
     }
 
@@ -164,6 +163,14 @@ impl World {
             None
         };
         Ok(())
+    }
+
+    /// Sets the smallest piece of work the steps' own phases (sorting and
+    /// resolving events, moving lines, checking walls) hand to a thread:
+    /// `grain` events, or four times as many lines. The detector has its
+    /// own setting.
+    pub fn set_grain(&mut self, grain: usize) {
+        self.grain = grain.max(1);
     }
 
     /// Threads a step runs on.
@@ -268,7 +275,7 @@ impl World {
         let t1 = self.lap(t0, |t, d| t.detect += d);
 
         // Pairs are unique, so an unstable sort gives the one sorted order.
-        if parallel && self.events.len() >= PARALLEL_EVENTS {
+        if parallel && self.events.len() >= self.grain {
             use rayon::slice::ParallelSliceMut;
             self.events.par_sort_unstable_by_key(Event::order_key);
         } else {
@@ -280,12 +287,15 @@ impl World {
             self.mismatch = self.compare(expected).err();
             self.steps -= 1;
         }
-        for event in &self.events {
-            resolve(&mut self.lines, event);
-        }
+        self.resolver.resolve_all(
+            &mut self.lines,
+            &self.events,
+            parallel.then_some(self.grain),
+        );
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
-        let parallel = parallel && self.lines.len() >= PARALLEL_LINES;
+        let parallel = parallel && self.lines.len() >= 4 * self.grain;
+        let chunk = self.grain;
         let advance = |lines: &mut [Line]| {
             for line in lines {
                 line.p1 = line.p1 + line.v * DT;
@@ -300,7 +310,7 @@ impl World {
         };
         if parallel {
             use rayon::prelude::*;
-            self.lines.par_chunks_mut(LINE_CHUNK).for_each(advance);
+            self.lines.par_chunks_mut(chunk).for_each(advance);
         } else {
             advance(&mut self.lines);
         }
@@ -309,7 +319,7 @@ impl World {
         // The wall counter is a sum, the same in any order.
         let hits = if parallel {
             use rayon::prelude::*;
-            self.lines.par_chunks_mut(LINE_CHUNK).map(walls).sum()
+            self.lines.par_chunks_mut(chunk).map(walls).sum()
         } else {
             walls(&mut self.lines)
         };

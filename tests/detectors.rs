@@ -65,6 +65,7 @@ fn check_all(lines: &[Line], steps: usize) -> Result<(), String> {
             let colors = vec![Color::Red; lines.len()];
             let mut world = World::new(lines.to_vec(), colors, kind.build_with(config));
             world.set_threads(config.threads).expect("a thread pool");
+            world.set_grain(config.grain);
             let mut oracle = Brute::default();
             for _ in 0..steps {
                 world
