@@ -13,12 +13,13 @@
 //!   once, when the grid must grow, or when a line turns NaN.
 //! - **Rebuilt**: the tree is built over the swept hulls every step and its
 //!   pairs go straight to the exact test, as in the write-up.
-//! - **Auto** (the default): the cached way, except while the rebuilt way is
-//!   measured to be faster. Scenes where lines change course all the time
-//!   (dense collisions) wear out fat hulls faster than they pay off, and so
-//!   do huge scenes of tiny lines. At the end of its first 32 steps, and of
-//!   every [`PERIOD`] steps after, the detector runs the other way for a
-//!   few steps and keeps whichever took less time per step.
+//! - **Auto** (the default): whichever of the two is measured to be faster.
+//!   Scenes where lines change course all the time (dense collisions) wear
+//!   out fat hulls faster than they pay off, and so do huge scenes of tiny
+//!   lines. The detector starts rebuilding; after its first few steps, and
+//!   once every [`PERIOD`] steps after, it tries the other way for a few
+//!   steps (giving up early if that is clearly slower) and keeps whichever
+//!   took less time per step.
 //!
 //! All find exactly the all-pairs detector's events, so the choice affects
 //! speed only, never results; so does the number of threads the work is
@@ -94,67 +95,100 @@ impl FromStr for TreeMode {
     }
 }
 
-/// Auto mode: steps between two trials of the way not in use.
+/// Auto mode: steps between the starts of two trials of the way not in
+/// use (once the first trial is over).
 pub const PERIOD: u64 = 256;
-/// Auto mode: steps each trial lasts.
+/// Auto mode: steps each trial lasts, unless it gives up early.
 const TRIAL: u64 = 16;
-/// Auto mode: first steps of a stint left out of its timing (a switch to
-/// the cached way starts with a rebuild).
+/// Auto mode: steps the first stint lasts, before the first trial.
+const FIRST_STINT: u64 = 8;
+/// Auto mode: first steps of a stint or trial left out of its timing (a
+/// switch to the cached way starts with a rebuild).
 const WARM_UP: u64 = 2;
+/// Auto mode: a trial gives up once two timed steps in a row have each
+/// taken this many times the stint's time per step.
+const GIVE_UP: f64 = 1.3;
 
-/// Auto mode's bookkeeping: which way is preferred, and the time per step
-/// of each way in the current period.
-#[derive(Debug, Default)]
+/// Auto mode's bookkeeping: which way is preferred, where the current
+/// stint (the preferred way) or trial (the other way) stands, and the time
+/// per step of each.
+#[derive(Debug)]
 struct Chooser {
     prefer_rebuilt: bool,
-    steps: u64,
-    /// Seconds and steps timed: index 0 for the trial, 1 for the rest.
+    /// Whether the current steps are a trial of the other way.
+    trial: bool,
+    /// Steps taken so far in the current stint or trial.
+    into: u64,
+    /// Whether the current stint is the first.
+    first: bool,
+    /// Seconds and steps timed: index 0 for the trial, 1 for the stint.
     timed: [(f64, u32); 2],
+    /// Timed trial steps in a row that were slow enough to give up.
+    slow: u32,
+}
+
+impl Default for Chooser {
+    /// Starts rebuilding: it needs no warming up, so the first stint is
+    /// short and cheap on any scene, and the cached way is tried next.
+    fn default() -> Self {
+        Self {
+            prefer_rebuilt: true,
+            trial: false,
+            into: 0,
+            first: true,
+            timed: [(0.0, 0); 2],
+            slow: 0,
+        }
+    }
 }
 
 impl Chooser {
-    /// Where the current step falls: its place in the current period, the
-    /// period's length, and whether it is in the trial (the period's last
-    /// [`TRIAL`] steps). The first period is short, so that a choice is made
-    /// early in short runs; later ones last [`PERIOD`] steps.
-    fn phase(&self) -> (u64, u64, bool) {
-        let first = 2 * TRIAL;
-        let (phase, length) = if self.steps < first {
-            (self.steps, first)
-        } else {
-            ((self.steps - first) % PERIOD, PERIOD)
-        };
-        (phase, length, phase >= length - TRIAL)
-    }
-
     /// Whether this step should use the rebuilt way.
     fn rebuilt_now(&self) -> bool {
-        self.prefer_rebuilt != self.phase().2
+        self.prefer_rebuilt != self.trial
     }
 
-    /// Records this step's detection time; at the end of a period, keeps
-    /// the faster way (the trial must win by 5% to take over).
+    /// Records this step's detection time. A trial that is clearly losing
+    /// gives up early; one that runs its course takes over if it beat the
+    /// stint by 5%.
     fn record(&mut self, seconds: f64) {
-        let (phase, length, trial) = self.phase();
-        let (slot, into_stint) = if trial {
-            (0, phase - (length - TRIAL))
-        } else {
-            (1, phase)
-        };
-        if into_stint >= WARM_UP {
+        let slot = usize::from(!self.trial);
+        if self.into >= WARM_UP {
             self.timed[slot].0 += seconds;
             self.timed[slot].1 += 1;
         }
-        if phase == length - 1 {
-            let mean = |(t, n): (f64, u32)| (n > 0).then(|| t / f64::from(n));
-            if let (Some(trial), Some(rest)) = (mean(self.timed[0]), mean(self.timed[1])) {
-                if trial < 0.95 * rest {
-                    self.prefer_rebuilt = !self.prefer_rebuilt;
+        self.into += 1;
+        let mean = |(t, n): (f64, u32)| (n > 0).then(|| t / f64::from(n));
+        if self.trial {
+            let (trial, stint) = (mean(self.timed[0]), mean(self.timed[1]));
+            // A way can start well and wear out (fat hulls), so it is the
+            // latest steps that say whether to give up.
+            let timed = self.into > WARM_UP;
+            let slow = matches!(stint, Some(s) if timed && seconds > GIVE_UP * s);
+            self.slow = if slow { self.slow + 1 } else { 0 };
+            let losing = self.slow >= 2;
+            if losing || self.into == TRIAL {
+                if let (false, Some(t), Some(s)) = (losing, trial, stint) {
+                    if t < 0.95 * s {
+                        self.prefer_rebuilt = !self.prefer_rebuilt;
+                    }
                 }
+                self.trial = false;
+                self.first = false;
+                self.into = 0;
+                self.timed = [(0.0, 0); 2];
+                self.slow = 0;
             }
-            self.timed = [(0.0, 0); 2];
+        } else if self.into
+            == if self.first {
+                FIRST_STINT
+            } else {
+                PERIOD - TRIAL
+            }
+        {
+            self.trial = true;
+            self.into = 0;
         }
-        self.steps += 1;
     }
 }
 
@@ -468,14 +502,15 @@ impl Quadtree {
 
     /// Sets `order` to the tree's order of the boxed slots, then the others.
     fn reorder(&mut self) {
-        let slots = &self.slots;
+        let (slots, entries) = (&self.slots, &self.tree.entries);
+        let id = |e: &Entry| slots[e.cells.id as usize].id;
         self.order.clear();
-        self.order.extend(
-            self.tree
-                .entries
-                .iter()
-                .map(|e| slots[e.cells.id as usize].id),
-        );
+        if self.parallel() && entries.len() >= 2 * self.grain {
+            use rayon::prelude::*;
+            self.order.par_extend(entries.par_iter().map(id));
+        } else {
+            self.order.extend(entries.iter().map(id));
+        }
         self.order.extend_from_slice(&self.unboxed);
     }
 
@@ -483,6 +518,9 @@ impl Quadtree {
     /// hulls or swept ones, and sorts them (nearly sorted already when the
     /// slots are in last step's tree order).
     fn set_entries(&mut self, fat: bool) {
+        // Spots speed up the cached way's queries, but would change the
+        // swept hulls' keys too often for the rebuilt way's sort.
+        self.tree.set_spots(fat);
         let (grid, max_depth) = (self.grid, self.tree.max_depth());
         let (hulls, boxed) = (if fat { &self.fat } else { &self.hulls }, &self.boxed);
         // Every slot gets an entry, in place; the unboxed ones get a key
@@ -490,7 +528,7 @@ impl Quadtree {
         let entry = |s: usize| {
             let cells = grid.cells(&hulls[s], s as u32);
             let key = if boxed[s] {
-                tree::key(&cells, max_depth)
+                tree::key(&cells, max_depth, fat)
             } else {
                 UNBOXED_KEY
             };
@@ -669,7 +707,7 @@ impl Quadtree {
             let s = e.cells.id;
             is_moved[s as usize] && {
                 e.cells = grid.cells(&fat[s as usize], s);
-                let key = tree::key(&e.cells, max_depth);
+                let key = tree::key(&e.cells, max_depth, true);
                 std::mem::replace(&mut e.key, key) != key
             }
         };
@@ -747,7 +785,7 @@ pub fn count_overlapping(boxes: &[SweptBox], config: &super::DetectorConfig) -> 
     tree.entries.extend(boxes.iter().enumerate().map(|(k, b)| {
         let cells = grid.cells(b, k as u32);
         Entry {
-            key: tree::key(&cells, max_depth),
+            key: tree::key(&cells, max_depth, false),
             cells,
         }
     }));
@@ -803,28 +841,39 @@ impl Detector for Quadtree {
 mod tests {
     use super::*;
 
+    /// Runs `steps` steps of a chooser where a rebuilt step takes
+    /// `rebuilt` seconds and a cached one `cached`; returns the ways used.
+    fn run(c: &mut Chooser, steps: u64, rebuilt: f64, cached: f64) -> Vec<bool> {
+        (0..steps)
+            .map(|_| {
+                let way = c.rebuilt_now();
+                c.record(if way { rebuilt } else { cached });
+                way
+            })
+            .collect()
+    }
+
     #[test]
     fn the_chooser_tries_the_other_way_then_keeps_the_faster() {
         let mut c = Chooser::default();
-        // The first steps use the cached way; the trial comes last.
-        for step in 0..2 * TRIAL {
-            let rebuilt = c.rebuilt_now();
-            assert_eq!(rebuilt, step >= TRIAL, "step {step}");
-            // Rebuilding is twice as fast here.
-            c.record(if rebuilt { 1.0 } else { 2.0 });
-        }
-        assert!(c.prefer_rebuilt);
-        // Now the cached way is the trial, and it stays slower.
-        for _ in 0..PERIOD {
-            let rebuilt = c.rebuilt_now();
-            c.record(if rebuilt { 1.0 } else { 2.0 });
-        }
-        assert!(c.prefer_rebuilt);
+        // A short rebuilt stint, then a full cached trial, which wins.
+        let ways = run(&mut c, FIRST_STINT + TRIAL, 2.0, 1.0);
+        assert!(ways[..FIRST_STINT as usize].iter().all(|&r| r));
+        assert!(ways[FIRST_STINT as usize..].iter().all(|&r| !r));
+        assert!(!c.prefer_rebuilt);
+        // Now rebuilt is the trial, once a period, and it keeps losing.
+        let ways = run(&mut c, PERIOD, 2.0, 1.0);
+        let trial = PERIOD - TRIAL;
+        assert!(ways[..trial as usize].iter().all(|&r| !r));
+        // Twice as slow: it gives up after its warm-up and two timed steps.
+        let tried = ways[trial as usize..].iter().take_while(|&&r| r).count() as u64;
+        assert_eq!(tried, WARM_UP + 2);
+        assert!(!c.prefer_rebuilt);
         // A near tie does not switch.
-        for _ in 0..PERIOD {
-            let rebuilt = c.rebuilt_now();
-            c.record(if rebuilt { 1.0 } else { 0.98 });
-        }
+        run(&mut c, 2 * PERIOD, 0.98, 1.0);
+        assert!(!c.prefer_rebuilt);
+        // A clear win does.
+        run(&mut c, 2 * PERIOD, 0.5, 1.0);
         assert!(c.prefer_rebuilt);
     }
 

@@ -36,6 +36,12 @@ pub const GRID_LEVELS: u32 = 16;
 
 const LEVEL_BITS: u32 = 5;
 const LEVEL_MASK: u64 = (1 << LEVEL_BITS) - 1;
+/// Steps, as a power of two, across a node that a misfit's *spot* (where
+/// it lies along the centre line it straddles) is measured in.
+const SPOT_BITS: u32 = 8;
+/// Key bits below the level: which centre line, then the spot.
+const SUB_BITS: u32 = SPOT_BITS + 1;
+const SPOT_MASK: u64 = (1 << SPOT_BITS) - 1;
 
 /// A line's swept hull in finest-level grid cells (inclusive), along the
 /// axes and the diagonals, with its id.
@@ -88,7 +94,7 @@ pub struct Entry {
 impl Entry {
     #[inline]
     fn level(&self) -> u32 {
-        (self.key & LEVEL_MASK) as u32
+        ((self.key >> SUB_BITS) & LEVEL_MASK) as u32
     }
 }
 
@@ -197,15 +203,44 @@ impl Grid {
     }
 }
 
-/// The sort key of a line: its node's cell (Morton order) and level.
+/// The sort key of a line: its node's cell (Morton order), its level, and
+/// (with `spots`) its [`spot`] in the node.
 #[inline]
-pub fn key(c: &Cells, max_depth: u32) -> u64 {
+pub fn key(c: &Cells, max_depth: u32, spots: bool) -> u64 {
     let differ = u32::from((c.x0 ^ c.x1) | (c.y0 ^ c.y1));
     let fits = GRID_LEVELS - (u32::BITS - differ.leading_zeros());
     let level = fits.min(max_depth);
     let keep = !((1u32 << (GRID_LEVELS - level)) - 1) as u16;
     let morton = spread(c.x0 & keep) | (spread(c.y0 & keep) << 1);
-    (u64::from(morton) << LEVEL_BITS) | u64::from(level)
+    let node = (u64::from(morton) << LEVEL_BITS) | u64::from(level);
+    let spot = if spots { spot(c, level) } else { 0 };
+    (node << SUB_BITS) | u64::from(spot)
+}
+
+/// Where a line lies among its node's misfits, which sort by it: those
+/// straddling the node's vertical centre line first, by their lowest `y`,
+/// then the others, by their lowest `x`, each measured in `2^SPOT_BITS`
+/// steps across the node. Misfits lie spread along the line they
+/// straddle, so a query ([`Tree::query`]) finds the ones near its probe by
+/// binary search instead of reading them all. Spots change as lines move,
+/// which puts more of them out of last step's order: they pay where the
+/// tree is queried and keys change seldom (the cached way's fat hulls).
+#[inline]
+fn spot(c: &Cells, level: u32) -> u32 {
+    let side_bits = GRID_LEVELS - level;
+    if side_bits == 0 {
+        return 0;
+    }
+    let across_x = (c.x0 ^ c.x1) >> (side_bits - 1) & 1 == 1;
+    let (group, along) = if across_x { (0, c.y0) } else { (1, c.x0) };
+    (group << SPOT_BITS) | step_in_node(along, side_bits)
+}
+
+/// The step of coordinate `v` across a node of side `2^side_bits` cells.
+#[inline]
+fn step_in_node(v: u16, side_bits: u32) -> u32 {
+    let within = u32::from(v) & ((1 << side_bits) - 1);
+    within >> side_bits.saturating_sub(SPOT_BITS)
 }
 
 /// Sorts entries by key by insertion, fast when they are nearly sorted
@@ -320,6 +355,10 @@ pub struct Tree {
     max_depth: u32,
     /// The lines' entries; [`Tree::sort`] puts them in key order.
     pub entries: Vec<Entry>,
+    /// Whether keys carry spots (see [`Tree::set_spots`]).
+    spots: bool,
+    /// The largest extent of any entry's cells along `x` and along `y`.
+    extent: (u16, u16),
     /// Whether each entry's key may differ from that of the entry at its
     /// place when the entries were last sorted (see [`Tree::refill`]).
     changed: Vec<bool>,
@@ -339,6 +378,10 @@ struct Walk<'t> {
     /// Subtrees of at least this many lines are split among threads; zero
     /// for a serial walk.
     parallel_min: usize,
+    /// For queries: whether the keys carry spots, and the entries' largest
+    /// extents along `x` and `y`.
+    spots: bool,
+    extent: (u16, u16),
 }
 
 impl Tree {
@@ -349,6 +392,8 @@ impl Tree {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
             entries: Vec::new(),
+            spots: false,
+            extent: (u16::MAX, u16::MAX),
             changed: Vec::new(),
             runs: Vec::new(),
             movers: Vec::new(),
@@ -360,6 +405,13 @@ impl Tree {
     /// The depth limit in force.
     pub fn max_depth(&self) -> u32 {
         self.max_depth
+    }
+
+    /// Sets whether the entries' keys carry spots (see [`key`]), which
+    /// queries then use to skip misfits. Entries must be remade to match
+    /// before a query.
+    pub fn set_spots(&mut self, spots: bool) {
+        self.spots = spots;
     }
 
     /// Sets the entries to `make(0)`, ..., `make(n - 1)` (in chunks of
@@ -419,11 +471,15 @@ impl Tree {
     /// if `parallel`).
     pub fn sort(&mut self, parallel: bool) {
         let n = self.entries.len();
-        let descents = self
-            .entries
-            .windows(2)
-            .filter(|w| w[1].key < w[0].key)
-            .count();
+        let (mut descents, mut extent, mut previous) = (0, (0, 0), 0);
+        for e in &self.entries {
+            descents += usize::from(e.key < previous);
+            previous = e.key;
+            let c = &e.cells;
+            extent.0 = extent.0.max(c.x1.saturating_sub(c.x0));
+            extent.1 = extent.1.max(c.y1.saturating_sub(c.y0));
+        }
+        self.extent = extent;
         if descents == 0 {
             return;
         }
@@ -572,6 +628,8 @@ impl Tree {
             } else {
                 0
             },
+            spots: false,
+            extent: (0, 0),
         };
         self.scratch.active.clear();
         self.scratch.counts = WalkCounts::default();
@@ -592,6 +650,8 @@ impl Tree {
                 leaf_size: self.leaf_size,
                 max_depth: self.max_depth,
                 parallel_min: 0,
+                spots: self.spots,
+                extent: self.extent,
             };
             walk.query_node(&mut counts, probe, &mut sink, 0, n, 0, Self::root());
         }
@@ -711,10 +771,26 @@ impl Walk<'_> {
     /// node's lines past its misfits), as five boundaries.
     fn child_runs(&self, mid: usize, hi: usize, level: u32) -> [usize; 5] {
         // The two key bits below the node's level choose the quadrant.
-        let shift = LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
+        let shift = SUB_BITS + LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
         let run = &self.entries[mid..hi];
         let split = |c: u64| mid + run.partition_point(|e| (e.key >> shift) & 3 < c);
         [mid, split(1), split(2), split(3), hi]
+    }
+
+    /// Reports the entries of `run` whose cells overlap `probe`.
+    fn query_run(
+        &self,
+        counts: &mut WalkCounts,
+        probe: &Cells,
+        sink: &mut impl FnMut(u32),
+        run: &[Entry],
+    ) {
+        counts.candidates += run.len() as u64;
+        for e in run {
+            if probe.overlaps(&e.cells) {
+                sink(e.cells.id);
+            }
+        }
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -730,19 +806,25 @@ impl Walk<'_> {
     ) {
         counts.nodes += 1;
         let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
-        let mid = if leaf {
-            hi
-        } else {
-            lo + self.entries[lo..hi].partition_point(|e| e.level() == level)
-        };
-        counts.candidates += (mid - lo) as u64;
-        for e in &self.entries[lo..mid] {
-            if probe.overlaps(&e.cells) {
-                sink(e.cells.id);
-            }
-        }
         if leaf {
+            self.query_run(counts, probe, sink, &self.entries[lo..hi]);
             return;
+        }
+        let mid = lo + self.entries[lo..hi].partition_point(|e| e.level() == level);
+        let misfits = &self.entries[lo..mid];
+        if self.spots {
+            // Those across the vertical centre line by lowest y, then the
+            // others by lowest x: only the spots the probe can reach.
+            let across = misfits.partition_point(|e| (e.key >> SPOT_BITS) & 1 == 0);
+            let (extent_x, extent_y) = self.extent;
+            let (ys, xs) = misfits.split_at(across);
+            let side_bits = GRID_LEVELS - level;
+            let ys = near_spots(ys, (probe.y0, probe.y1), extent_y, block.y0, side_bits);
+            let xs = near_spots(xs, (probe.x0, probe.x1), extent_x, block.x0, side_bits);
+            self.query_run(counts, probe, sink, ys);
+            self.query_run(counts, probe, sink, xs);
+        } else {
+            self.query_run(counts, probe, sink, misfits);
         }
         let bounds = self.child_runs(mid, hi, level);
         for c in 0..4 {
@@ -760,6 +842,33 @@ impl Walk<'_> {
             }
         }
     }
+}
+
+/// The entries of `run` (misfits of a node of side `2^side_bits` cells from
+/// `start`, sorted by spot along one direction) whose lowest coordinate on
+/// that direction lies within `extent` below `span`, or in it: those whose
+/// cells can reach `span` there.
+fn near_spots(
+    run: &[Entry],
+    span: (u16, u16),
+    extent: u16,
+    start: u32,
+    side_bits: u32,
+) -> &[Entry] {
+    let last = start + (1 << side_bits) - 1;
+    let from = u32::from(span.0)
+        .saturating_sub(u32::from(extent))
+        .clamp(start, last);
+    let to = u32::from(span.1).clamp(start, last);
+    // Both within the node, so within u16.
+    let (a, b) = (
+        step_in_node(from as u16, side_bits),
+        step_in_node(to as u16, side_bits),
+    );
+    let spot = |e: &Entry| (e.key & SPOT_MASK) as u32;
+    let i = run.partition_point(|e| spot(e) < a);
+    let j = run.partition_point(|e| spot(e) <= b);
+    &run[i..j.max(i)]
 }
 
 /// The pairs a node owes: every pair within `own` (its misfits, or a leaf's
@@ -893,20 +1002,21 @@ mod tests {
     #[test]
     fn a_box_lives_at_the_deepest_quadrant_holding_it() {
         // One cell: the finest level, capped by max_depth.
-        assert_eq!(key(&cells(5, 9, 5, 9), 16) & LEVEL_MASK, 16);
-        assert_eq!(key(&cells(5, 9, 5, 9), 12) & LEVEL_MASK, 12);
+        let level = |k: u64| (k >> SUB_BITS) & LEVEL_MASK;
+        assert_eq!(level(key(&cells(5, 9, 5, 9), 16, true)), 16);
+        assert_eq!(level(key(&cells(5, 9, 5, 9), 12, true)), 12);
         // Straddling the root's middle in x: a root misfit.
-        assert_eq!(key(&cells(32767, 10, 32768, 10), 16) & LEVEL_MASK, 0);
+        assert_eq!(level(key(&cells(32767, 10, 32768, 10), 16, true)), 0);
         // Within the left half but straddling its middle: level 1.
-        assert_eq!(key(&cells(16383, 10, 16384, 10), 16) & LEVEL_MASK, 1);
+        assert_eq!(level(key(&cells(16383, 10, 16384, 10), 16, true)), 1);
     }
 
     #[test]
     fn a_node_sorts_before_its_subtree_and_after_its_ancestors() {
-        let root_misfit = key(&cells(0, 0, 40000, 10), 16);
-        let node = key(&cells(0, 0, 20000, 10), 16);
-        let deep = key(&cells(0, 0, 1, 1), 16);
-        let sibling = key(&cells(40000, 0, 40001, 1), 16);
+        let root_misfit = key(&cells(0, 0, 40000, 10), 16, true);
+        let node = key(&cells(0, 0, 20000, 10), 16, true);
+        let deep = key(&cells(0, 0, 1, 1), 16, true);
+        let sibling = key(&cells(40000, 0, 40001, 1), 16, true);
         assert!(root_misfit < node && node < deep && deep < sibling);
     }
 
@@ -1017,6 +1127,61 @@ mod tests {
             proptest::prop_assert!(ids.iter().enumerate().all(|(i, &id)| id as usize == i));
             for e in &tree.entries {
                 proptest::prop_assert_eq!(e.key, keys[e.cells.id as usize]);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// A query finds exactly the entries whose cells overlap the probe,
+        /// with spots or without, for boxes large and small.
+        #[test]
+        fn queries_find_every_overlap(
+            boxes in proptest::collection::vec(
+                (0u16..60000, 0u16..60000, 0u16..5000, 0u16..5000),
+                1..400,
+            ),
+            probes in proptest::collection::vec(
+                (0u16..60000, 0u16..60000, 0u16..9000, 0u16..9000),
+                1..40,
+            ),
+            // Down to a few hundred cells across, where spots are single
+            // cells and every off-by-one shows.
+            scale in proptest::sample::select(vec![1u16, 30, 300]),
+            leaf_size in 1usize..8,
+            spots: bool,
+        ) {
+            let make = |&(x, y, w, h): &(u16, u16, u16, u16), id: usize| {
+                let (x, y, w, h) = (x / scale, y / scale, w / scale, h / scale);
+                Cells {
+                    id: id as u32,
+                    ..cells(x, y, x.saturating_add(w), y.saturating_add(h))
+                }
+            };
+            let mut tree = Tree::new(leaf_size, 16);
+            tree.set_spots(spots);
+            tree.entries = boxes
+                .iter()
+                .enumerate()
+                .map(|(id, b)| {
+                    let cells = make(b, id);
+                    Entry { key: key(&cells, 16, spots), cells }
+                })
+                .collect();
+            tree.sort(false);
+            for p in &probes {
+                let probe = make(p, usize::MAX >> 33);
+                let mut found = Vec::new();
+                tree.query(&probe, |id| found.push(id));
+                found.sort_unstable();
+                let expected: Vec<u32> = tree
+                    .entries
+                    .iter()
+                    .filter(|e| probe.overlaps(&e.cells))
+                    .map(|e| e.cells.id)
+                    .collect::<std::collections::BTreeSet<_>>()
+                    .into_iter()
+                    .collect();
+                proptest::prop_assert_eq!(found, expected);
             }
         }
     }
