@@ -50,6 +50,23 @@ fn is_gray(c: [u8; 3]) -> bool {
     c[0] >= 60 && c[0].abs_diff(c[1]) <= 4 && c[1].abs_diff(c[2]) <= 4
 }
 
+/// The red line crosses pixel `red` (or the one above it, as the line's
+/// edge may fall between them) and the gray one pixel `gray` (or the one to
+/// its left).
+fn assert_lines_drawn(p: &Pixmap, red: (u32, u32), gray: (u32, u32)) {
+    let ((rx, ry), (gx, gy)) = (red, gray);
+    assert!(
+        is_red(rgb(p, rx, ry)) || is_red(rgb(p, rx, ry - 1)),
+        "{:?}",
+        rgb(p, rx, ry)
+    );
+    assert!(
+        is_gray(rgb(p, gx, gy)) || is_gray(rgb(p, gx - 1, gy)),
+        "{:?}",
+        rgb(p, gx, gy)
+    );
+}
+
 #[test]
 fn png_shows_the_lines_where_they_are() {
     let dir = temp_dir("png");
@@ -63,16 +80,7 @@ fn png_shows_the_lines_where_they_are() {
     let p = Pixmap::load_png(&out).unwrap();
     assert_eq!((p.width(), p.height()), (1180, 800));
     // Window coordinates are pixel coordinates at the default size.
-    assert!(
-        is_red(rgb(&p, 500, 200)) || is_red(rgb(&p, 500, 199)),
-        "{:?}",
-        rgb(&p, 500, 200)
-    );
-    assert!(
-        is_gray(rgb(&p, 900, 500)) || is_gray(rgb(&p, 899, 500)),
-        "{:?}",
-        rgb(&p, 900, 500)
-    );
+    assert_lines_drawn(&p, (500, 200), (900, 500));
     for (x, y) in [(5, 5), (1175, 795), (500, 400), (200, 600), (1100, 200)] {
         assert_eq!(rgb(&p, x, y), [0, 0, 0], "at {x}, {y}");
     }
@@ -99,16 +107,7 @@ fn sizes_scale_the_picture() {
     ]);
     let p = Pixmap::load_png(&out).unwrap();
     assert_eq!((p.width(), p.height()), (590, 400));
-    assert!(
-        is_red(rgb(&p, 250, 100)) || is_red(rgb(&p, 250, 99)),
-        "{:?}",
-        rgb(&p, 250, 100)
-    );
-    assert!(
-        is_gray(rgb(&p, 450, 250)) || is_gray(rgb(&p, 449, 250)),
-        "{:?}",
-        rgb(&p, 450, 250)
-    );
+    assert_lines_drawn(&p, (250, 100), (450, 250));
 }
 
 #[test]

@@ -357,7 +357,8 @@ pub struct Tree {
     pub entries: Vec<Entry>,
     /// Whether keys carry spots (see [`Tree::set_spots`]).
     spots: bool,
-    /// The largest extent of any entry's cells along `x` and along `y`.
+    /// The largest extent of any entry's cells along `x` and along `y`
+    /// (kept up to date by [`Tree::sort`] while spots are on).
     extent: (u16, u16),
     /// Whether each entry's key may differ from that of the entry at its
     /// place when the entries were last sorted (see [`Tree::refill`]).
@@ -411,6 +412,10 @@ impl Tree {
     /// queries then use to skip misfits. Entries must be remade to match
     /// before a query.
     pub fn set_spots(&mut self, spots: bool) {
+        if spots != self.spots {
+            // Unknown until the next sort: no misfit may be skipped.
+            self.extent = (u16::MAX, u16::MAX);
+        }
         self.spots = spots;
     }
 
@@ -471,15 +476,21 @@ impl Tree {
     /// if `parallel`).
     pub fn sort(&mut self, parallel: bool) {
         let n = self.entries.len();
-        let (mut descents, mut extent, mut previous) = (0, (0, 0), 0);
-        for e in &self.entries {
-            descents += usize::from(e.key < previous);
-            previous = e.key;
-            let c = &e.cells;
-            extent.0 = extent.0.max(c.x1.saturating_sub(c.x0));
-            extent.1 = extent.1.max(c.y1.saturating_sub(c.y0));
+        let descents = self
+            .entries
+            .windows(2)
+            .filter(|w| w[1].key < w[0].key)
+            .count();
+        if self.spots {
+            // Only queries read the extents, and only spots make use of them.
+            self.extent = self.entries.iter().fold((0, 0), |(x, y), e| {
+                let c = &e.cells;
+                (
+                    x.max(c.x1.saturating_sub(c.x0)),
+                    y.max(c.y1.saturating_sub(c.y0)),
+                )
+            });
         }
-        self.extent = extent;
         if descents == 0 {
             return;
         }
