@@ -38,7 +38,7 @@ use crate::narrow::Event;
 use std::fmt;
 use std::str::FromStr;
 use std::time::Instant;
-use tree::{Entry, Grid, Tree};
+use tree::{Cells, Entry, Grid, Refill, Tree};
 
 /// Default for the largest number of lines a leaf holds before it splits.
 pub const DEFAULT_LEAF_SIZE: usize = 16;
@@ -209,11 +209,10 @@ pub struct Quadtree {
     grid: Grid,
     /// Every line's id, in the order slots are filled.
     order: Vec<u32>,
-    /// This step's lines in `order`, as gathered.
-    gathered: Vec<Line>,
     /// This step's lines in `order`, with what the pair test needs.
     slots: Vec<Slot>,
-    /// Each slot's swept hull this step (meaningful where `boxed`).
+    /// Each slot's swept hull this step (meaningful where `boxed`; cached
+    /// mode only).
     hulls: Vec<SweptBox>,
     /// Whether each slot's line has a finite hull and is in the tree.
     boxed: Vec<bool>,
@@ -346,29 +345,82 @@ impl tree::Collector for PairCollector {
     }
 }
 
-/// Fills one run of slots from the gathered lines; returns the union of the
-/// hulls of the boxed ones.
+/// Where a run of slots' swept hulls go.
+enum HullSink<'a> {
+    /// Kept as they are: the cached way refits and tests pairs with them.
+    Keep(&'a mut [SweptBox]),
+    /// Turned straight into the tree's entries (without spots) over the
+    /// grid: the rebuilt way needs nothing else of them.
+    Enter(Refill<'a>, Grid, u32),
+}
+
+impl<'a> HullSink<'a> {
+    fn chunks(self, size: usize) -> Vec<HullSink<'a>> {
+        match self {
+            HullSink::Keep(hulls) => hulls.chunks_mut(size).map(HullSink::Keep).collect(),
+            HullSink::Enter(refill, grid, max_depth) => refill
+                .chunks(size)
+                .into_iter()
+                .map(|run| HullSink::Enter(run, grid, max_depth))
+                .collect(),
+        }
+    }
+}
+
+/// Fills one run of slots (numbered from `first`) with the lines `ids`
+/// names; returns the union of the hulls of the boxed ones.
 fn fill_run(
+    first: usize,
     ids: &[u32],
-    gathered: &[Line],
+    lines: &[Line],
     slots: &mut [Slot],
-    hulls: &mut [SweptBox],
+    mut sink: HullSink<'_>,
     boxed: &mut [bool],
     dt: f64,
 ) -> Option<SweptBox> {
+    // Gather first, in a loop tight enough to keep many of its scattered
+    // reads in flight; then work on the copies in order.
+    for (slot, &id) in slots.iter_mut().zip(ids) {
+        slot.line = lines[id as usize];
+    }
     let mut bounds: Option<SweptBox> = None;
     for k in 0..ids.len() {
-        let line = gathered[k];
-        let (hull, magnitude) = swept_box(&line, dt);
-        slots[k] = Slot {
-            line,
-            magnitude,
-            id: ids[k],
-        };
+        let slot = &mut slots[k];
+        let (hull, magnitude) = swept_box(&slot.line, dt);
+        slot.magnitude = magnitude;
+        slot.id = ids[k];
         boxed[k] = hull.is_some();
         if let Some(hull) = hull {
             bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
-            hulls[k] = hull;
+        }
+        match &mut sink {
+            HullSink::Keep(hulls) => {
+                if let Some(hull) = hull {
+                    hulls[k] = hull;
+                }
+            }
+            HullSink::Enter(refill, grid, max_depth) => {
+                let s = (first + k) as u32;
+                refill.set(
+                    k,
+                    match hull {
+                        Some(hull) => {
+                            let cells = grid.cells(&hull, s);
+                            Entry {
+                                key: tree::key(&cells, *max_depth, false),
+                                cells,
+                            }
+                        }
+                        None => Entry {
+                            key: UNBOXED_KEY,
+                            cells: Cells {
+                                id: s,
+                                ..Cells::default()
+                            },
+                        },
+                    },
+                );
+            }
         }
     }
     bounds
@@ -408,7 +460,6 @@ impl Quadtree {
                 ..SweptBox::default()
             }),
             order: Vec::new(),
-            gathered: Vec::new(),
             slots: Vec::new(),
             hulls: Vec::new(),
             boxed: Vec::new(),
@@ -429,45 +480,49 @@ impl Quadtree {
         self.threads > 1
     }
 
-    /// Copies the lines into slots in `order`, with their swept hulls, and
-    /// sorts out the wild and inert ones. Returns the union of the hulls.
-    fn fill_slots(&mut self, lines: &[Line], dt: f64) -> Option<SweptBox> {
+    /// Copies the lines into slots in `order` and sorts out the wild and
+    /// inert ones; keeps their swept hulls or, if `enter`, makes them the
+    /// tree's entries over the current grid (left unsorted). Returns the
+    /// union of the hulls.
+    fn fill_slots(&mut self, lines: &[Line], dt: f64, enter: bool) -> Option<SweptBox> {
         let n = lines.len();
         if self.order.len() != n {
             self.order.clear();
             self.order.extend(0..n as u32);
             self.valid = false;
         }
-        self.gathered.resize(n, Line::default());
         self.slots.resize(n, Slot::default());
-        self.hulls.resize(n, SweptBox::default());
         self.boxed.resize(n, false);
-        // Gather first, in a loop tight enough to keep many of its scattered
-        // reads in flight; then work on the copies in order.
+        let sink = if enter {
+            // Spots would change the swept hulls' keys too often for the
+            // sort.
+            self.tree.set_spots(false);
+            let max_depth = self.tree.max_depth();
+            HullSink::Enter(self.tree.refill_in_place(n), self.grid, max_depth)
+        } else {
+            self.hulls.resize(n, SweptBox::default());
+            HullSink::Keep(&mut self.hulls)
+        };
         let chunk = self.grain;
-        let bounds = if self.parallel() && n >= 2 * chunk {
+        let bounds = if self.threads > 1 && n >= 2 * chunk {
             use rayon::prelude::*;
-            self.gathered
-                .par_iter_mut()
-                .zip(self.order.par_iter())
-                .for_each(|(g, &id)| *g = lines[id as usize]);
             self.order
                 .par_chunks(chunk)
-                .zip(self.gathered.par_chunks(chunk))
                 .zip(self.slots.par_chunks_mut(chunk))
-                .zip(self.hulls.par_chunks_mut(chunk))
+                .zip(sink.chunks(chunk))
                 .zip(self.boxed.par_chunks_mut(chunk))
-                .map(|((((ids, g), s), h), b)| fill_run(ids, g, s, h, b, dt))
+                .enumerate()
+                .map(|(c, (((ids, slots), sink), boxed))| {
+                    fill_run(c * chunk, ids, lines, slots, sink, boxed, dt)
+                })
                 .reduce(|| None, union)
         } else {
-            for (g, &id) in self.gathered.iter_mut().zip(&self.order) {
-                *g = lines[id as usize];
-            }
             fill_run(
+                0,
                 &self.order,
-                &self.gathered,
+                lines,
                 &mut self.slots,
-                &mut self.hulls,
+                sink,
                 &mut self.boxed,
                 dt,
             )
@@ -478,7 +533,7 @@ impl Quadtree {
             if !is_boxed {
                 let id = self.order[k];
                 self.unboxed.push(id);
-                if !self.gathered[k].is_inert() {
+                if !self.slots[k].line.is_inert() {
                     self.wild.push(id);
                 }
             }
@@ -515,35 +570,41 @@ impl Quadtree {
     }
 
     /// Fills the tree's entries, in slot order, from the boxed slots' fat
-    /// hulls or swept ones, and sorts them (nearly sorted already when the
-    /// slots are in last step's tree order).
-    fn set_entries(&mut self, fat: bool) {
-        // Spots speed up the cached way's queries, but would change the
-        // swept hulls' keys too often for the rebuilt way's sort.
-        self.tree.set_spots(fat);
+    /// hulls, and sorts them (nearly sorted already when the slots are in
+    /// last step's tree order).
+    fn set_fat_entries(&mut self) {
+        // Spots speed up the cached way's queries.
+        self.tree.set_spots(true);
         let (grid, max_depth) = (self.grid, self.tree.max_depth());
-        let (hulls, boxed) = (if fat { &self.fat } else { &self.hulls }, &self.boxed);
+        let (fat, boxed) = (&self.fat, &self.boxed);
         // Every slot gets an entry, in place; the unboxed ones get a key
         // past every real one, which sorts them last to be cut off.
         let entry = |s: usize| {
-            let cells = grid.cells(&hulls[s], s as u32);
+            let cells = grid.cells(&fat[s], s as u32);
             let key = if boxed[s] {
-                tree::key(&cells, max_depth, fat)
+                tree::key(&cells, max_depth, true)
             } else {
                 UNBOXED_KEY
             };
             Entry { key, cells }
         };
-        let n = hulls.len();
-        let chunk = (self.parallel() && n >= 2 * self.grain).then_some(self.grain);
+        let n = fat.len();
+        let chunk = self.parallel_chunk(n);
         self.tree.refill(n, chunk, entry);
         self.tree.entries.truncate(n - self.unboxed.len());
+    }
+
+    /// The chunk size to split `n` items' work into, if it is worth
+    /// splitting.
+    fn parallel_chunk(&self, n: usize) -> Option<usize> {
+        (self.parallel() && n >= 2 * self.grain).then_some(self.grain)
     }
 
     /// Rebuilt mode: builds the tree over this step's swept hulls (whose
     /// union is `bounds`) and tests its pairs.
     fn detect_rebuilt(
         &mut self,
+        lines: &[Line],
         bounds: Option<SweptBox>,
         dt: f64,
         events: &mut Vec<Event>,
@@ -551,9 +612,14 @@ impl Quadtree {
     ) {
         let Some(bounds) = bounds else { return };
         if !self.grid.holds(&bounds) {
+            // Rare (lines escaping the box): fill again over a grid that
+            // holds them.
             self.grid = Grid::over(&bounds);
+            self.fill_slots(lines, dt, true);
         }
-        self.set_entries(false);
+        let n = self.slots.len();
+        self.tree.sort(self.parallel_chunk(n).is_some());
+        self.tree.entries.truncate(n - self.unboxed.len());
         let mut collector = EventCollector {
             slots: &self.slots,
             dt,
@@ -657,13 +723,13 @@ impl Quadtree {
     /// tree over the fat hulls and takes all its pairs.
     fn rebuild_cache(&mut self, lines: &[Line], dt: f64, bounds: SweptBox) {
         self.fat_hulls(dt, bounds);
-        self.set_entries(true);
+        self.set_fat_entries();
         self.reorder();
         let bounds = self
-            .fill_slots(lines, dt)
+            .fill_slots(lines, dt, false)
             .expect("the same lines are boxed");
         self.fat_hulls(dt, bounds);
-        self.set_entries(true);
+        self.set_fat_entries();
         let mut collector = PairCollector(std::mem::take(&mut self.pairs));
         collector.0.clear();
         self.tree.pairs(&mut collector, self.threads, self.grain);
@@ -810,13 +876,13 @@ impl Detector for Quadtree {
         };
         let mut counts = PairCounts::default();
         self.tree.counts = tree::WalkCounts::default();
-        let bounds = self.fill_slots(lines, dt);
+        let bounds = self.fill_slots(lines, dt, rebuilt);
         self.test_wild(lines, dt, events, &mut counts);
         if rebuilt {
             // The tree will hold swept hulls and the slots another order:
             // the cache must be rebuilt before it is used again.
             self.valid = false;
-            self.detect_rebuilt(bounds, dt, events, &mut counts);
+            self.detect_rebuilt(lines, bounds, dt, events, &mut counts);
         } else {
             self.detect_cached(lines, bounds, dt, events, &mut counts);
         }

@@ -371,6 +371,50 @@ pub struct Tree {
     pub counts: WalkCounts,
 }
 
+/// A run of a tree's entries being set in place before a sort, each one
+/// flagged if its key is not the one at its place before (which the sort
+/// uses to keep the others where they are).
+pub struct Refill<'a> {
+    entries: &'a mut [Entry],
+    changed: &'a mut [bool],
+    /// Entries from this index on are new: they had no place before.
+    old: usize,
+}
+
+impl<'a> Refill<'a> {
+    /// How many entries the run holds.
+    pub fn len(&self) -> usize {
+        self.entries.len()
+    }
+
+    /// Whether the run holds no entry.
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
+    /// Sets the run's `k`-th entry.
+    #[inline]
+    pub fn set(&mut self, k: usize, entry: Entry) {
+        self.changed[k] = k >= self.old || entry.key != self.entries[k].key;
+        self.entries[k] = entry;
+    }
+
+    /// Splits the run into runs of `size` entries (the last one shorter).
+    pub fn chunks(self, size: usize) -> Vec<Refill<'a>> {
+        let size = size.max(1);
+        self.entries
+            .chunks_mut(size)
+            .zip(self.changed.chunks_mut(size))
+            .enumerate()
+            .map(|(c, (entries, changed))| Refill {
+                entries,
+                changed,
+                old: self.old.saturating_sub(c * size),
+            })
+            .collect()
+    }
+}
+
 /// A walk's fixed settings, shared by its tasks.
 struct Walk<'t> {
     entries: &'t [Entry],
@@ -425,29 +469,37 @@ impl Tree {
     /// when the entries are made in last step's tree order), the sort keeps
     /// it in place.
     pub fn refill(&mut self, n: usize, chunk: Option<usize>, make: impl Fn(usize) -> Entry + Sync) {
-        let old = self.entries.len();
-        self.entries.resize(n, Entry::default());
-        self.changed.resize(n, true);
-        let fill = |first: usize, entries: &mut [Entry], changed: &mut [bool]| {
-            for (k, (e, c)) in entries.iter_mut().zip(changed).enumerate() {
-                let i = first + k;
-                let new = make(i);
-                *c = i >= old || new.key != e.key;
-                *e = new;
+        let fill = |first: usize, mut run: Refill<'_>| {
+            for k in 0..run.len() {
+                run.set(k, make(first + k));
             }
         };
         match chunk {
             Some(chunk) => {
                 use rayon::prelude::*;
-                self.entries
-                    .par_chunks_mut(chunk)
-                    .zip(self.changed.par_chunks_mut(chunk))
+                self.refill_in_place(n)
+                    .chunks(chunk)
+                    .into_par_iter()
                     .enumerate()
-                    .for_each(|(c, (e, changed))| fill(c * chunk, e, changed));
+                    .for_each(|(c, run)| fill(c * chunk, run));
             }
-            None => fill(0, &mut self.entries, &mut self.changed),
+            None => fill(0, self.refill_in_place(n)),
         }
         self.sort(chunk.is_some());
+    }
+
+    /// The `n` entries, to be set one by one in place (all of them) before
+    /// [`Tree::sort`]; for callers that make entries alongside other work.
+    /// [`Tree::refill`] does both steps for entries made on their own.
+    pub fn refill_in_place(&mut self, n: usize) -> Refill<'_> {
+        let old = self.entries.len();
+        self.entries.resize(n, Entry::default());
+        self.changed.resize(n, true);
+        Refill {
+            entries: &mut self.entries,
+            changed: &mut self.changed,
+            old,
+        }
     }
 
     /// Applies `update` to every sorted entry (in parallel, if `parallel`),
