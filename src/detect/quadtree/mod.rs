@@ -18,8 +18,8 @@
 //!   out fat hulls faster than they pay off, and so do huge scenes of tiny
 //!   lines. The detector starts rebuilding; after its first few steps, and
 //!   once every [`PERIOD`] steps after, it tries the other way for a few
-//!   steps (giving up early if that is clearly slower) and keeps whichever
-//!   took less time per step.
+//!   steps (giving up early once it is behind and no longer gaining) and
+//!   keeps whichever took less time per step.
 //!
 //! All find exactly the all-pairs detector's events, so the choice affects
 //! speed only, never results; so does the number of threads the work is
@@ -105,9 +105,11 @@ const FIRST_STINT: u64 = 8;
 /// Auto mode: first steps of a stint or trial left out of its timing (a
 /// switch to the cached way starts with a rebuild).
 const WARM_UP: u64 = 2;
-/// Auto mode: a trial gives up once two timed steps in a row have each
-/// taken this many times the stint's time per step.
-const GIVE_UP: f64 = 1.3;
+/// Auto mode: the share of the stint's time per step that a trial's
+/// latest steps must stay under while the trial is behind: a trial that
+/// has spent more than the stint would have (the cached way starts with a
+/// rebuild) gives up unless it is still gaining ground.
+const GAINING: f64 = 0.95;
 
 /// Auto mode's bookkeeping: which way is preferred, where the current
 /// stint (the preferred way) or trial (the other way) stands, and the time
@@ -123,8 +125,10 @@ struct Chooser {
     first: bool,
     /// Seconds and steps timed: index 0 for the trial, 1 for the stint.
     timed: [(f64, u32); 2],
-    /// Timed trial steps in a row that were slow enough to give up.
-    slow: u32,
+    /// Seconds spent on the current trial, warm-up included.
+    spent: f64,
+    /// The trial's last step, in seconds.
+    last: f64,
 }
 
 impl Default for Chooser {
@@ -137,7 +141,8 @@ impl Default for Chooser {
             into: 0,
             first: true,
             timed: [(0.0, 0); 2],
-            slow: 0,
+            spent: 0.0,
+            last: 0.0,
         }
     }
 }
@@ -163,10 +168,14 @@ impl Chooser {
             let (trial, stint) = (mean(self.timed[0]), mean(self.timed[1]));
             // A way can start well and wear out (fat hulls), so it is the
             // latest steps that say whether to give up.
-            let timed = self.into > WARM_UP;
-            let slow = matches!(stint, Some(s) if timed && seconds > GIVE_UP * s);
-            self.slow = if slow { self.slow + 1 } else { 0 };
-            let losing = self.slow >= 2;
+            // Judged on its last two steps, so that one slow step does not
+            // end it.
+            let recent = seconds.min(self.last);
+            self.spent += seconds;
+            self.last = seconds;
+            let losing = matches!(stint, Some(s) if self.into > WARM_UP
+                && self.spent > s * self.into as f64
+                && recent >= GAINING * s);
             if losing || self.into == TRIAL {
                 if let (false, Some(t), Some(s)) = (losing, trial, stint) {
                     if t < 0.95 * s {
@@ -177,7 +186,8 @@ impl Chooser {
                 self.first = false;
                 self.into = 0;
                 self.timed = [(0.0, 0); 2];
-                self.slow = 0;
+                self.spent = 0.0;
+                self.last = 0.0;
             }
         } else if self.into
             == if self.first {
@@ -931,9 +941,9 @@ mod tests {
         let ways = run(&mut c, PERIOD, 2.0, 1.0);
         let trial = PERIOD - TRIAL;
         assert!(ways[..trial as usize].iter().all(|&r| !r));
-        // Twice as slow: it gives up after its warm-up and two timed steps.
+        // Twice as slow: it gives up after its warm-up and one timed step.
         let tried = ways[trial as usize..].iter().take_while(|&&r| r).count() as u64;
-        assert_eq!(tried, WARM_UP + 2);
+        assert_eq!(tried, WARM_UP + 1);
         assert!(!c.prefer_rebuilt);
         // A near tie does not switch.
         run(&mut c, 2 * PERIOD, 0.98, 1.0);
@@ -941,6 +951,36 @@ mod tests {
         // A clear win does.
         run(&mut c, 2 * PERIOD, 0.5, 1.0);
         assert!(c.prefer_rebuilt);
+    }
+
+    #[test]
+    fn a_trial_behind_gives_up_once_it_stops_gaining() {
+        // A dear first step, two cheap ones, then as slow as the stint:
+        // given up on the second slow step (the two latest are judged).
+        let mut c = Chooser::default();
+        run(&mut c, FIRST_STINT, 1.0, 1.0);
+        for (k, t) in [5.0, 0.5, 0.5, 1.0, 1.0].into_iter().enumerate() {
+            assert!(!c.rebuilt_now(), "still trying at step {k}");
+            c.record(t);
+        }
+        assert!(c.rebuilt_now());
+        assert!(c.prefer_rebuilt);
+
+        // The same start with cheap steps after it wins the trial.
+        let mut c = Chooser::default();
+        run(&mut c, FIRST_STINT, 1.0, 1.0);
+        c.record(5.0);
+        let ways = run(&mut c, TRIAL - 1, 1.0, 0.5);
+        assert!(ways.iter().all(|&r| !r));
+        assert!(!c.prefer_rebuilt);
+
+        // One slow step among cheap ones does not end it.
+        let mut c = Chooser::default();
+        run(&mut c, FIRST_STINT, 1.0, 1.0);
+        for t in [5.0, 0.5, 0.5, 2.0, 0.5] {
+            c.record(t);
+        }
+        assert!(!c.rebuilt_now());
     }
 
     #[test]
