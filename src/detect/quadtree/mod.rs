@@ -539,6 +539,10 @@ impl Quadtree {
         };
         self.unboxed.clear();
         self.wild.clear();
+        // Almost always none: a count that vectorises says so quickly.
+        if self.boxed.iter().filter(|&&b| !b).count() == 0 {
+            return bounds;
+        }
         for (k, &is_boxed) in self.boxed.iter().enumerate() {
             if !is_boxed {
                 let id = self.order[k];

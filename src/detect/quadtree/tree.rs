@@ -528,11 +528,13 @@ impl Tree {
     /// if `parallel`).
     pub fn sort(&mut self, parallel: bool) {
         let n = self.entries.len();
-        let descents = self
-            .entries
-            .windows(2)
-            .filter(|w| w[1].key < w[0].key)
-            .count();
+        let descent = |w: &[Entry]| w[1].key < w[0].key;
+        let descents = if parallel {
+            use rayon::prelude::*;
+            self.entries.par_windows(2).filter(|w| descent(w)).count()
+        } else {
+            self.entries.windows(2).filter(|w| descent(w)).count()
+        };
         if self.spots {
             // Only queries read the extents, and only spots make use of them.
             self.extent = self.entries.iter().fold((0, 0), |(x, y), e| {
