@@ -263,6 +263,10 @@ impl Default for Quadtree {
 /// Default for the smallest piece of work handed to a thread, in lines.
 pub const DEFAULT_GRAIN: usize = 16 * 1024;
 
+/// Cached mode: a rebuild puts the slots back in tree order once more than
+/// one in this many of the tree's entries follow a higher slot.
+const SLOTS_ASTRAY: usize = 8;
+
 /// The sort key given to slots left out of the tree: above every real key.
 const UNBOXED_KEY: u64 = u64::MAX;
 
@@ -732,18 +736,25 @@ impl Quadtree {
         }
     }
 
-    /// Rebuilds the cache: puts the slots in the tree order of their fat
-    /// hulls (refilling them in that order, for locality), then builds the
-    /// tree over the fat hulls and takes all its pairs.
+    /// Rebuilds the cache: builds the tree over the fat hulls and takes all
+    /// its pairs, first putting the slots in the tree's order (refilling
+    /// them in that order, for locality) unless they nearly are already.
     fn rebuild_cache(&mut self, lines: &[Line], dt: f64, bounds: SweptBox) {
         self.fat_hulls(dt, bounds);
         self.set_fat_entries();
-        self.reorder();
-        let bounds = self
-            .fill_slots(lines, dt, false)
-            .expect("the same lines are boxed");
-        self.fat_hulls(dt, bounds);
-        self.set_fat_entries();
+        let entries = &self.tree.entries;
+        let out_of_order = entries
+            .windows(2)
+            .filter(|w| w[1].cells.id < w[0].cells.id)
+            .count();
+        if out_of_order > entries.len() / SLOTS_ASTRAY {
+            self.reorder();
+            let bounds = self
+                .fill_slots(lines, dt, false)
+                .expect("the same lines are boxed");
+            self.fat_hulls(dt, bounds);
+            self.set_fat_entries();
+        }
         let mut collector = PairCollector(std::mem::take(&mut self.pairs));
         collector.0.clear();
         self.tree.pairs(&mut collector, self.threads, self.grain);
