@@ -631,7 +631,8 @@ impl Quadtree {
         let Some(bounds) = bounds else { return };
         if !self.grid.holds(&bounds) {
             // Rare (lines escaping the box): fill again over a grid that
-            // holds them.
+            // holds them. Cells clamped at the old grid's edge would still
+            // be conservative (clamping keeps order), but would pile up there.
             self.grid = Grid::over(&bounds);
             self.fill_slots(lines, dt, true);
         }
