@@ -167,9 +167,8 @@ impl Chooser {
         if self.trial {
             let (trial, stint) = (mean(self.timed[0]), mean(self.timed[1]));
             // A way can start well and wear out (fat hulls), so it is the
-            // latest steps that say whether to give up.
-            // Judged on its last two steps, so that one slow step does not
-            // end it.
+            // latest steps that say whether to give up: the last two, so
+            // that one slow step does not end it.
             let recent = seconds.min(self.last);
             self.spent += seconds;
             self.last = seconds;
@@ -507,6 +506,7 @@ impl Quadtree {
         }
         self.slots.resize(n, Slot::default());
         self.boxed.resize(n, false);
+        let chunk = self.parallel_chunk(n);
         let sink = if enter {
             // Spots would change the swept hulls' keys too often for the
             // sort.
@@ -517,8 +517,7 @@ impl Quadtree {
             self.hulls.resize(n, SweptBox::default());
             HullSink::Keep(&mut self.hulls)
         };
-        let chunk = self.grain;
-        let bounds = if self.threads > 1 && n >= 2 * chunk {
+        let bounds = if let Some(chunk) = chunk {
             use rayon::prelude::*;
             self.order
                 .par_chunks(chunk)
