@@ -1164,6 +1164,7 @@ mod tests {
         fn refilling_sorts_whatever_changed(
             base in proptest::collection::vec(0u64..400, 0..3000),
             changes in proptest::collection::vec((0usize..3000, 0u64..400), 0..400),
+            added in proptest::collection::vec(0u64..400, 0..200),
             threads in 1usize..4,
         ) {
             let mut keys = base;
@@ -1174,12 +1175,14 @@ mod tests {
             };
             let mut tree = Tree::new(4, 12);
             tree.refill(keys.len(), None, |i| mk(keys[i], i));
-            let n = keys.len();
             for &(at, key) in &changes {
-                if at < n {
+                if at < keys.len() {
                     keys[at] = key;
                 }
             }
+            // Lines added since the last refill have no place to keep.
+            keys.extend(&added);
+            let n = keys.len();
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let chunk = (threads > 1).then_some(64);
             pool.install(|| tree.refill(n, chunk, |i| mk(keys[i], i)));
