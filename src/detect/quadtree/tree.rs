@@ -204,7 +204,7 @@ impl Grid {
 }
 
 /// The sort key of a line: its node's cell (Morton order), its level, and
-/// (with `spots`) its [`spot`] in the node.
+/// (with `spots`) its spot in the node (see `spot`).
 #[inline]
 pub fn key(c: &Cells, max_depth: u32, spots: bool) -> u64 {
     let differ = u32::from((c.x0 ^ c.x1) | (c.y0 ^ c.y1));
