@@ -414,29 +414,34 @@ fn fill_run(
             }
             HullSink::Enter(refill, grid, max_depth) => {
                 let s = (first + k) as u32;
-                refill.set(
-                    k,
-                    match hull {
-                        Some(hull) => {
-                            let cells = grid.cells(&hull, s);
-                            Entry {
-                                key: tree::key(&cells, *max_depth, false),
-                                cells,
-                            }
-                        }
-                        None => Entry {
-                            key: UNBOXED_KEY,
-                            cells: Cells {
-                                id: s,
-                                ..Cells::default()
-                            },
-                        },
-                    },
-                );
+                refill.set(k, entry(grid, hull, s, *max_depth, false));
             }
         }
     }
     bounds
+}
+
+/// Slot `s`'s tree entry for its hull over `grid`; a slot without one (not
+/// boxed) gets a key past every real one, which sorts it last to be cut
+/// off.
+#[inline]
+fn entry(grid: &Grid, hull: Option<SweptBox>, s: u32, max_depth: u32, spots: bool) -> Entry {
+    match hull {
+        Some(hull) => {
+            let cells = grid.cells(&hull, s);
+            Entry {
+                key: tree::key(&cells, max_depth, spots),
+                cells,
+            }
+        }
+        None => Entry {
+            key: UNBOXED_KEY,
+            cells: Cells {
+                id: s,
+                ..Cells::default()
+            },
+        },
+    }
 }
 
 fn union(a: Option<SweptBox>, b: Option<SweptBox>) -> Option<SweptBox> {
@@ -577,7 +582,7 @@ impl Quadtree {
         let (slots, entries) = (&self.slots, &self.tree.entries);
         let id = |e: &Entry| slots[e.cells.id as usize].id;
         self.order.clear();
-        if self.parallel() && entries.len() >= 2 * self.grain {
+        if self.parallel_chunk(entries.len()).is_some() {
             use rayon::prelude::*;
             self.order.par_extend(entries.par_iter().map(id));
         } else {
@@ -594,20 +599,11 @@ impl Quadtree {
         self.tree.set_spots(true);
         let (grid, max_depth) = (self.grid, self.tree.max_depth());
         let (fat, boxed) = (&self.fat, &self.boxed);
-        // Every slot gets an entry, in place; the unboxed ones get a key
-        // past every real one, which sorts them last to be cut off.
-        let entry = |s: usize| {
-            let cells = grid.cells(&fat[s], s as u32);
-            let key = if boxed[s] {
-                tree::key(&cells, max_depth, true)
-            } else {
-                UNBOXED_KEY
-            };
-            Entry { key, cells }
-        };
+        // Every slot gets an entry, in place.
+        let make = |s: usize| entry(&grid, boxed[s].then(|| fat[s]), s as u32, max_depth, true);
         let n = fat.len();
         let chunk = self.parallel_chunk(n);
-        self.tree.refill(n, chunk, entry);
+        self.tree.refill(n, chunk, make);
         self.tree.entries.truncate(n - self.unboxed.len());
     }
 
@@ -670,7 +666,7 @@ impl Quadtree {
                 let s = s as usize;
                 boxed[s] && !holds(&fat[s], &hulls[s])
             };
-            if self.parallel() && n >= 2 * self.grain {
+            if self.parallel_chunk(n).is_some() {
                 use rayon::prelude::*;
                 self.moved
                     .par_extend((0..n as u32).into_par_iter().filter(left));
@@ -791,7 +787,7 @@ impl Quadtree {
         for &m in &self.moved {
             self.is_moved[m as usize] = true;
         }
-        let parallel = self.parallel() && self.slots.len() >= 2 * self.grain;
+        let parallel = self.parallel_chunk(self.slots.len()).is_some();
         let (grid, fat, is_moved) = (self.grid, &self.fat, &self.is_moved);
         let max_depth = self.tree.max_depth();
         let refit = |e: &mut Entry| {
