@@ -33,16 +33,16 @@ pub struct SweptBox {
     pub min_x: f64,
     /// Bottom edge.
     pub min_y: f64,
+    /// Least `u`.
+    pub min_u: f64,
+    /// Least `w`.
+    pub min_w: f64,
     /// Right edge.
     pub max_x: f64,
     /// Top edge.
     pub max_y: f64,
-    /// Least `u`.
-    pub min_u: f64,
     /// Greatest `u`.
     pub max_u: f64,
-    /// Least `w`.
-    pub min_w: f64,
     /// Greatest `w`.
     pub max_w: f64,
 }
@@ -153,11 +153,11 @@ pub fn swept_box(line: &Line, dt: f64) -> (Option<SweptBox>, f64) {
     let b = SweptBox {
         min_x: min_x - pad,
         min_y: min_y - pad,
+        min_u: min(min(u[0], u[1]), min(u[2], u[3])) - pad_diagonal,
+        min_w: min(min(w[0], w[1]), min(w[2], w[3])) - pad_diagonal,
         max_x: max_x + pad,
         max_y: max_y + pad,
-        min_u: min(min(u[0], u[1]), min(u[2], u[3])) - pad_diagonal,
         max_u: max(max(u[0], u[1]), max(u[2], u[3])) + pad_diagonal,
-        min_w: min(min(w[0], w[1]), min(w[2], w[3])) - pad_diagonal,
         max_w: max(max(w[0], w[1]), max(w[2], w[3])) + pad_diagonal,
     };
     (Some(b), magnitude)

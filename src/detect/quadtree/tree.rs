@@ -9,7 +9,7 @@
 //! once, at the deepest node holding both lines.
 //!
 //! How it is kept is what makes it fast:
-//! - Hulls are quantised to a grid of `2^16 x 2^16` cells over the root, a
+//! - Hulls are quantised to a grid of `2^15 x 2^15` cells over the root, a
 //!   square centred on the box that grows (by doubling) only when lines
 //!   leave it, so that cells stay put from step to step. The deepest
 //!   quadrant holding a hull whole is where its corner cells' coordinates
@@ -32,7 +32,9 @@ use crate::detect::swept::{SweptBox, DIAGONAL_X, DIAGONAL_Y};
 use crate::line::{BOX_MAX, BOX_MIN};
 
 /// Levels of the quantisation grid: the deepest a tree can go.
-pub const GRID_LEVELS: u32 = 16;
+pub const GRID_LEVELS: u32 = 15;
+/// The last cell along any direction.
+const CELL_MAX: u16 = (1 << GRID_LEVELS) - 1;
 
 const LEVEL_BITS: u32 = 5;
 const LEVEL_MASK: u64 = (1 << LEVEL_BITS) - 1;
@@ -44,42 +46,78 @@ const SUB_BITS: u32 = SPOT_BITS + 1;
 const SPOT_MASK: u64 = (1 << SPOT_BITS) - 1;
 
 /// A line's swept hull in finest-level grid cells (inclusive), along the
-/// axes and the diagonals, with its id.
+/// axes and the diagonals, with its id. Lowest cells come first, then
+/// highest, each four in the order `x`, `y`, `u`, `w`, so that each group
+/// reads as one `u64` of four 16-bit lanes (see [`Cells::overlaps`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[repr(C)]
 pub struct Cells {
     pub x0: u16,
     pub y0: u16,
-    pub x1: u16,
-    pub y1: u16,
     pub u0: u16,
     pub w0: u16,
+    pub x1: u16,
+    pub y1: u16,
     pub u1: u16,
     pub w1: u16,
     /// The line's id.
     pub id: u32,
 }
 
+/// The top bit of each 16-bit lane.
+const LANE_TOPS: u64 = 0x8000_8000_8000_8000;
+
 impl Cells {
-    /// Non-short-circuit `&`: one predictable branch on the result instead
-    /// of eight unpredictable ones.
+    #[inline]
+    fn lows(&self) -> u64 {
+        u64::from(self.x0)
+            | u64::from(self.y0) << 16
+            | u64::from(self.u0) << 32
+            | u64::from(self.w0) << 48
+    }
+
+    #[inline]
+    fn highs(&self) -> u64 {
+        u64::from(self.x1)
+            | u64::from(self.y1) << 16
+            | u64::from(self.u1) << 32
+            | u64::from(self.w1) << 48
+    }
+
+    /// True when the two overlap in all four directions. All four lanes at
+    /// once: cells are below `2^15`, so in each lane `high + 2^15 - low`
+    /// lies in `1..2^16` (no borrow crosses lanes) and keeps its top bit
+    /// exactly when `low <= high`.
     #[inline]
     pub fn overlaps(&self, o: &Cells) -> bool {
-        (self.x0 <= o.x1)
-            & (o.x0 <= self.x1)
-            & (self.y0 <= o.y1)
-            & (o.y0 <= self.y1)
-            & (self.u0 <= o.u1)
-            & (o.u0 <= self.u1)
-            & (self.w0 <= o.w1)
-            & (o.w0 <= self.w1)
+        let ahead = (o.highs() | LANE_TOPS) - self.lows();
+        let behind = (self.highs() | LANE_TOPS) - o.lows();
+        ahead & behind & LANE_TOPS == LANE_TOPS
+    }
+
+    /// The smallest cells holding both (no id).
+    #[inline]
+    fn union(&self, o: &Cells) -> Cells {
+        Cells {
+            x0: self.x0.min(o.x0),
+            y0: self.y0.min(o.y0),
+            u0: self.u0.min(o.u0),
+            w0: self.w0.min(o.w0),
+            x1: self.x1.max(o.x1),
+            y1: self.y1.max(o.y1),
+            u1: self.u1.max(o.u1),
+            w1: self.w1.max(o.w1),
+            id: 0,
+        }
     }
 
     #[inline]
     fn overlaps_block(&self, b: &Block) -> bool {
-        u32::from(self.x0) <= b.x_last()
-            && b.x0 <= u32::from(self.x1)
-            && u32::from(self.y0) <= b.y_last()
-            && b.y0 <= u32::from(self.y1)
+        // As in `overlaps`: one branch on the result, not four.
+        (u32::from(self.x0) <= b.x_last())
+            & (b.x0 <= u32::from(self.x1))
+            & (u32::from(self.y0) <= b.y_last())
+            & (b.y0 <= u32::from(self.y1))
     }
 }
 
@@ -141,7 +179,10 @@ fn spread(v: u16) -> u32 {
 pub struct Grid {
     min: f64,
     side: f64,
-    scale: f64,
+    /// Where cell 0 starts along `x`, `y`, `u` and `w`.
+    origin: [f64; 4],
+    /// Cells per unit along `x`, `y`, `u` and `w`.
+    scale: [f64; 4],
 }
 
 impl Grid {
@@ -160,10 +201,17 @@ impl Grid {
         while half < reach {
             half *= 2.0;
         }
+        let (min, side) = (CENTRE - half, 2.0 * half);
+        let scale = f64::from(1u32 << GRID_LEVELS) / side;
+        let (wx, wy) = (DIAGONAL_X, DIAGONAL_Y);
+        // The diagonals span (wx + wy) times the square's side.
+        let (min_u, min_w) = (min * (wx + wy), min * wx - (min + side) * wy);
+        let diagonal_scale = scale / (wx + wy);
         Grid {
-            min: CENTRE - half,
-            side: 2.0 * half,
-            scale: f64::from(1u32 << GRID_LEVELS) / (2.0 * half),
+            min,
+            side,
+            origin: [min, min, min_u, min_w],
+            scale: [scale, scale, diagonal_scale, diagonal_scale],
         }
     }
 
@@ -176,28 +224,35 @@ impl Grid {
             && bounds.max_y <= max
     }
 
+    /// The cell of `v` along direction `k`: the nearest, clamped to the
+    /// grid (NaN goes to 0). Any monotone rounding keeps the cells'
+    /// overlaps conservative; rounding by adding `2^52`, whose last
+    /// mantissa bits then hold the result, takes no saturating cast.
     #[inline]
-    fn cell(v: f64, min: f64, scale: f64) -> u16 {
-        // Float-to-int casts saturate (and send NaN to 0): no branch needed
-        // at the edges.
-        ((v - min) * scale).min(f64::from(u16::MAX)) as u16
+    fn cell(&self, v: f64, k: usize) -> u16 {
+        const ROUNDER: f64 = (1u64 << 52) as f64;
+        let c = (v - self.origin[k]) * self.scale[k];
+        let c = if c > 0.0 { c } else { 0.0 };
+        let c = if c < f64::from(CELL_MAX) {
+            c
+        } else {
+            f64::from(CELL_MAX)
+        };
+        (c + ROUNDER).to_bits() as u16
     }
 
+    /// `b`'s cells, for the line `id`.
     #[inline]
     pub fn cells(&self, b: &SweptBox, id: u32) -> Cells {
-        let (wx, wy) = (DIAGONAL_X, DIAGONAL_Y);
-        let min_u = self.min * (wx + wy);
-        let min_w = self.min * wx - (self.min + self.side) * wy;
-        let half_scale = self.scale / (wx + wy);
         Cells {
-            x0: Self::cell(b.min_x, self.min, self.scale),
-            y0: Self::cell(b.min_y, self.min, self.scale),
-            x1: Self::cell(b.max_x, self.min, self.scale),
-            y1: Self::cell(b.max_y, self.min, self.scale),
-            u0: Self::cell(b.min_u, min_u, half_scale),
-            w0: Self::cell(b.min_w, min_w, half_scale),
-            u1: Self::cell(b.max_u, min_u, half_scale),
-            w1: Self::cell(b.max_w, min_w, half_scale),
+            x0: self.cell(b.min_x, 0),
+            y0: self.cell(b.min_y, 1),
+            u0: self.cell(b.min_u, 2),
+            w0: self.cell(b.min_w, 3),
+            x1: self.cell(b.max_x, 0),
+            y1: self.cell(b.max_y, 1),
+            u1: self.cell(b.max_u, 2),
+            w1: self.cell(b.max_w, 3),
             id,
         }
     }
@@ -318,6 +373,24 @@ const INSERTION_MAX: usize = 64;
 
 /// Below this many lines in a node's pair set, plain loops beat sorting.
 const SWEEP_MIN: usize = 48;
+
+/// Runs of up to this many entries are split by reading them in order, not
+/// by binary search: a scan reads ahead (and the walk's next reads of the
+/// same entries find them cached), where a search waits on one cache miss
+/// after another.
+const SCAN_MAX: usize = 64;
+
+/// How many of a node's entries (`run`, sorted) are its own misfits.
+#[inline]
+fn misfits_end(run: &[Entry], level: u32) -> usize {
+    if run.len() <= SCAN_MAX {
+        run.iter()
+            .position(|e| e.level() != level)
+            .unwrap_or(run.len())
+    } else {
+        run.partition_point(|e| e.level() == level)
+    }
+}
 
 /// What the walks have done, summed until reset.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -752,7 +825,7 @@ impl Walk<'_> {
         }
 
         // This node's misfits come first in its run.
-        let mid = lo + self.entries[lo..hi].partition_point(|e| e.level() == level);
+        let mid = lo + misfits_end(&self.entries[lo..hi], level);
         node_pairs(scratch, collector, active_lo, &self.entries[lo..mid]);
 
         let bounds = self.child_runs(mid, hi, level);
@@ -838,6 +911,16 @@ impl Walk<'_> {
         // The two key bits below the node's level choose the quadrant.
         let shift = SUB_BITS + LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
         let run = &self.entries[mid..hi];
+        if run.len() <= SCAN_MAX {
+            let mut ends = [mid, mid, mid, mid, hi];
+            for e in run {
+                let quadrant = ((e.key >> shift) & 3) as usize;
+                for end in &mut ends[quadrant + 1..4] {
+                    *end += 1;
+                }
+            }
+            return ends;
+        }
         let split = |c: u64| mid + run.partition_point(|e| (e.key >> shift) & 3 < c);
         [mid, split(1), split(2), split(3), hi]
     }
@@ -875,7 +958,7 @@ impl Walk<'_> {
             self.query_run(counts, probe, sink, &self.entries[lo..hi]);
             return;
         }
-        let mid = lo + self.entries[lo..hi].partition_point(|e| e.level() == level);
+        let mid = lo + misfits_end(&self.entries[lo..hi], level);
         let misfits = &self.entries[lo..mid];
         if self.spots {
             // Those across the vertical centre line by lowest y, then the
@@ -951,10 +1034,15 @@ fn node_pairs<C: Collector>(
         sweep_pairs(&mut scratch.sweep, collector, active, own);
         return;
     }
-    for a in active {
-        for b in own {
-            if a.overlaps(&b.cells) {
-                collector.pair(a.id, b.cells.id);
+    if let (false, Some(first)) = (active.is_empty(), own.first()) {
+        // Active lines reach the node's block, but often not the part of it
+        // that its own lines cover.
+        let covered = own[1..].iter().fold(first.cells, |c, e| c.union(&e.cells));
+        for a in active.iter().filter(|a| a.overlaps(&covered)) {
+            for b in own {
+                if a.overlaps(&b.cells) {
+                    collector.pair(a.id, b.cells.id);
+                }
             }
         }
     }
@@ -1068,20 +1156,20 @@ mod tests {
     fn a_box_lives_at_the_deepest_quadrant_holding_it() {
         // One cell: the finest level, capped by max_depth.
         let level = |k: u64| (k >> SUB_BITS) & LEVEL_MASK;
-        assert_eq!(level(key(&cells(5, 9, 5, 9), 16, true)), 16);
+        assert_eq!(level(key(&cells(5, 9, 5, 9), 15, true)), 15);
         assert_eq!(level(key(&cells(5, 9, 5, 9), 12, true)), 12);
         // Straddling the root's middle in x: a root misfit.
-        assert_eq!(level(key(&cells(32767, 10, 32768, 10), 16, true)), 0);
+        assert_eq!(level(key(&cells(16383, 10, 16384, 10), 15, true)), 0);
         // Within the left half but straddling its middle: level 1.
-        assert_eq!(level(key(&cells(16383, 10, 16384, 10), 16, true)), 1);
+        assert_eq!(level(key(&cells(8191, 10, 8192, 10), 15, true)), 1);
     }
 
     #[test]
     fn a_node_sorts_before_its_subtree_and_after_its_ancestors() {
-        let root_misfit = key(&cells(0, 0, 40000, 10), 16, true);
-        let node = key(&cells(0, 0, 20000, 10), 16, true);
-        let deep = key(&cells(0, 0, 1, 1), 16, true);
-        let sibling = key(&cells(40000, 0, 40001, 1), 16, true);
+        let root_misfit = key(&cells(0, 0, 20000, 10), 15, true);
+        let node = key(&cells(0, 0, 10000, 10), 15, true);
+        let deep = key(&cells(0, 0, 1, 1), 15, true);
+        let sibling = key(&cells(20000, 0, 20001, 1), 15, true);
         assert!(root_misfit < node && node < deep && deep < sibling);
     }
 
@@ -1091,16 +1179,16 @@ mod tests {
         let g = Grid::over(&b);
         let c = g.cells(&b, 3);
         assert_eq!(c.id, 3);
-        assert!(c.x0 > 0 && c.x0 < 2048 && c.x1 > 63000 && c.x1 < u16::MAX);
+        assert!(c.x0 > 0 && c.x0 < 1024 && c.x1 > 31500 && c.x1 < CELL_MAX);
         let mid = g.cells(&square(0.75, 0.75, 0.75, 0.75), 0);
-        assert_eq!((mid.x0, mid.y0), (32768, 32768));
+        assert_eq!((mid.x0, mid.y0), (16384, 16384));
         // The root grows to hold lines far outside the box; the middle stays.
         let far = Grid::over(&square(-3.0, 0.6, 0.9, 0.9));
         let c = far.cells(&square(-3.0, 0.75, 0.75, 0.75), 0);
-        assert!(c.x0 < 4000 && c.x1 == 32768 && c.y0 == 32768);
+        assert!(c.x0 < 2000 && c.x1 == 16384 && c.y0 == 16384);
         // Values past the edge (rounding) saturate.
         let edge = g.cells(&square(-1e9, 0.7, 1e9, 0.7), 0);
-        assert_eq!((edge.x0, edge.x1), (0, u16::MAX));
+        assert_eq!((edge.x0, edge.x1), (0, CELL_MAX));
     }
 
     #[test]
@@ -1156,6 +1244,46 @@ mod tests {
         assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
     }
 
+    /// A coordinate near either edge of the grid, or anywhere on it.
+    fn coordinate() -> impl proptest::strategy::Strategy<Value = u16> {
+        proptest::prop_oneof![0u16..8, CELL_MAX - 8..=CELL_MAX, 0..=CELL_MAX]
+    }
+
+    fn any_cells() -> impl proptest::strategy::Strategy<Value = Cells> {
+        use proptest::strategy::Strategy;
+        proptest::array::uniform8(coordinate()).prop_map(|c| {
+            let span = |a: u16, b: u16| (a.min(b), a.max(b));
+            let ((x0, x1), (y0, y1)) = (span(c[0], c[1]), span(c[2], c[3]));
+            let ((u0, u1), (w0, w1)) = (span(c[4], c[5]), span(c[6], c[7]));
+            Cells {
+                x0,
+                y0,
+                u0,
+                w0,
+                x1,
+                y1,
+                u1,
+                w1,
+                id: 0,
+            }
+        })
+    }
+
+    proptest::proptest! {
+        /// The four-lane overlap test agrees with eight comparisons, at the
+        /// grid's edges too.
+        #[test]
+        fn overlaps_compares_every_direction(a in any_cells(), b in any_cells()) {
+            let apart = |l0: u16, l1: u16, m0: u16, m1: u16| l1 < m0 || m1 < l0;
+            let expected = !(apart(a.x0, a.x1, b.x0, b.x1)
+                || apart(a.y0, a.y1, b.y0, b.y1)
+                || apart(a.u0, a.u1, b.u0, b.u1)
+                || apart(a.w0, a.w1, b.w0, b.w1));
+            proptest::prop_assert_eq!(a.overlaps(&b), expected);
+            proptest::prop_assert_eq!(b.overlaps(&a), expected);
+        }
+    }
+
     proptest::proptest! {
         /// Sorted keys, some of them changed (a few far, most a little),
         /// refilled on one thread or several: the entries come out sorted
@@ -1205,11 +1333,11 @@ mod tests {
         #[test]
         fn queries_find_every_overlap(
             boxes in proptest::collection::vec(
-                (0u16..60000, 0u16..60000, 0u16..5000, 0u16..5000),
+                (0u16..30000, 0u16..30000, 0u16..2500, 0u16..2500),
                 1..400,
             ),
             probes in proptest::collection::vec(
-                (0u16..60000, 0u16..60000, 0u16..9000, 0u16..9000),
+                (0u16..30000, 0u16..30000, 0u16..4500, 0u16..4500),
                 1..40,
             ),
             // Down to a few hundred cells across, where spots are single
@@ -1222,7 +1350,7 @@ mod tests {
                 let (x, y, w, h) = (x / scale, y / scale, w / scale, h / scale);
                 Cells {
                     id: id as u32,
-                    ..cells(x, y, x.saturating_add(w), y.saturating_add(h))
+                    ..cells(x, y, (x + w).min(CELL_MAX), (y + h).min(CELL_MAX))
                 }
             };
             let mut tree = Tree::new(leaf_size, 16);
