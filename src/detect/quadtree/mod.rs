@@ -309,34 +309,67 @@ fn holds(outer: &SweptBox, inner: &SweptBox) -> bool {
 struct EventCollector<'a> {
     slots: &'a [Slot],
     dt: f64,
+    /// Pairs waiting for their test, in the order they came.
+    pending: Vec<(u32, u32)>,
     events: Vec<Event>,
     counts: PairCounts,
+}
+
+/// Pairs an [`EventCollector`] holds before testing them together.
+const PENDING: usize = 64;
+
+impl EventCollector<'_> {
+    fn new(slots: &[Slot], dt: f64, events: Vec<Event>) -> EventCollector<'_> {
+        EventCollector {
+            slots,
+            dt,
+            pending: Vec::with_capacity(PENDING),
+            events,
+            counts: PairCounts::default(),
+        }
+    }
+
+    /// Tests the pending pairs, in order. Their slots are copied first, in
+    /// a loop whose scattered reads can all be in flight at once, where a
+    /// test per pair as the walk meets it waits on each of its reads in
+    /// turn.
+    fn flush(&mut self) {
+        let mut copies = [(Slot::default(), Slot::default()); PENDING];
+        for (copy, &(a, b)) in copies.iter_mut().zip(&self.pending) {
+            *copy = (self.slots[a as usize], self.slots[b as usize]);
+        }
+        for (a, b) in &copies[..self.pending.len()] {
+            test_slots(a, b, self.dt, &mut self.events, &mut self.counts);
+        }
+        self.pending.clear();
+    }
+
+    /// The events found, once every pending pair is tested.
+    fn finish(mut self) -> (Vec<Event>, PairCounts) {
+        self.flush();
+        (self.events, self.counts)
+    }
 }
 
 impl tree::Collector for EventCollector<'_> {
     #[inline]
     fn pair(&mut self, a: u32, b: u32) {
-        test_slots(
-            &self.slots[a as usize],
-            &self.slots[b as usize],
-            self.dt,
-            &mut self.events,
-            &mut self.counts,
-        );
-    }
-
-    fn fork(&self) -> Self {
-        EventCollector {
-            slots: self.slots,
-            dt: self.dt,
-            events: Vec::new(),
-            counts: PairCounts::default(),
+        self.pending.push((a, b));
+        if self.pending.len() == PENDING {
+            self.flush();
         }
     }
 
-    fn join(&mut self, mut other: Self) {
-        self.events.append(&mut other.events);
-        self.counts.add(&other.counts);
+    fn fork(&self) -> Self {
+        EventCollector::new(self.slots, self.dt, Vec::new())
+    }
+
+    fn join(&mut self, other: Self) {
+        // Events stay in the order of the pairs: these, then the other's.
+        self.flush();
+        let (mut events, counts) = other.finish();
+        self.events.append(&mut events);
+        self.counts.add(&counts);
     }
 }
 
@@ -634,15 +667,11 @@ impl Quadtree {
         let n = self.slots.len();
         self.tree.sort(self.parallel_chunk(n).is_some());
         self.tree.entries.truncate(n - self.unboxed.len());
-        let mut collector = EventCollector {
-            slots: &self.slots,
-            dt,
-            events: std::mem::take(events),
-            counts: PairCounts::default(),
-        };
+        let mut collector = EventCollector::new(&self.slots, dt, std::mem::take(events));
         self.tree.pairs(&mut collector, self.threads, self.grain);
-        *events = collector.events;
-        counts.add(&collector.counts);
+        let found;
+        (*events, found) = collector.finish();
+        counts.add(&found);
         self.reorder();
     }
 
