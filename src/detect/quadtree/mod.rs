@@ -218,6 +218,8 @@ pub struct Quadtree {
     grid: Grid,
     /// Every line's id, in the order slots are filled.
     order: Vec<u32>,
+    /// Where `reorder` builds the next `order`.
+    next_order: Vec<u32>,
     /// This step's lines in `order`, with what the pair test needs.
     slots: Vec<Slot>,
     /// Each slot's swept hull this step (meaningful where `boxed`; cached
@@ -511,6 +513,7 @@ impl Quadtree {
                 ..SweptBox::default()
             }),
             order: Vec::new(),
+            next_order: Vec::new(),
             slots: Vec::new(),
             hulls: Vec::new(),
             boxed: Vec::new(),
@@ -612,16 +615,21 @@ impl Quadtree {
 
     /// Sets `order` to the tree's order of the boxed slots, then the others.
     fn reorder(&mut self) {
-        let (slots, entries) = (&self.slots, &self.tree.entries);
-        let id = |e: &Entry| slots[e.cells.id as usize].id;
-        self.order.clear();
-        if self.parallel_chunk(entries.len()).is_some() {
+        // Slot `s` holds line `order[s]`: a small array to read, nearly in
+        // order, where the slots themselves would be a large one.
+        let parallel = self.parallel_chunk(self.tree.entries.len()).is_some();
+        let (order, entries) = (&self.order, &self.tree.entries);
+        let id = |e: &Entry| order[e.cells.id as usize];
+        let next = &mut self.next_order;
+        next.clear();
+        if parallel {
             use rayon::prelude::*;
-            self.order.par_extend(entries.par_iter().map(id));
+            next.par_extend(entries.par_iter().map(id));
         } else {
-            self.order.extend(entries.iter().map(id));
+            next.extend(entries.iter().map(id));
         }
-        self.order.extend_from_slice(&self.unboxed);
+        next.extend_from_slice(&self.unboxed);
+        std::mem::swap(&mut self.order, next);
     }
 
     /// Fills the tree's entries, in slot order, from the boxed slots' fat

@@ -378,7 +378,7 @@ const SWEEP_MIN: usize = 48;
 /// by binary search: a scan reads ahead (and the walk's next reads of the
 /// same entries find them cached), where a search waits on one cache miss
 /// after another.
-const SCAN_MAX: usize = 64;
+const SCAN_MAX: usize = 256;
 
 /// How many of a node's entries (`run`, sorted) are its own misfits.
 #[inline]
