@@ -426,35 +426,42 @@ fn fill_run(
     boxed: &mut [bool],
     dt: f64,
 ) -> Option<SweptBox> {
-    // Gather first, in a loop tight enough to keep many of its scattered
-    // reads in flight; then work on the copies in order.
-    for (slot, &id) in slots.iter_mut().zip(ids) {
-        slot.line = lines[id as usize];
-    }
     let mut bounds: Option<SweptBox> = None;
-    for k in 0..ids.len() {
-        let slot = &mut slots[k];
-        let (hull, magnitude) = swept_box(&slot.line, dt);
-        slot.magnitude = magnitude;
-        slot.id = ids[k];
-        boxed[k] = hull.is_some();
-        if let Some(hull) = hull {
-            bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
+    // Gather a block first, in a loop tight enough to keep many of its
+    // scattered reads in flight; then work on the copies in order, while
+    // they are still in the nearest cache.
+    for start in (0..ids.len()).step_by(GATHER) {
+        let end = (start + GATHER).min(ids.len());
+        for (slot, &id) in slots[start..end].iter_mut().zip(&ids[start..end]) {
+            slot.line = lines[id as usize];
         }
-        match &mut sink {
-            HullSink::Keep(hulls) => {
-                if let Some(hull) = hull {
-                    hulls[k] = hull;
-                }
+        for k in start..end {
+            let slot = &mut slots[k];
+            let (hull, magnitude) = swept_box(&slot.line, dt);
+            slot.magnitude = magnitude;
+            slot.id = ids[k];
+            boxed[k] = hull.is_some();
+            if let Some(hull) = hull {
+                bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
             }
-            HullSink::Enter(refill, grid, max_depth) => {
-                let s = (first + k) as u32;
-                refill.set(k, entry(grid, hull, s, *max_depth, false));
+            match &mut sink {
+                HullSink::Keep(hulls) => {
+                    if let Some(hull) = hull {
+                        hulls[k] = hull;
+                    }
+                }
+                HullSink::Enter(refill, grid, max_depth) => {
+                    let s = (first + k) as u32;
+                    refill.set(k, entry(grid, hull, s, *max_depth, false));
+                }
             }
         }
     }
     bounds
 }
+
+/// Lines the fill gathers at a time (16 KB of them).
+const GATHER: usize = 256;
 
 /// Slot `s`'s tree entry for its hull over `grid`; a slot without one (not
 /// boxed) gets a key past every real one, which sorts it last to be cut
