@@ -20,7 +20,7 @@ fn boxes(lines: usize) -> Vec<SweptBox> {
     world
         .lines()
         .iter()
-        .filter_map(|l| swept_box(l, 0.5).0)
+        .filter_map(|l| swept_box(l, 0.5))
         .map(|b| SweptBox {
             min_u: b.min_x * DIAGONAL_X + b.min_y * DIAGONAL_Y,
             max_u: b.max_x * DIAGONAL_X + b.max_y * DIAGONAL_Y,

@@ -82,21 +82,6 @@ impl SweptBox {
     }
 }
 
-/// A line as a broad phase's pair test sees it: a copy of the line, its id,
-/// and the magnitude of its coordinates (for the prefilter's margin).
-/// Broad phases keep these in their own order, so that lines near each
-/// other in space are near each other in memory.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Slot {
-    /// The line.
-    pub line: Line,
-    /// Bound on the absolute value of its coordinates now and one step
-    /// ahead.
-    pub magnitude: f64,
-    /// Its id.
-    pub id: u32,
-}
-
 /// `min` without NaN handling: one instruction. Callers rule NaN out.
 #[inline]
 fn min(a: f64, b: f64) -> f64 {
@@ -117,14 +102,11 @@ fn max(a: f64, b: f64) -> f64 {
     }
 }
 
-/// The padded swept hull of one line (`None` when not finite) and the
-/// magnitude of its coordinates (infinite when they are not finite).
+/// The extent of a line's endpoints now and one step ahead, as `(min_x,
+/// max_x, min_y, max_y)` (meaningful for finite lines), and the magnitude
+/// of those coordinates: a bound on their absolute values.
 #[inline]
-pub fn swept_box(line: &Line, dt: f64) -> (Option<SweptBox>, f64) {
-    // The sum is NaN or infinite if any input is (or, harmlessly, if it
-    // overflows: the line turns wild). Past this test nothing is NaN, so
-    // the cheap min and max are exact.
-    let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
+fn extent(line: &Line, dt: f64) -> ([f64; 4], f64) {
     let e1 = line.p1 + line.v * dt;
     let e2 = line.p2 + line.v * dt;
     let min_x = min(min(line.p1.x, line.p2.x), min(e1.x, e2.x));
@@ -133,16 +115,21 @@ pub fn swept_box(line: &Line, dt: f64) -> (Option<SweptBox>, f64) {
     let max_y = max(max(line.p1.y, line.p2.y), max(e1.y, e2.y));
     // For lo <= hi, max(-lo, hi) = max(|lo|, |hi|).
     let magnitude = max(max(-min_x, max_x), max(-min_y, max_y));
+    ([min_x, max_x, min_y, max_y], magnitude)
+}
+
+/// The padded swept hull of one line, `None` when it is not finite.
+#[inline]
+pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
+    // The sum is NaN or infinite if any input is (or, harmlessly, if it
+    // overflows: the line turns wild). Past this test nothing is NaN, so
+    // the cheap min and max are exact.
+    let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
+    let ([min_x, max_x, min_y, max_y], magnitude) = extent(line, dt);
     if !(sum.is_finite() && magnitude.is_finite()) {
-        return (
-            None,
-            if sum.is_finite() {
-                magnitude
-            } else {
-                f64::INFINITY
-            },
-        );
+        return None;
     }
+    let (e1, e2) = (line.p1 + line.v * dt, line.p2 + line.v * dt);
     let u = |p: Vec2| p.x * DIAGONAL_X + p.y * DIAGONAL_Y;
     let w = |p: Vec2| p.x * DIAGONAL_X - p.y * DIAGONAL_Y;
     let u = [u(line.p1), u(line.p2), u(e1), u(e2)];
@@ -160,7 +147,7 @@ pub fn swept_box(line: &Line, dt: f64) -> (Option<SweptBox>, f64) {
         max_u: max(max(u[0], u[1]), max(u[2], u[3])) + pad_diagonal,
         max_w: max(max(w[0], w[1]), max(w[2], w[3])) + pad_diagonal,
     };
-    (Some(b), magnitude)
+    Some(b)
 }
 
 /// Relative padding of swept boxes: far above the rounding errors of the
@@ -184,19 +171,27 @@ impl PairCounts {
     }
 }
 
-/// Tests one pair whose hulls overlap: the cheap prefilter, then the exact
-/// test, pushing the event (lower id first) if there is one.
+/// Tests one pair of boxed lines, each with its id, whose hulls overlap:
+/// the cheap prefilter, then the exact test, pushing the event (lower id
+/// first) if there is one.
 #[inline]
-pub fn test_slots(a: &Slot, b: &Slot, dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
-    let (s1, s2) = if a.id < b.id { (a, b) } else { (b, a) };
-    if !may_intersect(&s1.line, &s2.line, dt, max(s1.magnitude, s2.magnitude)) {
+pub fn test_pair(
+    a: (&Line, u32),
+    b: (&Line, u32),
+    dt: f64,
+    events: &mut Vec<Event>,
+    counts: &mut PairCounts,
+) {
+    let ((l1, first), (l2, second)) = if a.1 < b.1 { (a, b) } else { (b, a) };
+    let magnitude = max(extent(l1, dt).1, extent(l2, dt).1);
+    if !may_intersect(l1, l2, dt, magnitude) {
         return;
     }
     counts.exact += 1;
-    if let Some(kind) = intersect(&s1.line, &s2.line, dt) {
+    if let Some(kind) = intersect(l1, l2, dt) {
         events.push(Event {
-            first: s1.id,
-            second: s2.id,
+            first,
+            second,
             kind,
         });
     }
@@ -237,7 +232,8 @@ mod tests {
 
     #[test]
     fn the_box_holds_the_segment_now_and_one_step_ahead() {
-        let (b, m) = swept_box(&line((0.6, 0.7), (0.8, 0.65), (0.1, -0.2)), 0.5);
+        let l = line((0.6, 0.7), (0.8, 0.65), (0.1, -0.2));
+        let (b, m) = (swept_box(&l, 0.5), extent(&l, 0.5).1);
         let (b, r) = (b.unwrap(), b.unwrap());
         assert!(b.min_x < 0.6 && b.max_x > 0.85);
         assert!(b.min_y < 0.55 && b.max_y > 0.7);
@@ -270,7 +266,7 @@ mod tests {
             vx in -1.0f64..1.0, vy in -1.0f64..1.0, scale in proptest::sample::select(vec![1e-9, 1.0, 1e5]),
         ) {
             let l = line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
-            let b = swept_box(&l, 0.5).0.unwrap();
+            let b = swept_box(&l, 0.5).unwrap();
             let r = b;
             for p in [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5] {
                 proptest::prop_assert!(b.min_x < p.x && p.x < b.max_x);
@@ -294,7 +290,7 @@ mod tests {
             ),
             line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
         ];
-        assert!(swept_box(&lines[0], 0.5).0.is_none() && !lines[0].is_inert());
+        assert!(swept_box(&lines[0], 0.5).is_none() && !lines[0].is_inert());
         assert!(lines[2].is_inert());
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
         test_wild(
@@ -313,22 +309,14 @@ mod tests {
     }
 
     #[test]
-    fn slots_are_tested_lower_id_first() {
-        let a = Slot {
-            line: line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
-            magnitude: 0.7,
-            id: 9,
-        };
-        let b = Slot {
-            line: line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
-            magnitude: 0.7,
-            id: 4,
-        };
+    fn pairs_are_tested_lower_id_first() {
+        let a = line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0));
+        let b = line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0));
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
-        test_slots(&a, &b, 0.5, &mut events, &mut counts);
+        test_pair((&a, 9), (&b, 4), 0.5, &mut events, &mut counts);
         assert_eq!(counts.exact, 1);
         assert_eq!((events[0].first, events[0].second), (4, 9));
         // Roles matter: with id 4 as l1 the event is L1WithL2 from l2's view.
-        assert_eq!(Some(events[0].kind), intersect(&b.line, &a.line, 0.5));
+        assert_eq!(Some(events[0].kind), intersect(&b, &a, 0.5));
     }
 }

@@ -29,9 +29,7 @@
 
 pub mod tree;
 
-use super::swept::{
-    swept_box, test_slots, test_wild, PairCounts, Slot, SweptBox, DIAGONAL_X, DIAGONAL_Y,
-};
+use super::swept::{swept_box, test_pair, test_wild, PairCounts, SweptBox, DIAGONAL_X, DIAGONAL_Y};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
@@ -220,8 +218,9 @@ pub struct Quadtree {
     order: Vec<u32>,
     /// Where `reorder` builds the next `order`.
     next_order: Vec<u32>,
-    /// This step's lines in `order`, with what the pair test needs.
-    slots: Vec<Slot>,
+    /// This step's lines in `order`: slot `s` holds a copy of line
+    /// `order[s]`.
+    slots: Vec<Line>,
     /// Each slot's swept hull this step (meaningful where `boxed`; cached
     /// mode only).
     hulls: Vec<SweptBox>,
@@ -309,7 +308,9 @@ fn holds(outer: &SweptBox, inner: &SweptBox) -> bool {
 
 /// Collects a walk's pairs into events, testing each pair on the spot.
 struct EventCollector<'a> {
-    slots: &'a [Slot],
+    slots: &'a [Line],
+    /// Each slot's line id.
+    ids: &'a [u32],
     dt: f64,
     /// Pairs waiting for their test, in the order they came.
     pending: Vec<(u32, u32)>,
@@ -321,9 +322,15 @@ struct EventCollector<'a> {
 const PENDING: usize = 64;
 
 impl EventCollector<'_> {
-    fn new(slots: &[Slot], dt: f64, events: Vec<Event>) -> EventCollector<'_> {
+    fn new<'a>(
+        slots: &'a [Line],
+        ids: &'a [u32],
+        dt: f64,
+        events: Vec<Event>,
+    ) -> EventCollector<'a> {
         EventCollector {
             slots,
+            ids,
             dt,
             pending: Vec::with_capacity(PENDING),
             events,
@@ -336,12 +343,13 @@ impl EventCollector<'_> {
     /// test per pair as the walk meets it waits on each of its reads in
     /// turn.
     fn flush(&mut self) {
-        let mut copies = [(Slot::default(), Slot::default()); PENDING];
+        let mut copies = [(Line::default(), Line::default()); PENDING];
         for (copy, &(a, b)) in copies.iter_mut().zip(&self.pending) {
             *copy = (self.slots[a as usize], self.slots[b as usize]);
         }
-        for (a, b) in &copies[..self.pending.len()] {
-            test_slots(a, b, self.dt, &mut self.events, &mut self.counts);
+        for ((a, b), &(s, t)) in copies.iter().zip(&self.pending) {
+            let (a, b) = ((a, self.ids[s as usize]), (b, self.ids[t as usize]));
+            test_pair(a, b, self.dt, &mut self.events, &mut self.counts);
         }
         self.pending.clear();
     }
@@ -363,7 +371,7 @@ impl tree::Collector for EventCollector<'_> {
     }
 
     fn fork(&self) -> Self {
-        EventCollector::new(self.slots, self.dt, Vec::new())
+        EventCollector::new(self.slots, self.ids, self.dt, Vec::new())
     }
 
     fn join(&mut self, other: Self) {
@@ -421,7 +429,7 @@ fn fill_run(
     first: usize,
     ids: &[u32],
     lines: &[Line],
-    slots: &mut [Slot],
+    slots: &mut [Line],
     mut sink: HullSink<'_>,
     boxed: &mut [bool],
     dt: f64,
@@ -433,13 +441,10 @@ fn fill_run(
     for start in (0..ids.len()).step_by(GATHER) {
         let end = (start + GATHER).min(ids.len());
         for (slot, &id) in slots[start..end].iter_mut().zip(&ids[start..end]) {
-            slot.line = lines[id as usize];
+            *slot = lines[id as usize];
         }
         for k in start..end {
-            let slot = &mut slots[k];
-            let (hull, magnitude) = swept_box(&slot.line, dt);
-            slot.magnitude = magnitude;
-            slot.id = ids[k];
+            let hull = swept_box(&slots[k], dt);
             boxed[k] = hull.is_some();
             if let Some(hull) = hull {
                 bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
@@ -460,7 +465,7 @@ fn fill_run(
     bounds
 }
 
-/// Lines the fill gathers at a time (16 KB of them).
+/// Lines the fill gathers at a time (12 KB of them).
 const GATHER: usize = 256;
 
 /// Slot `s`'s tree entry for its hull over `grid`; a slot without one (not
@@ -552,7 +557,7 @@ impl Quadtree {
             self.order.extend(0..n as u32);
             self.valid = false;
         }
-        self.slots.resize(n, Slot::default());
+        self.slots.resize(n, Line::default());
         self.boxed.resize(n, false);
         let chunk = self.parallel_chunk(n);
         let sink = if enter {
@@ -598,7 +603,7 @@ impl Quadtree {
             if !is_boxed {
                 let id = self.order[k];
                 self.unboxed.push(id);
-                if !self.slots[k].line.is_inert() {
+                if !self.slots[k].is_inert() {
                     self.wild.push(id);
                 }
             }
@@ -612,11 +617,11 @@ impl Quadtree {
             return;
         }
         let boxed_ids = self
-            .slots
+            .order
             .iter()
             .zip(&self.boxed)
             .filter(|(_, &b)| b)
-            .map(|(s, _)| s.id);
+            .map(|(&id, _)| id);
         test_wild(lines, &self.wild, boxed_ids, dt, events, counts);
     }
 
@@ -682,7 +687,8 @@ impl Quadtree {
         let n = self.slots.len();
         self.tree.sort(self.parallel_chunk(n).is_some());
         self.tree.entries.truncate(n - self.unboxed.len());
-        let mut collector = EventCollector::new(&self.slots, dt, std::mem::take(events));
+        let mut collector =
+            EventCollector::new(&self.slots, &self.order, dt, std::mem::take(events));
         self.tree.pairs(&mut collector, self.threads, self.grain);
         let found;
         (*events, found) = collector.finish();
@@ -722,7 +728,7 @@ impl Quadtree {
         if self.valid {
             for &m in &self.moved {
                 let m = m as usize;
-                self.fat[m] = fatten(&self.hulls[m], &self.slots[m].line, dt);
+                self.fat[m] = fatten(&self.hulls[m], &self.slots[m], dt);
             }
             let grid = self.grid;
             self.valid = self
@@ -746,12 +752,12 @@ impl Quadtree {
     /// Tests the cached pairs whose swept hulls overlap (in parallel runs
     /// merged in order, if there are many).
     fn test_cached_pairs(&self, dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
-        let (hulls, slots) = (&self.hulls, &self.slots);
+        let (hulls, slots, ids) = (&self.hulls, &self.slots, &self.order);
         let test = |pairs: &[(u32, u32)], events: &mut Vec<Event>, counts: &mut PairCounts| {
             for &(a, b) in pairs {
                 let (a, b) = (a as usize, b as usize);
                 if hulls[a].overlaps(&hulls[b]) {
-                    test_slots(&slots[a], &slots[b], dt, events, counts);
+                    test_pair((&slots[a], ids[a]), (&slots[b], ids[b]), dt, events, counts);
                 }
             }
         };
@@ -811,7 +817,7 @@ impl Quadtree {
         let (hulls, slots, boxed) = (&self.hulls, &self.slots, &self.boxed);
         self.fat.clear();
         self.fat
-            .extend(hulls.iter().zip(slots).map(|(h, s)| fatten(h, &s.line, dt)));
+            .extend(hulls.iter().zip(slots).map(|(h, s)| fatten(h, s, dt)));
         for (f, &b) in self.fat.iter().zip(boxed) {
             if b {
                 bounds = bounds.union(f);
