@@ -48,7 +48,9 @@ const SPOT_MASK: u64 = (1 << SPOT_BITS) - 1;
 /// A line's swept hull in finest-level grid cells (inclusive), along the
 /// axes and the diagonals, with its id. Lowest cells come first, then
 /// highest, each four in the order `x`, `y`, `u`, `w`, so that each group
-/// reads as one `u64` of four 16-bit lanes (see [`Cells::overlaps`]).
+/// reads as one `u64` of four 16-bit lanes (see [`Cells::overlaps`]). Every
+/// cell is below `2^15`, as [`Grid::cells`] makes them: the overlap test
+/// relies on it.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[repr(C)]
 pub struct Cells {
@@ -90,6 +92,10 @@ impl Cells {
     /// exactly when `low <= high`.
     #[inline]
     pub fn overlaps(&self, o: &Cells) -> bool {
+        debug_assert_eq!(
+            (self.lows() | self.highs() | o.lows() | o.highs()) & LANE_TOPS,
+            0
+        );
         let ahead = (o.highs() | LANE_TOPS) - self.lows();
         let behind = (self.highs() | LANE_TOPS) - o.lows();
         ahead & behind & LANE_TOPS == LANE_TOPS
@@ -374,23 +380,13 @@ const INSERTION_MAX: usize = 64;
 /// Below this many lines in a node's pair set, plain loops beat sorting.
 const SWEEP_MIN: usize = 48;
 
-/// Runs of up to this many entries are split by reading them in order, not
-/// by binary search: a scan reads ahead (and the walk's next reads of the
-/// same entries find them cached), where a search waits on one cache miss
-/// after another.
+/// In the pairs walk, runs of up to this many entries are split by reading
+/// them in order, not by binary search: a scan reads ahead (and the walk
+/// goes on to read every entry of the run anyway, which the scan has
+/// brought into the cache), where a search waits on one cache miss after
+/// another. Queries, which read only the few children their probe reaches,
+/// always search.
 const SCAN_MAX: usize = 256;
-
-/// How many of a node's entries (`run`, sorted) are its own misfits.
-#[inline]
-fn misfits_end(run: &[Entry], level: u32) -> usize {
-    if run.len() <= SCAN_MAX {
-        run.iter()
-            .position(|e| e.level() != level)
-            .unwrap_or(run.len())
-    } else {
-        run.partition_point(|e| e.level() == level)
-    }
-}
 
 /// What the walks have done, summed until reset.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -498,6 +494,8 @@ struct Walk<'t> {
     /// Subtrees of at least this many lines are split among threads; zero
     /// for a serial walk.
     parallel_min: usize,
+    /// Runs up to this long are split by scanning (see [`SCAN_MAX`]).
+    scan_max: usize,
     /// For queries: whether the keys carry spots, and the entries' largest
     /// extents along `x` and `y`.
     spots: bool,
@@ -768,6 +766,7 @@ impl Tree {
             } else {
                 0
             },
+            scan_max: SCAN_MAX,
             spots: false,
             extent: (0, 0),
         };
@@ -790,6 +789,7 @@ impl Tree {
                 leaf_size: self.leaf_size,
                 max_depth: self.max_depth,
                 parallel_min: 0,
+                scan_max: 0,
                 spots: self.spots,
                 extent: self.extent,
             };
@@ -827,7 +827,7 @@ impl Walk<'_> {
         }
 
         // This node's misfits come first in its run.
-        let mid = lo + misfits_end(&self.entries[lo..hi], level);
+        let mid = lo + self.misfits_end(lo, hi, level);
         node_pairs(scratch, collector, active_lo, &self.entries[lo..mid]);
 
         let bounds = self.child_runs(mid, hi, level);
@@ -903,13 +903,27 @@ impl Walk<'_> {
         scratch.active.truncate(own_hi - (mid - lo));
     }
 
+    /// How many of the entries of the node at `level` whose subtree is
+    /// `entries[lo..hi]` are its own misfits.
+    #[inline]
+    fn misfits_end(&self, lo: usize, hi: usize, level: u32) -> usize {
+        let run = &self.entries[lo..hi];
+        if run.len() <= self.scan_max {
+            run.iter()
+                .position(|e| e.level() != level)
+                .unwrap_or(run.len())
+        } else {
+            run.partition_point(|e| e.level() == level)
+        }
+    }
+
     /// The runs of a node's four children within `entries[mid..hi]` (the
     /// node's lines past its misfits), as five boundaries.
     fn child_runs(&self, mid: usize, hi: usize, level: u32) -> [usize; 5] {
         // The two key bits below the node's level choose the quadrant.
         let shift = SUB_BITS + LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
         let run = &self.entries[mid..hi];
-        if run.len() <= SCAN_MAX {
+        if run.len() <= self.scan_max {
             let mut ends = [mid, mid, mid, mid, hi];
             for e in run {
                 let quadrant = ((e.key >> shift) & 3) as usize;
@@ -956,7 +970,7 @@ impl Walk<'_> {
             self.query_run(counts, probe, sink, &self.entries[lo..hi]);
             return;
         }
-        let mid = lo + misfits_end(&self.entries[lo..hi], level);
+        let mid = lo + self.misfits_end(lo, hi, level);
         let misfits = &self.entries[lo..mid];
         if self.spots {
             // Those across the vertical centre line by lowest y, then the
