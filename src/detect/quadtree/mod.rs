@@ -321,13 +321,10 @@ struct EventCollector<'a> {
 /// Pairs an [`EventCollector`] holds before testing them together.
 const PENDING: usize = 64;
 
-impl EventCollector<'_> {
-    fn new<'a>(
-        slots: &'a [Line],
-        ids: &'a [u32],
-        dt: f64,
-        events: Vec<Event>,
-    ) -> EventCollector<'a> {
+impl<'a> EventCollector<'a> {
+    /// A collector testing pairs of `slots`, whose line ids are `ids`,
+    /// adding to `events`.
+    fn new(slots: &'a [Line], ids: &'a [u32], dt: f64, events: Vec<Event>) -> Self {
         EventCollector {
             slots,
             ids,
