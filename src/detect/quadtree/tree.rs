@@ -1252,6 +1252,33 @@ mod tests {
     }
 
     #[test]
+    fn the_triangle_lists_each_pair_of_the_first_lines_once() {
+        for n in 0..=TRIANGLE_LINES {
+            let mut pairs: Vec<(u8, u8)> = TRIANGLE[..n * n.saturating_sub(1) / 2].to_vec();
+            pairs.sort_unstable();
+            let expected: Vec<(u8, u8)> = (0..n as u8)
+                .flat_map(|k| (k + 1..n as u8).map(move |j| (k, j)))
+                .collect();
+            assert_eq!(pairs, expected, "{n} lines");
+        }
+    }
+
+    #[test]
+    fn retain_from_keeps_the_accepted_in_order_and_leaves_the_front() {
+        let mut v: Vec<Cells> = (0..10)
+            .map(|id| Cells {
+                id,
+                ..Cells::default()
+            })
+            .collect();
+        retain_from(&mut v, 3, |c| c.id % 3 != 0);
+        let ids: Vec<u32> = v.iter().map(|c| c.id).collect();
+        assert_eq!(ids, vec![0, 1, 2, 4, 5, 7, 8]);
+        retain_from(&mut v, 0, |_| false);
+        assert!(v.is_empty());
+    }
+
+    #[test]
     fn blocks_split_into_quadrants_in_key_order() {
         let b = Block {
             x0: 0,
