@@ -102,20 +102,36 @@ fn max(a: f64, b: f64) -> f64 {
     }
 }
 
-/// The extent of a line's endpoints now and one step ahead, as `(min_x,
-/// max_x, min_y, max_y)` (meaningful for finite lines), and the magnitude
-/// of those coordinates: a bound on their absolute values.
+/// A line's endpoints now and one step ahead.
 #[inline]
-fn extent(line: &Line, dt: f64) -> ([f64; 4], f64) {
-    let e1 = line.p1 + line.v * dt;
-    let e2 = line.p2 + line.v * dt;
-    let min_x = min(min(line.p1.x, line.p2.x), min(e1.x, e2.x));
-    let max_x = max(max(line.p1.x, line.p2.x), max(e1.x, e2.x));
-    let min_y = min(min(line.p1.y, line.p2.y), min(e1.y, e2.y));
-    let max_y = max(max(line.p1.y, line.p2.y), max(e1.y, e2.y));
+fn corners(line: &Line, dt: f64) -> [Vec2; 4] {
+    [
+        line.p1,
+        line.p2,
+        line.p1 + line.v * dt,
+        line.p2 + line.v * dt,
+    ]
+}
+
+/// The extent of `corners` as `[min_x, max_x, min_y, max_y]` (meaningful
+/// when they are finite) and their magnitude: a bound on the absolute
+/// values of their coordinates.
+#[inline]
+fn extent(c: &[Vec2; 4]) -> ([f64; 4], f64) {
+    let min_x = min(min(c[0].x, c[1].x), min(c[2].x, c[3].x));
+    let max_x = max(max(c[0].x, c[1].x), max(c[2].x, c[3].x));
+    let min_y = min(min(c[0].y, c[1].y), min(c[2].y, c[3].y));
+    let max_y = max(max(c[0].y, c[1].y), max(c[2].y, c[3].y));
     // For lo <= hi, max(-lo, hi) = max(|lo|, |hi|).
     let magnitude = max(max(-min_x, max_x), max(-min_y, max_y));
     ([min_x, max_x, min_y, max_y], magnitude)
+}
+
+/// The magnitude of a finite line's coordinates now and one step ahead:
+/// the scale of the prefilter's margin.
+#[inline]
+fn magnitude(line: &Line, dt: f64) -> f64 {
+    extent(&corners(line, dt)).1
 }
 
 /// The padded swept hull of one line, `None` when it is not finite.
@@ -125,15 +141,13 @@ pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
     // overflows: the line turns wild). Past this test nothing is NaN, so
     // the cheap min and max are exact.
     let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
-    let ([min_x, max_x, min_y, max_y], magnitude) = extent(line, dt);
+    let c = corners(line, dt);
+    let ([min_x, max_x, min_y, max_y], magnitude) = extent(&c);
     if !(sum.is_finite() && magnitude.is_finite()) {
         return None;
     }
-    let (e1, e2) = (line.p1 + line.v * dt, line.p2 + line.v * dt);
-    let u = |p: Vec2| p.x * DIAGONAL_X + p.y * DIAGONAL_Y;
-    let w = |p: Vec2| p.x * DIAGONAL_X - p.y * DIAGONAL_Y;
-    let u = [u(line.p1), u(line.p2), u(e1), u(e2)];
-    let w = [w(line.p1), w(line.p2), w(e1), w(e2)];
+    let u = c.map(|p| p.x * DIAGONAL_X + p.y * DIAGONAL_Y);
+    let w = c.map(|p| p.x * DIAGONAL_X - p.y * DIAGONAL_Y);
     let pad = magnitude * PAD + 1e-12;
     // The diagonals reach (1180 + 800) times the magnitude; so does their pad.
     let pad_diagonal = (DIAGONAL_X + DIAGONAL_Y) * pad;
@@ -183,8 +197,8 @@ pub fn test_pair(
     counts: &mut PairCounts,
 ) {
     let ((l1, first), (l2, second)) = if a.1 < b.1 { (a, b) } else { (b, a) };
-    let magnitude = max(extent(l1, dt).1, extent(l2, dt).1);
-    if !may_intersect(l1, l2, dt, magnitude) {
+    let bound = max(magnitude(l1, dt), magnitude(l2, dt));
+    if !may_intersect(l1, l2, dt, bound) {
         return;
     }
     counts.exact += 1;
@@ -233,7 +247,7 @@ mod tests {
     #[test]
     fn the_box_holds_the_segment_now_and_one_step_ahead() {
         let l = line((0.6, 0.7), (0.8, 0.65), (0.1, -0.2));
-        let (b, m) = (swept_box(&l, 0.5), extent(&l, 0.5).1);
+        let (b, m) = (swept_box(&l, 0.5), magnitude(&l, 0.5));
         let (b, r) = (b.unwrap(), b.unwrap());
         assert!(b.min_x < 0.6 && b.max_x > 0.85);
         assert!(b.min_y < 0.55 && b.max_y > 0.7);

@@ -924,14 +924,13 @@ impl Walk<'_> {
         let shift = SUB_BITS + LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
         let run = &self.entries[mid..hi];
         if run.len() <= self.scan_max {
-            let mut ends = [mid, mid, mid, mid, hi];
+            let mut count = [0; 4];
             for e in run {
-                let quadrant = ((e.key >> shift) & 3) as usize;
-                for end in &mut ends[quadrant + 1..4] {
-                    *end += 1;
-                }
+                count[((e.key >> shift) & 3) as usize] += 1;
             }
-            return ends;
+            let first = mid + count[0];
+            let second = first + count[1];
+            return [mid, first, second, second + count[2], hi];
         }
         let split = |c: u64| mid + run.partition_point(|e| (e.key >> shift) & 3 < c);
         [mid, split(1), split(2), split(3), hi]
