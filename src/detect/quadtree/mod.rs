@@ -314,6 +314,8 @@ struct EventCollector<'a> {
     dt: f64,
     /// Pairs waiting for their test, in the order they came.
     pending: Vec<(u32, u32)>,
+    /// The pending pairs' lines, copied for their test.
+    copies: Vec<(Line, Line)>,
     events: Vec<Event>,
     counts: PairCounts,
 }
@@ -330,6 +332,7 @@ impl<'a> EventCollector<'a> {
             ids,
             dt,
             pending: Vec::with_capacity(PENDING),
+            copies: Vec::with_capacity(PENDING),
             events,
             counts: PairCounts::default(),
         }
@@ -340,11 +343,14 @@ impl<'a> EventCollector<'a> {
     /// test per pair as the walk meets it waits on each of its reads in
     /// turn.
     fn flush(&mut self) {
-        let mut copies = [(Line::default(), Line::default()); PENDING];
-        for (copy, &(a, b)) in copies.iter_mut().zip(&self.pending) {
-            *copy = (self.slots[a as usize], self.slots[b as usize]);
-        }
-        for ((a, b), &(s, t)) in copies.iter().zip(&self.pending) {
+        let slots = self.slots;
+        self.copies.clear();
+        self.copies.extend(
+            self.pending
+                .iter()
+                .map(|&(a, b)| (slots[a as usize], slots[b as usize])),
+        );
+        for ((a, b), &(s, t)) in self.copies.iter().zip(&self.pending) {
             let (a, b) = ((a, self.ids[s as usize]), (b, self.ids[t as usize]));
             test_pair(a, b, self.dt, &mut self.events, &mut self.counts);
         }
