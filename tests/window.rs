@@ -2,9 +2,9 @@
 //! colours, and ends by itself after the requested frames. Skipped (with a
 //! message) where `Xvfb` or `xwd` is missing; CI installs both.
 
+use std::io::{BufRead, BufReader};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
-use std::sync::atomic::{AtomicU32, Ordering};
 use std::time::{Duration, Instant};
 
 fn found(program: &str) -> bool {
@@ -27,30 +27,28 @@ impl Xvfb {
             );
             return None;
         }
-        static NEXT: AtomicU32 = AtomicU32::new(0);
-        let number = 100 + (std::process::id() % 400) * 2 + NEXT.fetch_add(1, Ordering::Relaxed);
-        let child = Command::new("Xvfb")
+        // Xvfb picks a display no other server holds (a server killed
+        // earlier leaves its lock and socket behind) and writes its number
+        // once it accepts connections.
+        let mut child = Command::new("Xvfb")
             .args([
-                format!(":{number}").as_str(),
+                "-displayfd",
+                "1",
                 "-screen",
                 "0",
                 "1280x900x24",
                 "-nolisten",
                 "tcp",
             ])
-            .stdout(Stdio::null())
+            .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
             .expect("starting Xvfb");
-        let socket = PathBuf::from(format!("/tmp/.X11-unix/X{number}"));
-        let start = Instant::now();
-        while !socket.exists() {
-            assert!(
-                start.elapsed() < Duration::from_secs(10),
-                "Xvfb did not start"
-            );
-            std::thread::sleep(Duration::from_millis(50));
-        }
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("Xvfb's stdout"))
+            .read_line(&mut line)
+            .expect("reading Xvfb's display number");
+        let number: u32 = line.trim().parse().expect("Xvfb did not start");
         Some(Xvfb {
             child,
             display: format!(":{number}"),
