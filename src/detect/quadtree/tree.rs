@@ -748,9 +748,9 @@ impl Tree {
     }
 
     /// Hands `collector` once every pair of lines whose cells overlap
-    /// (entries must be sorted). With `threads` above 1, subtrees are walked
-    /// in parallel on the current rayon pool, none smaller than `grain / 16`
-    /// lines.
+    /// (entries must be sorted). With `threads` above 1 and at least `grain`
+    /// lines, subtrees are walked in parallel on the current rayon pool,
+    /// none smaller than `grain / 16` lines.
     pub fn pairs<C: Collector>(&mut self, collector: &mut C, threads: usize, grain: usize) {
         let n = self.entries.len();
         if n == 0 {
