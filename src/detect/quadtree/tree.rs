@@ -632,7 +632,7 @@ impl Tree {
             use rayon::slice::ParallelSliceMut;
             self.entries.par_sort_unstable_by_key(|e| e.key);
         } else {
-            self.entries.sort_unstable_by_key(|e| e.key);
+            radsort::sort_by_key(&mut self.entries, |e| e.key);
         }
     }
 
@@ -706,7 +706,7 @@ impl Tree {
             use rayon::slice::ParallelSliceMut;
             movers.par_sort_unstable_by_key(|e| e.key);
         } else {
-            movers.sort_unstable_by_key(|e| e.key);
+            radsort::sort_by_key(movers, |e| e.key);
         }
 
         // Each run's part of the output: its kept entries and the movers
