@@ -234,6 +234,8 @@ pub struct Quadtree {
     cached_boxed: Vec<bool>,
     /// Cached mode: each slot's fat hull.
     fat: Vec<SweptBox>,
+    /// Cached mode: where [`Quadtree::permute_slots`] works out the moves.
+    permutation: Vec<u32>,
     /// Cached mode: whether each slot left its fat hull this step.
     is_moved: Vec<bool>,
     /// Cached mode: the slots that left their fat hulls this step.
@@ -536,6 +538,7 @@ impl Quadtree {
             wild: Vec::new(),
             cached_boxed: Vec::new(),
             fat: Vec::new(),
+            permutation: Vec::new(),
             is_moved: Vec::new(),
             moved: Vec::new(),
             pairs: Vec::new(),
@@ -704,7 +707,6 @@ impl Quadtree {
     /// whose swept hulls overlap.
     fn detect_cached(
         &mut self,
-        lines: &[Line],
         bounds: Option<SweptBox>,
         dt: f64,
         events: &mut Vec<Event>,
@@ -744,7 +746,7 @@ impl Quadtree {
             self.update_cache();
         } else if let Some(bounds) = bounds {
             self.stats.rebuilds += 1;
-            self.rebuild_cache(lines, dt, bounds);
+            self.rebuild_cache(dt, bounds);
         } else {
             self.pairs.clear();
         }
@@ -788,7 +790,7 @@ impl Quadtree {
     /// Rebuilds the cache: builds the tree over the fat hulls and takes all
     /// its pairs, first putting the slots in the tree's order (refilling
     /// them in that order, for locality) unless they nearly are already.
-    fn rebuild_cache(&mut self, lines: &[Line], dt: f64, bounds: SweptBox) {
+    fn rebuild_cache(&mut self, dt: f64, bounds: SweptBox) {
         self.fat_hulls(dt, bounds);
         self.set_fat_entries();
         let entries = &self.tree.entries;
@@ -798,11 +800,7 @@ impl Quadtree {
             .count();
         if out_of_order > entries.len() / SLOTS_ASTRAY {
             self.reorder();
-            let bounds = self
-                .fill_slots(lines, dt, false)
-                .expect("the same lines are boxed");
-            self.fat_hulls(dt, bounds);
-            self.set_fat_entries();
+            self.permute_slots();
         }
         let mut collector = PairCollector(std::mem::take(&mut self.pairs));
         collector.0.clear();
@@ -812,6 +810,48 @@ impl Quadtree {
         self.is_moved.resize(self.slots.len(), false);
         self.cached_boxed.clone_from(&self.boxed);
         self.valid = true;
+    }
+
+    /// Moves the slots (lines, hulls, fat hulls, `boxed`) into the order
+    /// [`Quadtree::reorder`] gave `order`: the tree's entries' slots in key
+    /// order, then the unboxed ones; the entries, already sorted, are
+    /// renumbered to match. Each slot moves along the cycles of the
+    /// permutation, so no second copy of the arrays is needed.
+    fn permute_slots(&mut self) {
+        let n = self.slots.len();
+        let boxed = &self.boxed;
+        // Slot `k` takes what slot `from[k]` holds now.
+        let from = &mut self.permutation;
+        from.clear();
+        from.extend(self.tree.entries.iter().map(|e| e.cells.id));
+        from.extend((0..n as u32).filter(|&s| !boxed[s as usize]));
+        debug_assert_eq!(from.len(), n);
+        const DONE: u32 = u32::MAX;
+        let (slots, hulls, fat, boxed) = (
+            &mut self.slots,
+            &mut self.hulls,
+            &mut self.fat,
+            &mut self.boxed,
+        );
+        for start in 0..n {
+            if from[start] == DONE {
+                continue;
+            }
+            let held = (slots[start], hulls[start], fat[start], boxed[start]);
+            let mut k = start;
+            loop {
+                let s = std::mem::replace(&mut from[k], DONE) as usize;
+                if s == start {
+                    (slots[k], hulls[k], fat[k], boxed[k]) = held;
+                    break;
+                }
+                (slots[k], hulls[k], fat[k], boxed[k]) = (slots[s], hulls[s], fat[s], boxed[s]);
+                k = s;
+            }
+        }
+        for (k, e) in self.tree.entries.iter_mut().enumerate() {
+            e.cells.id = k as u32;
+        }
     }
 
     /// Fresh fat hulls for every boxed slot, growing the grid if they leave
@@ -958,7 +998,7 @@ impl Detector for Quadtree {
             self.valid = false;
             self.detect_rebuilt(lines, bounds, dt, events, &mut counts);
         } else {
-            self.detect_cached(lines, bounds, dt, events, &mut counts);
+            self.detect_cached(bounds, dt, events, &mut counts);
         }
         if self.mode == TreeMode::Auto {
             self.chooser.record(start.elapsed().as_secs_f64());
