@@ -67,17 +67,22 @@ impl Resolver {
             let shared: &[Line] = lines;
             wave.par_chunks(WAVE_CHUNK)
                 .zip(self.velocities.par_chunks_mut(WAVE_CHUNK))
-                .for_each(|(events, out)| {
-                    // Copy the lines first, in a loop whose scattered reads
-                    // can all be in flight at once.
-                    let mut pairs = [(Line::default(), Line::default()); WAVE_CHUNK];
-                    for (pair, e) in pairs.iter_mut().zip(events) {
-                        *pair = (shared[e.first as usize], shared[e.second as usize]);
-                    }
-                    for ((v, (l1, l2)), e) in out.iter_mut().zip(&pairs).zip(events) {
-                        *v = respond(l1, l2, e.kind);
-                    }
-                });
+                .for_each_init(
+                    || Vec::with_capacity(WAVE_CHUNK),
+                    |pairs, (events, out)| {
+                        // Copy the lines first, in a loop whose scattered
+                        // reads can all be in flight at once.
+                        pairs.clear();
+                        pairs.extend(
+                            events
+                                .iter()
+                                .map(|e| (shared[e.first as usize], shared[e.second as usize])),
+                        );
+                        for ((v, (l1, l2)), e) in out.iter_mut().zip(pairs.iter()).zip(events) {
+                            *v = respond(l1, l2, e.kind);
+                        }
+                    },
+                );
             for (e, &(v1, v2)) in wave.iter().zip(&self.velocities) {
                 lines[e.first as usize].v = v1;
                 lines[e.second as usize].v = v2;
