@@ -5,14 +5,14 @@
 //! cargo run --release --example ceiling -- [SCENE] [--frames F] [--threads N] [--rounds R]
 //! ```
 //!
-//! Each round times three things, one after another (in turns: each round
-//! starts with the next one): the scene on one
+//! Each round times three things, one after another: the scene on one
 //! thread (`solo`); `N` copies of it at once, each on a thread of its own
-//! (`copies`: no shared data, no synchronisation, so no split of one run
-//! over `N` threads can beat it); and the scene with `--threads N` (`pool`).
-//! `N` copies that take as long as one solo run would mean `N` full cores;
-//! the ceiling is `N * solo / copies`. Rounds interleave the three, so that
-//! a noisy machine weighs on them alike, and the medians are printed.
+//! (`copies`: nothing shared and nothing to wait for, so no split of one run
+//! over `N` threads can beat it); and the scene with `--threads N`
+//! (`pool`). `N` copies that take as long as one solo run would mean `N`
+//! full cores; the ceiling is `N * solo / copies`. Each round starts with
+//! the next of the three, so that a noisy machine weighs on them alike, and
+//! the medians are printed.
 //! Without SCENE it runs the built-in scene.
 
 use screensaver::generate::default_scene;
@@ -98,13 +98,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     let (solo, copies, pool) = (median(solo), median(copies), median(pool));
+    println!("{name}, {frames} frames, medians of {rounds} rounds:");
+    println!("{:<24}{solo:.4} s", "one thread:");
     println!(
-        "{name}, {frames} frames, medians of {rounds} rounds:\n\
-         one thread:                  {solo:.4} s\n\
-         {threads} copies at once:          {copies:.4} s \
-         (ceiling: {threads} threads do at most {:.2}x the work of one)\n\
-         --threads {threads}:                {pool:.4} s ({:.2}x one thread)",
-        threads as f64 * solo / copies,
+        "{:<24}{copies:.4} s (ceiling: {threads} threads do at most {:.2}x the work of one)",
+        format!("{threads} copies at once:"),
+        threads as f64 * solo / copies
+    );
+    println!(
+        "{:<24}{pool:.4} s ({:.2}x one thread)",
+        format!("--threads {threads}:"),
         solo / pool
     );
     Ok(())

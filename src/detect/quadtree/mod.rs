@@ -834,15 +834,14 @@ impl Quadtree {
     /// renumbered to match. Each slot moves along the cycles of the
     /// permutation, so no second copy of the arrays is needed.
     fn permute_slots(&mut self) {
+        const DONE: u32 = u32::MAX;
         let n = self.slots.len();
-        let boxed = &self.boxed;
         // Slot `k` takes what slot `from[k]` holds now.
         let from = &mut self.permutation;
         from.clear();
         from.extend(self.tree.entries.iter().map(|e| e.cells.id));
-        from.extend((0..n as u32).filter(|&s| !boxed[s as usize]));
+        from.extend((0..n as u32).filter(|&s| !self.boxed[s as usize]));
         debug_assert_eq!(from.len(), n);
-        const DONE: u32 = u32::MAX;
         let (slots, hulls, fat, boxed) = (
             &mut self.slots,
             &mut self.hulls,
