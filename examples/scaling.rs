@@ -169,6 +169,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     chart
         .configure_series_labels()
+        // The curves fall from upper left to lower right.
+        .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
         .label_font(("sans-serif", 16))
