@@ -295,6 +295,12 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
         "rebuilt_steps": s.rebuilt_steps,
         "seconds": {
             "detect": t.detect.as_secs_f64(),
+            "detect_phases": world
+                .detector()
+                .phase_times()
+                .into_iter()
+                .map(|(name, d)| (name.to_string(), serde_json::json!(d.as_secs_f64())))
+                .collect::<serde_json::Map<_, _>>(),
             "resolve": t.resolve.as_secs_f64(),
             "move": t.advance.as_secs_f64(),
             "walls": t.walls.as_secs_f64(),
@@ -312,7 +318,7 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
         .max(1e-12);
     let phase = |name: &str, d: Duration| {
         format!(
-            "  {name:<8}{:>12.6}s {:>6.1}%  {:>10.2} us/step\n",
+            "  {name:<16}{:>12.6}s {:>6.1}%  {:>10.2} us/step\n",
             d.as_secs_f64(),
             100.0 * d.as_secs_f64() / total,
             d.as_secs_f64() * 1e6 / steps
@@ -347,6 +353,12 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
     out += &format!("tree depth (max)  {:>16}\n", s.max_depth);
     out += "time per phase:\n";
     out += &phase("detect", t.detect);
+    // The detector's own phases, within detect.
+    for (name, d) in world.detector().phase_times() {
+        if !d.is_zero() {
+            out += &phase(&format!("  {name}"), d);
+        }
+    }
     out += &phase("resolve", t.resolve);
     out += &phase("move", t.advance);
     out += &phase("walls", t.walls);

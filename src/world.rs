@@ -234,14 +234,16 @@ impl World {
         &self.events
     }
 
-    /// Turns per-phase timing on or off (off by default: it costs a few
-    /// clock reads per step).
+    /// Turns per-phase timing on or off, the detector's own phases included
+    /// (see [`Detector::phase_times`]; off by default: it costs a few clock
+    /// reads per step).
     pub fn set_timing(&mut self, on: bool) {
         self.timing = if on {
             Some(PhaseTimes::default())
         } else {
             None
         };
+        self.detector.set_timing(on);
     }
 
     /// Per-phase times so far, if timing is on.

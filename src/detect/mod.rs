@@ -17,6 +17,7 @@ use crate::line::Line;
 use crate::narrow::Event;
 use std::fmt;
 use std::str::FromStr;
+use std::time::Duration;
 
 /// Counters a detector keeps about its own work, summed over all steps.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -53,6 +54,19 @@ pub trait Detector: Send {
 
     /// What the detector has done so far.
     fn stats(&self) -> DetectorStats;
+
+    /// Turns timing of the detector's own phases on or off (see
+    /// [`Detector::phase_times`]); off by default, and ignored by detectors
+    /// without phases.
+    fn set_timing(&mut self, _on: bool) {}
+
+    /// The time spent in each of the detector's own phases since timing was
+    /// turned on, by name, in the order they run; together they make up
+    /// nearly all of its time. Empty while timing is off, and for detectors
+    /// without phases.
+    fn phase_times(&self) -> Vec<(&'static str, Duration)> {
+        Vec::new()
+    }
 }
 
 /// The detectors the command line can choose between.

@@ -35,7 +35,7 @@ use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
 use std::fmt;
 use std::str::FromStr;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 use tree::{Cells, Entry, Grid, Refill, Tree};
 
 /// Default for the largest number of lines a leaf holds before it splits.
@@ -91,6 +91,58 @@ impl FromStr for TreeMode {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         crate::parse_named(Self::ALL, Self::name, "tree mode", s)
     }
+}
+
+/// The quadtree's phases, as [`Detector::phase_times`] names them.
+#[derive(Clone, Copy, Debug)]
+enum Phase {
+    /// Copying the lines into slots with their hulls (and, rebuilt, their
+    /// tree entries); testing wild lines.
+    Fill,
+    /// Rebuilt: sorting the tree's entries.
+    Sort,
+    /// Rebuilt: walking the tree and testing its pairs.
+    Walk,
+    /// Rebuilt: putting the slots in the tree's order for the next step.
+    Reorder,
+    /// Cached: finding the lines that left their fat hulls and refitting
+    /// them (their entries, their pairs).
+    Upkeep,
+    /// Cached: rebuilding the tree and its pairs from scratch.
+    Rebuild,
+    /// Cached: testing the kept pairs.
+    Tests,
+}
+
+impl Phase {
+    const ALL: [Phase; 7] = [
+        Phase::Fill,
+        Phase::Sort,
+        Phase::Walk,
+        Phase::Reorder,
+        Phase::Upkeep,
+        Phase::Rebuild,
+        Phase::Tests,
+    ];
+
+    fn name(self) -> &'static str {
+        match self {
+            Phase::Fill => "fill",
+            Phase::Sort => "sort",
+            Phase::Walk => "walk and test",
+            Phase::Reorder => "reorder",
+            Phase::Upkeep => "cache upkeep",
+            Phase::Rebuild => "cache rebuild",
+            Phase::Tests => "cached tests",
+        }
+    }
+}
+
+/// Time per phase, and when the phase under way began.
+#[derive(Debug)]
+struct PhaseClock {
+    times: [Duration; Phase::ALL.len()],
+    since: Instant,
 }
 
 /// Auto mode: steps between the starts of two trials of the way not in
@@ -248,6 +300,8 @@ pub struct Quadtree {
     /// the last step and can be updated rather than rebuilt.
     valid: bool,
     stats: DetectorStats,
+    /// Time per phase, while timing is on.
+    clock: Option<PhaseClock>,
 }
 
 impl Default for Quadtree {
@@ -552,11 +606,21 @@ impl Quadtree {
             spare_pairs: Vec::new(),
             valid: false,
             stats: DetectorStats::default(),
+            clock: None,
         }
     }
 
     fn parallel(&self) -> bool {
         self.threads > 1
+    }
+
+    /// With timing on, adds the time since the last lap to `phase`.
+    fn lap(&mut self, phase: Phase) {
+        if let Some(clock) = &mut self.clock {
+            let now = Instant::now();
+            clock.times[phase as usize] += now - clock.since;
+            clock.since = now;
+        }
     }
 
     /// Copies the lines into slots in `order` and sorts out the wild and
@@ -696,17 +760,21 @@ impl Quadtree {
             // be conservative (clamping keeps order), but would pile up there.
             self.grid = Grid::over(&bounds);
             self.fill_slots(lines, dt, true);
+            self.lap(Phase::Fill);
         }
         let n = self.slots.len();
         self.tree.sort(self.parallel_chunk(n).is_some());
         self.tree.entries.truncate(n - self.unboxed.len());
+        self.lap(Phase::Sort);
         let mut collector =
             EventCollector::new(&self.slots, &self.order, dt, std::mem::take(events));
         self.tree.pairs(&mut collector, self.threads, self.grain);
         let found;
         (*events, found) = collector.finish();
         counts.add(&found);
+        self.lap(Phase::Walk);
         self.reorder();
+        self.lap(Phase::Reorder);
     }
 
     /// Cached mode: brings the tree and the pairs up to date with this
@@ -752,14 +820,18 @@ impl Quadtree {
         if self.valid {
             self.stats.refits += self.moved.len() as u64;
             self.update_cache();
+            self.lap(Phase::Upkeep);
         } else if let Some(bounds) = bounds {
+            self.lap(Phase::Upkeep);
             self.stats.rebuilds += 1;
             self.rebuild_cache(lines, dt, bounds);
+            self.lap(Phase::Rebuild);
         } else {
             self.pairs.clear();
         }
         counts.candidates += self.pairs.len() as u64;
         self.test_cached_pairs(dt, events, counts);
+        self.lap(Phase::Tests);
     }
 
     /// Tests the cached pairs whose swept hulls overlap (in parallel runs
@@ -1005,8 +1077,12 @@ impl Detector for Quadtree {
         };
         let mut counts = PairCounts::default();
         self.tree.counts = tree::WalkCounts::default();
+        if let Some(clock) = &mut self.clock {
+            clock.since = start;
+        }
         let bounds = self.fill_slots(lines, dt, rebuilt);
         self.test_wild(lines, dt, events, &mut counts);
+        self.lap(Phase::Fill);
         if rebuilt {
             // The tree will hold swept hulls and the slots another order:
             // the cache must be rebuilt before it is used again.
@@ -1029,6 +1105,23 @@ impl Detector for Quadtree {
 
     fn stats(&self) -> DetectorStats {
         self.stats
+    }
+
+    fn set_timing(&mut self, on: bool) {
+        self.clock = on.then(|| PhaseClock {
+            times: Default::default(),
+            since: Instant::now(),
+        });
+    }
+
+    fn phase_times(&self) -> Vec<(&'static str, Duration)> {
+        match &self.clock {
+            Some(clock) => Phase::ALL
+                .iter()
+                .map(|&p| (p.name(), clock.times[p as usize]))
+                .collect(),
+            None => Vec::new(),
+        }
     }
 }
 
