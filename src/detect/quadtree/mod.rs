@@ -1014,7 +1014,11 @@ impl Quadtree {
                 self.tree.count(&counts);
             }
         } else {
-            self.tree.refit(false, refit);
+            let fresh = self
+                .moved
+                .iter()
+                .map(|&m| entry(&grid, Some(fat[m as usize]), m, max_depth, true));
+            self.tree.replace(is_moved, fresh);
             self.pairs.retain(kept);
             for &m in &self.moved {
                 let counts = new_pairs(&self.tree, m, &mut self.pairs);

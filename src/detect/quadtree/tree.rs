@@ -575,6 +575,47 @@ impl Tree {
         }
     }
 
+    /// Replaces the sorted entries of the lines `replaced` marks (by id)
+    /// with `fresh`, keeping the entries sorted: the others keep their
+    /// order, and `fresh`, sorted on its own, is merged in from the back.
+    /// Two passes over the entries, for a few replacements; [`Tree::refit`]
+    /// splits its work among threads.
+    pub fn replace(&mut self, replaced: &[bool], fresh: impl IntoIterator<Item = Entry>) {
+        let movers = &mut self.movers;
+        movers.clear();
+        movers.extend(fresh);
+        movers.sort_unstable_by_key(|e| e.key);
+        self.entries.retain(|e| !replaced[e.cells.id as usize]);
+        let kept = self.entries.len();
+        self.entries.resize(kept + movers.len(), Entry::default());
+        // From the back: each place is filled by the larger of the last
+        // kept entry and the last mover not yet placed.
+        let (mut i, mut j) = (kept, movers.len());
+        for k in (0..self.entries.len()).rev() {
+            if j == 0 {
+                break;
+            }
+            if i > 0 && self.entries[i - 1].key > movers[j - 1].key {
+                self.entries[k] = self.entries[i - 1];
+                i -= 1;
+            } else {
+                self.entries[k] = movers[j - 1];
+                j -= 1;
+            }
+        }
+        // The flags no longer match the entries' places.
+        self.changed.clear();
+        if self.spots {
+            // Only growing it keeps it an upper bound, which is all that
+            // queries need.
+            for e in movers.iter() {
+                let c = &e.cells;
+                self.extent.0 = self.extent.0.max(c.x1.saturating_sub(c.x0));
+                self.extent.1 = self.extent.1.max(c.y1.saturating_sub(c.y0));
+            }
+        }
+    }
+
     /// Applies `update` to every sorted entry (in parallel, if `parallel`),
     /// which says whether it changed the key, and sorts them again.
     pub fn refit(&mut self, parallel: bool, update: impl Fn(&mut Entry) -> bool + Sync) {
@@ -1412,6 +1453,51 @@ mod tests {
             proptest::prop_assert!(ids.iter().enumerate().all(|(i, &id)| id as usize == i));
             for e in &tree.entries {
                 proptest::prop_assert_eq!(e.key, keys[e.cells.id as usize]);
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// Replacing some lines' entries in sorted entries keeps them sorted
+        /// and leaves exactly the others' and the new ones; with spots, the
+        /// extents stay at least the largest cells'.
+        #[test]
+        fn replacing_keeps_entries_sorted(
+            base in proptest::collection::vec((0u64..400, 0u16..50), 0..2000),
+            replaced in proptest::collection::vec((0usize..2000, 0u64..400, 0u16..200), 0..100),
+        ) {
+            let mk = |(key, side): (u64, u16), id: usize| Entry {
+                key,
+                cells: Cells { id: id as u32, x1: side, y1: side / 2, ..Cells::default() },
+            };
+            let n = base.len();
+            let mut tree = Tree::new(4, 12);
+            tree.set_spots(true);
+            tree.refill(n, None, |i| mk(base[i], i));
+            let mut is_replaced = vec![false; n];
+            let mut expected: Vec<(u64, u32)> = Vec::new();
+            let mut fresh = Vec::new();
+            for &(at, key, side) in &replaced {
+                if at < n && !is_replaced[at] {
+                    is_replaced[at] = true;
+                    fresh.push(mk((key, side), at));
+                }
+            }
+            for (i, &(key, _)) in base.iter().enumerate() {
+                if !is_replaced[i] {
+                    expected.push((key, i as u32));
+                }
+            }
+            expected.extend(fresh.iter().map(|e| (e.key, e.cells.id)));
+            tree.replace(&is_replaced, fresh.iter().copied());
+            proptest::prop_assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
+            let mut got: Vec<(u64, u32)> =
+                tree.entries.iter().map(|e| (e.key, e.cells.id)).collect();
+            got.sort_unstable();
+            expected.sort_unstable();
+            proptest::prop_assert_eq!(got, expected);
+            for e in &tree.entries {
+                proptest::prop_assert!(tree.extent.0 >= e.cells.x1 && tree.extent.1 >= e.cells.y1);
             }
         }
     }
