@@ -470,7 +470,13 @@ impl tree::Collector for PairCollector {
 /// Where a run of slots' swept hulls go.
 enum HullSink<'a> {
     /// Kept as they are: the cached way refits and tests pairs with them.
-    Keep(&'a mut [SweptBox]),
+    /// Given the slots' fat hulls (`fat` not empty), the slots whose hulls
+    /// have left theirs are listed in `left`.
+    Keep {
+        hulls: &'a mut [SweptBox],
+        fat: &'a [SweptBox],
+        left: Vec<u32>,
+    },
     /// Turned straight into the tree's entries (without spots) over the
     /// grid: the rebuilt way needs nothing else of them.
     Enter(Refill<'a>, Grid, u32),
@@ -479,7 +485,15 @@ enum HullSink<'a> {
 impl<'a> HullSink<'a> {
     fn chunks(self, size: usize) -> Vec<HullSink<'a>> {
         match self {
-            HullSink::Keep(hulls) => hulls.chunks_mut(size).map(HullSink::Keep).collect(),
+            HullSink::Keep { hulls, fat, .. } => hulls
+                .chunks_mut(size)
+                .enumerate()
+                .map(|(c, hulls)| HullSink::Keep {
+                    hulls,
+                    fat: fat.get(c * size..).map_or(&[], |f| &f[..f.len().min(size)]),
+                    left: Vec::new(),
+                })
+                .collect(),
             HullSink::Enter(refill, grid, max_depth) => refill
                 .chunks(size)
                 .into_iter()
@@ -490,7 +504,8 @@ impl<'a> HullSink<'a> {
 }
 
 /// Fills one run of slots (numbered from `first`) with the lines `ids`
-/// names; returns the union of the hulls of the boxed ones.
+/// names; returns the union of the hulls of the boxed ones, and the slots
+/// a [`HullSink::Keep`] found outside their fat hulls.
 fn fill_run(
     first: usize,
     ids: &[u32],
@@ -499,7 +514,7 @@ fn fill_run(
     mut sink: HullSink<'_>,
     boxed: &mut [bool],
     dt: f64,
-) -> Option<SweptBox> {
+) -> (Option<SweptBox>, Vec<u32>) {
     let mut bounds: Option<SweptBox> = None;
     // Gather a block first, in a loop tight enough to keep many of its
     // scattered reads in flight; then work on the copies in order, while
@@ -516,9 +531,13 @@ fn fill_run(
                 bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
             }
             match &mut sink {
-                HullSink::Keep(hulls) => {
+                HullSink::Keep { hulls, fat, left } => {
                     if let Some(hull) = hull {
                         hulls[k] = hull;
+                        // Checked here, while the hull is at hand.
+                        if !fat.is_empty() && !holds(&fat[k], &hull) {
+                            left.push((first + k) as u32);
+                        }
                     }
                 }
                 HullSink::Enter(refill, grid, max_depth) => {
@@ -528,7 +547,10 @@ fn fill_run(
             }
         }
     }
-    bounds
+    match sink {
+        HullSink::Keep { left, .. } => (bounds, left),
+        HullSink::Enter(..) => (bounds, Vec::new()),
+    }
 }
 
 /// Lines the fill gathers at a time (12 KB of them).
@@ -626,7 +648,8 @@ impl Quadtree {
     /// Copies the lines into slots in `order` and sorts out the wild and
     /// inert ones; keeps their swept hulls or, if `enter`, makes them the
     /// tree's entries over the current grid (left unsorted). Returns the
-    /// union of the hulls.
+    /// union of the hulls. Keeping them while the cache is valid, it lists
+    /// the slots that left their fat hulls in `moved`.
     fn fill_slots(&mut self, lines: &[Line], dt: f64, enter: bool) -> Option<SweptBox> {
         let n = lines.len();
         if self.order.len() != n {
@@ -645,9 +668,16 @@ impl Quadtree {
             HullSink::Enter(self.tree.refill_in_place(n), self.grid, max_depth)
         } else {
             self.hulls.resize(n, SweptBox::default());
-            HullSink::Keep(&mut self.hulls)
+            let check = self.valid && self.fat.len() == n;
+            let mut left = std::mem::take(&mut self.moved);
+            left.clear();
+            HullSink::Keep {
+                hulls: &mut self.hulls,
+                fat: if check { &self.fat } else { &[] },
+                left,
+            }
         };
-        let bounds = if let Some(chunk) = chunk {
+        let (bounds, left) = if let Some(chunk) = chunk {
             use rayon::prelude::*;
             self.order
                 .par_chunks(chunk)
@@ -658,7 +688,13 @@ impl Quadtree {
                 .map(|(c, (((ids, slots), sink), boxed))| {
                     fill_run(c * chunk, ids, lines, slots, sink, boxed, dt)
                 })
-                .reduce(|| None, union)
+                .reduce(
+                    || (None, Vec::new()),
+                    |(a, mut left), (b, mut more)| {
+                        left.append(&mut more);
+                        (union(a, b), left)
+                    },
+                )
         } else {
             fill_run(
                 0,
@@ -670,6 +706,9 @@ impl Quadtree {
                 dt,
             )
         };
+        if !enter {
+            self.moved = left;
+        }
         self.unboxed.clear();
         self.wild.clear();
         // Almost always none: a count that vectorises says so quickly.
@@ -790,21 +829,11 @@ impl Quadtree {
     ) {
         let n = self.slots.len();
         self.valid &= self.cached_boxed == self.boxed;
-        self.moved.clear();
         if self.valid {
-            let (fat, hulls, boxed) = (&self.fat, &self.hulls, &self.boxed);
-            let left = |&s: &u32| {
-                let s = s as usize;
-                boxed[s] && !holds(&fat[s], &hulls[s])
-            };
-            if self.parallel_chunk(n).is_some() {
-                use rayon::prelude::*;
-                self.moved
-                    .par_extend((0..n as u32).into_par_iter().filter(left));
-            } else {
-                self.moved.extend((0..n as u32).filter(left));
-            }
+            // The fill has listed the slots that left their fat hulls.
             self.valid = self.moved.len() <= n / REBUILD_SHARE;
+        } else {
+            self.moved.clear();
         }
         if self.valid {
             for &m in &self.moved {
