@@ -96,8 +96,9 @@ impl FromStr for TreeMode {
 /// The quadtree's phases, as [`Detector::phase_times`] names them.
 #[derive(Clone, Copy, Debug)]
 enum Phase {
-    /// Copying the lines into slots with their hulls (and, rebuilt, their
-    /// tree entries); testing wild lines.
+    /// Copying the lines into slots with their hulls (rebuilt: with their
+    /// tree entries; cached: checking each against its fat hull); testing
+    /// wild lines.
     Fill,
     /// Rebuilt: sorting the tree's entries.
     Sort,
@@ -105,8 +106,8 @@ enum Phase {
     Walk,
     /// Rebuilt: putting the slots in the tree's order for the next step.
     Reorder,
-    /// Cached: finding the lines that left their fat hulls and refitting
-    /// them (their entries, their pairs).
+    /// Cached: refitting the lines that left their fat hulls (their
+    /// entries, their pairs).
     Upkeep,
     /// Cached: rebuilding the tree and its pairs from scratch.
     Rebuild,
@@ -488,10 +489,19 @@ impl<'a> HullSink<'a> {
             HullSink::Keep { hulls, fat, .. } => hulls
                 .chunks_mut(size)
                 .enumerate()
-                .map(|(c, hulls)| HullSink::Keep {
-                    hulls,
-                    fat: fat.get(c * size..).map_or(&[], |f| &f[..f.len().min(size)]),
-                    left: Vec::new(),
+                .map(|(c, hulls)| {
+                    // No fat hulls, or one per slot.
+                    let start = c * size;
+                    let fat = if fat.is_empty() {
+                        fat
+                    } else {
+                        &fat[start..start + hulls.len()]
+                    };
+                    HullSink::Keep {
+                        hulls,
+                        fat,
+                        left: Vec::new(),
+                    }
                 })
                 .collect(),
             HullSink::Enter(refill, grid, max_depth) => refill
