@@ -289,6 +289,10 @@ pub struct Quadtree {
     fat: Vec<SweptBox>,
     /// Cached mode: where [`Quadtree::permute_slots`] works out the moves.
     permutation: Vec<u32>,
+    /// Cached mode: the moved slots' new cells, to query the tree with, and
+    /// the query's buffer.
+    probes: Vec<Cells>,
+    reaching: Vec<u32>,
     /// Cached mode: whether each slot left its fat hull this step.
     is_moved: Vec<bool>,
     /// Cached mode: the slots that left their fat hulls this step.
@@ -632,6 +636,8 @@ impl Quadtree {
             cached_boxed: Vec::new(),
             fat: Vec::new(),
             permutation: Vec::new(),
+            probes: Vec::new(),
+            reaching: Vec::new(),
             is_moved: Vec::new(),
             moved: Vec::new(),
             pairs: Vec::new(),
@@ -1018,10 +1024,18 @@ impl Quadtree {
             }
         };
         let kept = |&(a, b): &(u32, u32)| !is_moved[a as usize] && !is_moved[b as usize];
-        // A pair of two moved slots is taken from the lower one's query.
-        let new_pairs = |tree: &Tree, m: u32, out: &mut Vec<(u32, u32)>| {
-            let probe = grid.cells(&fat[m as usize], m);
-            tree.query(&probe, |j| {
+        // The new pairs of the moved slots `run`, from one walk of the tree
+        // for all their queries (a pair of two moved slots is taken from the
+        // lower one's query).
+        let new_pairs = |tree: &Tree,
+                         run: &[u32],
+                         probes: &mut Vec<Cells>,
+                         reaching: &mut Vec<u32>,
+                         out: &mut Vec<(u32, u32)>| {
+            probes.clear();
+            probes.extend(run.iter().map(|&m| grid.cells(&fat[m as usize], m)));
+            tree.query_many(probes, reaching, |p, j| {
+                let m = run[p];
                 if j != m && (!is_moved[j as usize] || j > m) {
                     out.push(if m < j { (m, j) } else { (j, m) });
                 }
@@ -1041,10 +1055,7 @@ impl Quadtree {
                 .par_chunks(64)
                 .map(|run| {
                     let mut out = Vec::new();
-                    let mut counts = tree::WalkCounts::default();
-                    for &m in run {
-                        counts.add(&new_pairs(tree, m, &mut out));
-                    }
+                    let counts = new_pairs(tree, run, &mut Vec::new(), &mut Vec::new(), &mut out);
                     (out, counts)
                 })
                 .collect();
@@ -1059,10 +1070,14 @@ impl Quadtree {
                 .map(|&m| entry(&grid, Some(fat[m as usize]), m, max_depth, true));
             self.tree.replace(is_moved, fresh);
             self.pairs.retain(kept);
-            for &m in &self.moved {
-                let counts = new_pairs(&self.tree, m, &mut self.pairs);
-                self.tree.count(&counts);
-            }
+            let counts = new_pairs(
+                &self.tree,
+                &self.moved,
+                &mut self.probes,
+                &mut self.reaching,
+                &mut self.pairs,
+            );
+            self.tree.count(&counts);
         }
         for &m in &self.moved {
             self.is_moved[m as usize] = false;

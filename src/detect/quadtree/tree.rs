@@ -842,6 +842,45 @@ impl Tree {
         counts
     }
 
+    /// Calls `sink(p, id)` for every probe `probes[p]` and every line
+    /// whose cells overlap it, as [`Tree::query`] would for each probe, but
+    /// in one walk: a node's misfits and children are found once for all
+    /// the probes that reach it. `reaching` is the walk's buffer.
+    pub fn query_many(
+        &self,
+        probes: &[Cells],
+        reaching: &mut Vec<u32>,
+        mut sink: impl FnMut(usize, u32),
+    ) -> WalkCounts {
+        let mut counts = WalkCounts::default();
+        let n = self.entries.len();
+        if n > 0 && !probes.is_empty() {
+            let walk = Walk {
+                entries: &self.entries,
+                leaf_size: self.leaf_size,
+                max_depth: self.max_depth,
+                parallel_min: 0,
+                scan_max: 0,
+                spots: self.spots,
+                extent: self.extent,
+            };
+            reaching.clear();
+            reaching.extend(0..probes.len() as u32);
+            walk.query_node_many(
+                &mut counts,
+                probes,
+                reaching,
+                0,
+                &mut sink,
+                0,
+                n,
+                0,
+                Self::root(),
+            );
+        }
+        counts
+    }
+
     /// Adds a query's counts to the tree's.
     pub fn count(&mut self, counts: &WalkCounts) {
         self.counts.add(counts);
@@ -1043,6 +1082,84 @@ impl Walk<'_> {
                     child,
                 );
             }
+        }
+    }
+}
+
+impl Walk<'_> {
+    /// [`Walk::query_node`] for the probes `reaching[from..]` (indices into
+    /// `probes`), which all reach the node's block.
+    #[allow(clippy::too_many_arguments)]
+    fn query_node_many(
+        &self,
+        counts: &mut WalkCounts,
+        probes: &[Cells],
+        reaching: &mut Vec<u32>,
+        from: usize,
+        sink: &mut impl FnMut(usize, u32),
+        lo: usize,
+        hi: usize,
+        level: u32,
+        block: Block,
+    ) {
+        counts.nodes += 1;
+        let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
+        let end = if leaf {
+            hi
+        } else {
+            lo + self.misfits_end(lo, hi, level)
+        };
+        let own = &self.entries[lo..end];
+        let across = if self.spots && !leaf {
+            own.partition_point(|e| (e.key >> SPOT_BITS) & 1 == 0)
+        } else {
+            0
+        };
+        for &p in &reaching[from..] {
+            let probe = &probes[p as usize];
+            let mut report = |id| sink(p as usize, id);
+            if self.spots && !leaf {
+                let (extent_x, extent_y) = self.extent;
+                let (ys, xs) = own.split_at(across);
+                let side_bits = GRID_LEVELS - level;
+                let ys = near_spots(ys, (probe.y0, probe.y1), extent_y, block.y0, side_bits);
+                let xs = near_spots(xs, (probe.x0, probe.x1), extent_x, block.x0, side_bits);
+                self.query_run(counts, probe, &mut report, ys);
+                self.query_run(counts, probe, &mut report, xs);
+            } else {
+                self.query_run(counts, probe, &mut report, own);
+            }
+        }
+        if leaf {
+            return;
+        }
+        let bounds = self.child_runs(end, hi, level);
+        for c in 0..4 {
+            if bounds[c] == bounds[c + 1] {
+                continue;
+            }
+            let child = block.child(c);
+            let start = reaching.len();
+            for k in from..start {
+                let p = reaching[k];
+                if probes[p as usize].overlaps_block(&child) {
+                    reaching.push(p);
+                }
+            }
+            if reaching.len() > start {
+                self.query_node_many(
+                    counts,
+                    probes,
+                    reaching,
+                    start,
+                    sink,
+                    bounds[c],
+                    bounds[c + 1],
+                    level + 1,
+                    child,
+                );
+            }
+            reaching.truncate(start);
         }
     }
 }
@@ -1504,7 +1621,8 @@ mod tests {
 
     proptest::proptest! {
         /// A query finds exactly the entries whose cells overlap the probe,
-        /// with spots or without, for boxes large and small.
+        /// with spots or without, for boxes large and small; so do many
+        /// queries in one walk.
         #[test]
         fn queries_find_every_overlap(
             boxes in proptest::collection::vec(
@@ -1539,10 +1657,13 @@ mod tests {
                 })
                 .collect();
             tree.sort(false);
-            for p in &probes {
-                let probe = make(p, usize::MAX >> 33);
+            let probes: Vec<Cells> = probes.iter().map(|p| make(p, usize::MAX >> 33)).collect();
+            // All the probes in one walk, as the cached way asks.
+            let mut all: Vec<Vec<u32>> = vec![Vec::new(); probes.len()];
+            tree.query_many(&probes, &mut Vec::new(), |p, id| all[p].push(id));
+            for (probe, mut together) in probes.iter().zip(all) {
                 let mut found = Vec::new();
-                tree.query(&probe, |id| found.push(id));
+                tree.query(probe, |id| found.push(id));
                 found.sort_unstable();
                 let expected: Vec<u32> = tree
                     .entries
@@ -1552,7 +1673,9 @@ mod tests {
                     .collect::<std::collections::BTreeSet<_>>()
                     .into_iter()
                     .collect();
-                proptest::prop_assert_eq!(found, expected);
+                proptest::prop_assert_eq!(&found, &expected);
+                together.sort_unstable();
+                proptest::prop_assert_eq!(together, expected);
             }
         }
     }
