@@ -69,21 +69,26 @@ pub struct Cells {
 /// The top bit of each 16-bit lane.
 const LANE_TOPS: u64 = 0x8000_8000_8000_8000;
 
+/// Four cells packed as 16-bit lanes of one `u64`, the first lowest.
+#[inline]
+fn lanes(cells: [u16; 4]) -> u64 {
+    cells
+        .iter()
+        .rev()
+        .fold(0, |packed, &c| packed << 16 | u64::from(c))
+}
+
 impl Cells {
+    /// The lowest cells as four 16-bit lanes, `x` lowest.
     #[inline]
     fn lows(&self) -> u64 {
-        u64::from(self.x0)
-            | u64::from(self.y0) << 16
-            | u64::from(self.u0) << 32
-            | u64::from(self.w0) << 48
+        lanes([self.x0, self.y0, self.u0, self.w0])
     }
 
+    /// The highest cells as four 16-bit lanes, `x` lowest.
     #[inline]
     fn highs(&self) -> u64 {
-        u64::from(self.x1)
-            | u64::from(self.y1) << 16
-            | u64::from(self.u1) << 32
-            | u64::from(self.w1) << 48
+        lanes([self.x1, self.y1, self.u1, self.w1])
     }
 
     /// True when the two overlap in all four directions. All four lanes at
@@ -825,21 +830,9 @@ impl Tree {
     /// is in the tree. Returns what the query did (queries take `&self`, so
     /// that many can run at once; add the counts to [`Tree::counts`]).
     pub fn query(&self, probe: &Cells, mut sink: impl FnMut(u32)) -> WalkCounts {
-        let mut counts = WalkCounts::default();
-        let n = self.entries.len();
-        if n > 0 {
-            let walk = Walk {
-                entries: &self.entries,
-                leaf_size: self.leaf_size,
-                max_depth: self.max_depth,
-                parallel_min: 0,
-                scan_max: 0,
-                spots: self.spots,
-                extent: self.extent,
-            };
-            walk.query_node(&mut counts, probe, &mut sink, 0, n, 0, Self::root());
-        }
-        counts
+        self.query_many(std::slice::from_ref(probe), &mut Vec::new(), |_, id| {
+            sink(id)
+        })
     }
 
     /// Calls `sink(p, id)` for every probe `probes[p]` and every line
@@ -866,7 +859,7 @@ impl Tree {
             };
             reaching.clear();
             reaching.extend(0..probes.len() as u32);
-            walk.query_node_many(
+            walk.query_node(
                 &mut counts,
                 probes,
                 reaching,
@@ -1035,62 +1028,12 @@ impl Walk<'_> {
         }
     }
 
+    /// Queries the node at `level` covering `block`, whose subtree is
+    /// `entries[lo..hi]`, for the probes `reaching[from..]` (indices into
+    /// `probes`), which all reach the block. The node's misfits and
+    /// children are found once for all of them.
     #[allow(clippy::too_many_arguments)]
     fn query_node(
-        &self,
-        counts: &mut WalkCounts,
-        probe: &Cells,
-        sink: &mut impl FnMut(u32),
-        lo: usize,
-        hi: usize,
-        level: u32,
-        block: Block,
-    ) {
-        counts.nodes += 1;
-        let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
-        if leaf {
-            self.query_run(counts, probe, sink, &self.entries[lo..hi]);
-            return;
-        }
-        let mid = lo + self.misfits_end(lo, hi, level);
-        let misfits = &self.entries[lo..mid];
-        if self.spots {
-            // Those across the vertical centre line by lowest y, then the
-            // others by lowest x: only the spots the probe can reach.
-            let across = misfits.partition_point(|e| (e.key >> SPOT_BITS) & 1 == 0);
-            let (extent_x, extent_y) = self.extent;
-            let (ys, xs) = misfits.split_at(across);
-            let side_bits = GRID_LEVELS - level;
-            let ys = near_spots(ys, (probe.y0, probe.y1), extent_y, block.y0, side_bits);
-            let xs = near_spots(xs, (probe.x0, probe.x1), extent_x, block.x0, side_bits);
-            self.query_run(counts, probe, sink, ys);
-            self.query_run(counts, probe, sink, xs);
-        } else {
-            self.query_run(counts, probe, sink, misfits);
-        }
-        let bounds = self.child_runs(mid, hi, level);
-        for c in 0..4 {
-            let child = block.child(c);
-            if bounds[c] < bounds[c + 1] && probe.overlaps_block(&child) {
-                self.query_node(
-                    counts,
-                    probe,
-                    sink,
-                    bounds[c],
-                    bounds[c + 1],
-                    level + 1,
-                    child,
-                );
-            }
-        }
-    }
-}
-
-impl Walk<'_> {
-    /// [`Walk::query_node`] for the probes `reaching[from..]` (indices into
-    /// `probes`), which all reach the node's block.
-    #[allow(clippy::too_many_arguments)]
-    fn query_node_many(
         &self,
         counts: &mut WalkCounts,
         probes: &[Cells],
@@ -1110,18 +1053,20 @@ impl Walk<'_> {
             lo + self.misfits_end(lo, hi, level)
         };
         let own = &self.entries[lo..end];
-        let across = if self.spots && !leaf {
-            own.partition_point(|e| (e.key >> SPOT_BITS) & 1 == 0)
+        // With spots, a node's misfits are those across its vertical centre
+        // line by lowest y, then the others by lowest x: each probe reads
+        // only the spots it can reach.
+        let by_spot = self.spots && !leaf;
+        let (ys, xs) = if by_spot {
+            own.split_at(own.partition_point(|e| (e.key >> SPOT_BITS) & 1 == 0))
         } else {
-            0
+            (own, &own[own.len()..])
         };
+        let ((extent_x, extent_y), side_bits) = (self.extent, GRID_LEVELS - level);
         for &p in &reaching[from..] {
             let probe = &probes[p as usize];
             let mut report = |id| sink(p as usize, id);
-            if self.spots && !leaf {
-                let (extent_x, extent_y) = self.extent;
-                let (ys, xs) = own.split_at(across);
-                let side_bits = GRID_LEVELS - level;
+            if by_spot {
                 let ys = near_spots(ys, (probe.y0, probe.y1), extent_y, block.y0, side_bits);
                 let xs = near_spots(xs, (probe.x0, probe.x1), extent_x, block.x0, side_bits);
                 self.query_run(counts, probe, &mut report, ys);
@@ -1147,7 +1092,7 @@ impl Walk<'_> {
                 }
             }
             if reaching.len() > start {
-                self.query_node_many(
+                self.query_node(
                     counts,
                     probes,
                     reaching,
