@@ -329,6 +329,7 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
             " (tree mode {}, leaf size {}, max depth {})",
             config.tree_mode, config.leaf_size, config.max_depth
         ),
+        DetectorKind::Sweep => format!(" ({})", world.detector().describe()),
         DetectorKind::Brute => String::new(),
     };
     let mut out = format!(

@@ -9,8 +9,10 @@
 mod brute;
 pub mod quadtree;
 pub mod swept;
+mod sweep;
 
 pub use brute::Brute;
+pub use sweep::Sweep;
 pub use quadtree::{Quadtree, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 
 use crate::line::Line;
@@ -55,6 +57,13 @@ pub trait Detector: Send {
     /// What the detector has done so far.
     fn stats(&self) -> DetectorStats;
 
+    /// How the detector is working now, in a few words for `--stats` (for
+    /// example the direction a sweep runs along); empty if there is nothing
+    /// to say.
+    fn describe(&self) -> String {
+        String::new()
+    }
+
     /// Turns timing of the detector's own phases on or off (see
     /// [`Detector::phase_times`]); off by default, and ignored by detectors
     /// without phases.
@@ -76,6 +85,9 @@ pub enum DetectorKind {
     Brute,
     /// The write-up's quadtree with misfit lists, rebuilt each step.
     Quadtree,
+    /// Sweep and prune: boxes sorted along one direction, in bands where
+    /// one direction is not enough.
+    Sweep,
 }
 
 /// Tuning shared by the detectors (each uses what applies to it).
@@ -110,7 +122,11 @@ impl Default for DetectorConfig {
 
 impl DetectorKind {
     /// Every detector, in the order they are listed to users.
-    pub const ALL: &'static [DetectorKind] = &[DetectorKind::Brute, DetectorKind::Quadtree];
+    pub const ALL: &'static [DetectorKind] = &[
+        DetectorKind::Brute,
+        DetectorKind::Quadtree,
+        DetectorKind::Sweep,
+    ];
 
     /// The detector used when none is named.
     pub const DEFAULT: DetectorKind = DetectorKind::Quadtree;
@@ -120,6 +136,7 @@ impl DetectorKind {
         match self {
             DetectorKind::Brute => "brute",
             DetectorKind::Quadtree => "quadtree",
+            DetectorKind::Sweep => "sweep",
         }
     }
 
@@ -139,6 +156,7 @@ impl DetectorKind {
                 config.threads,
                 config.grain,
             )),
+            DetectorKind::Sweep => Box::new(Sweep::new(config)),
         }
     }
 }

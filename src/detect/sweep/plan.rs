@@ -1,0 +1,167 @@
+//! Choosing how to sweep: along which direction, and into how many bands.
+//!
+//! The best direction depends on the scene (a wave of short lines laid
+//! along `x` meets almost nothing sweeping along `x` and a great deal along
+//! `y`), and one direction alone meets too many boxes once there are tens
+//! of thousands of lines. A plan is chosen from a sample of the boxes by a
+//! cost model, and the number of bands is then tuned on the real work.
+
+use super::bands::Bands;
+use super::hull::{hi, lo, Packed, DIRECTIONS};
+
+/// How to sweep: the direction, and the bands cut across the other one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Plan {
+    /// The direction boxes are sorted and swept along (0..4: x, y, u, w).
+    pub along: usize,
+    /// The bands the plane is cut into.
+    pub bands: Bands,
+    /// Where the bulk of the boxes lies across the sweep direction: where
+    /// bands are cut, whatever their number.
+    pub spread: (f32, f32),
+}
+
+/// The direction bands are cut across when sweeping along `a`: the one at
+/// right angles to it (`x` and `y`, `u` and `w`).
+pub(crate) fn across(a: usize) -> usize {
+    [1, 0, 3, 2][a]
+}
+
+/// The model's cost of putting one box into one band (making its hull,
+/// sorting and laying it out), in units of one candidate pair: measured on
+/// generated scenes of 10^4 to 10^6 lines, where an entry costs about six
+/// times what a candidate does.
+pub(crate) const ENTRY_COST: f64 = 6.0;
+
+/// Most boxes the plan looks at; beyond this it samples evenly.
+pub(crate) const SAMPLE: usize = 16 * 1024;
+
+/// The most bands a plan cuts.
+const MAX_BANDS: usize = 1 << 14;
+
+/// What the sample says about one direction.
+#[derive(Clone, Copy, Debug)]
+struct Spread {
+    /// Candidate pairs a sweep along it would meet, scaled to all boxes.
+    candidates: f64,
+    /// Mean extent of a box along it.
+    extent: f64,
+    /// Where the bulk of the boxes lies along it (from the first to the
+    /// last percentile of their least values, plus one extent).
+    from: f32,
+    to: f32,
+}
+
+/// Looks at `sample`, drawn evenly from `total` boxes, along direction `a`.
+fn spread(sample: &[Packed], total: usize, a: usize) -> Spread {
+    let mut los: Vec<f32> = sample.iter().map(|p| lo(p, a)).collect();
+    los.sort_unstable_by(f32::total_cmp);
+    let mut met = 0u64;
+    let mut extent = 0.0f64;
+    for p in sample {
+        let (l, h) = (lo(p, a), hi(p, a));
+        let below = los.partition_point(|&v| v < l);
+        let within = los.partition_point(|&v| v <= h);
+        met += (within - below).saturating_sub(1) as u64;
+        let e = f64::from(h) - f64::from(l);
+        if e.is_finite() {
+            extent += e;
+        }
+    }
+    let n = sample.len().max(1);
+    let extent = extent / n as f64;
+    let scale = total as f64 / n as f64;
+    let from = los.get(n / 100).copied().unwrap_or(0.0);
+    let last = los.get(n - 1 - n / 100).copied().unwrap_or(0.0);
+    Spread {
+        candidates: met as f64 * scale * scale,
+        extent,
+        from,
+        to: (f64::from(last) + extent) as f32,
+    }
+}
+
+/// The model's cost of sweeping `total` boxes along a direction whose
+/// sweep alone meets `candidates` pairs, in `count` bands cut across a
+/// direction where a box covers `share` of a band's width when there is
+/// one band (its extent over the spread). Boxes spread evenly across are
+/// assumed: each box enters `1 + count * share` bands, and each band holds
+/// that many over `count` of the boxes and so meets `1 / count` of the
+/// candidates of a sweep of as many boxes.
+pub(crate) fn cost(total: usize, candidates: f64, share: f64, count: usize) -> f64 {
+    let copies = 1.0 + count as f64 * share;
+    ENTRY_COST * total as f64 * copies + candidates * copies * copies / count as f64
+}
+
+/// Chooses a plan for `total` boxes from `sample`, drawn evenly from them.
+pub(crate) fn choose(sample: &[Packed], total: usize) -> Plan {
+    let spreads: Vec<Spread> = (0..DIRECTIONS).map(|a| spread(sample, total, a)).collect();
+    let mut best = (
+        f64::INFINITY,
+        Plan {
+            along: 0,
+            bands: Bands::one(),
+            spread: (0.0, 0.0),
+        },
+    );
+    for along in 0..DIRECTIONS {
+        let s = &spreads[along];
+        let c = &spreads[across(along)];
+        let width = f64::from(c.to) - f64::from(c.from);
+        let share = if width > 0.0 && width.is_finite() {
+            c.extent / width
+        } else {
+            f64::INFINITY
+        };
+        let mut count = 1usize;
+        while count <= MAX_BANDS.min(total / 4).max(1) {
+            let estimate = cost(total, s.candidates, share, count);
+            if estimate < best.0 {
+                let bands = Bands::spanning(across(along), count, c.from, c.to);
+                let spread = (c.from, c.to);
+                best = (estimate, Plan { along, bands, spread });
+            }
+            if share.is_infinite() {
+                break;
+            }
+            count = (count * 5 / 4).max(count + 1);
+        }
+    }
+    best.1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A box of size `w` by `h` at `(x, y)`, its diagonals unbounded.
+    fn boxed(x: f32, y: f32, w: f32, h: f32) -> Packed {
+        let n = f32::NEG_INFINITY;
+        [x, y, n, n, -(x + w), -(y + h), n, n]
+    }
+
+    #[test]
+    fn a_row_of_boxes_is_swept_along_the_row() {
+        // Boxes strung out along x, all at the same height: along y every
+        // pair meets, along x only neighbours.
+        let sample: Vec<Packed> = (0..200).map(|i| boxed(i as f32, 0.0, 1.5, 1.0)).collect();
+        let plan = choose(&sample, sample.len());
+        assert_eq!(plan.along, 0);
+        assert_eq!(plan.bands.count, 1);
+    }
+
+    #[test]
+    fn many_small_boxes_are_cut_into_bands() {
+        let sample: Vec<Packed> = (0..SAMPLE)
+            .map(|i| {
+                let (x, y) = ((i * 7919 % 1000) as f32, (i * 104729 % 1000) as f32);
+                boxed(x, y, 1.0, 1.0)
+            })
+            .collect();
+        let plan = choose(&sample, 1_000_000);
+        assert!(plan.bands.count > 16, "{plan:?}");
+        // More bands cost more than they save past the model's optimum.
+        assert!(cost(1000, 1e6, 0.001, 1) > cost(1000, 1e6, 0.001, 30));
+        assert!(cost(1000, 1e3, 0.1, 1) < cost(1000, 1e3, 0.1, 30));
+    }
+}
