@@ -8,7 +8,7 @@
 //! first of these, so once.
 
 use super::hull::{hi, lo, Packed};
-use super::order::Keyed;
+use super::order::{Boxes, NO_KEY};
 
 /// How the plane is cut: across which direction, into how many bands,
 /// where they start and how wide they are.
@@ -80,8 +80,8 @@ impl Bands {
 }
 
 /// The boxes laid out band after band, each band sorted by least value
-/// along the sweep direction and closed by a sentinel whose key is NaN (no
-/// comparison with it holds, so a scan stops there without a bounds test).
+/// along the sweep direction and closed by a sentinel whose key is
+/// [`NO_KEY`] (so a scan stops there without a bounds test).
 #[derive(Debug, Default)]
 pub(crate) struct Layout {
     /// Least value along the sweep direction, per entry.
@@ -93,44 +93,31 @@ pub(crate) struct Layout {
     /// Where each band's entries start; band `b` ends at `starts[b + 1] - 1`,
     /// its sentinel.
     pub starts: Vec<usize>,
-    /// Per sorted box, the bands it reaches (only with several bands).
+    /// Per sorted box, the bands it reaches.
     spans: Vec<(u32, u32)>,
     /// Per band, the next free entry while scattering.
     cursor: Vec<usize>,
 }
 
 impl Layout {
-    /// Lays out the boxes `keyed` (sorted by key; each names its packed hull
-    /// in `hulls` and id in `ids`) in `bands`.
-    pub(crate) fn build(&mut self, keyed: &[Keyed], hulls: &[Packed], ids: &[u32], bands: &Bands) {
-        let sentinel: Packed = [f32::NAN; 8];
-        self.keys.clear();
-        self.hulls.clear();
-        self.ids.clear();
-        self.starts.clear();
-        if bands.count == 1 {
-            self.keys.extend(keyed.iter().map(|k| k.0));
-            self.hulls.extend(keyed.iter().map(|k| hulls[k.1 as usize]));
-            self.ids.extend(keyed.iter().map(|k| ids[k.1 as usize]));
-            self.keys.push(f32::NAN);
-            self.hulls.push(sentinel);
-            self.ids.push(u32::MAX);
-            self.starts.extend([0, keyed.len() + 1]);
-            return;
-        }
-
+    /// Lays out the first `boxed` of `sorted` (whose keys are real and in
+    /// order) in `bands`, of which there are several.
+    pub(crate) fn build(&mut self, sorted: &Boxes, boxed: usize, bands: &Bands) {
+        let (keys, hulls, ids) = (&sorted.keys[..boxed], &sorted.hulls[..boxed], &sorted.ids[..boxed]);
         // Count each band's entries, then scatter in sorted order, which
         // keeps every band sorted.
         self.spans.clear();
         self.cursor.clear();
         self.cursor.resize(bands.count, 0);
-        for k in keyed {
-            let (first, last) = bands.span(&hulls[k.1 as usize]);
-            for c in &mut self.cursor[first..=last] {
+        for hull in hulls {
+            let (first, last) = bands.span(hull);
+            self.cursor[first] += 1;
+            for c in &mut self.cursor[first + 1..=last] {
                 *c += 1;
             }
             self.spans.push((first as u32, last as u32));
         }
+        self.starts.clear();
         let mut total = 0;
         for c in &mut self.cursor {
             self.starts.push(total);
@@ -139,16 +126,17 @@ impl Layout {
             total += entries + 1;
         }
         self.starts.push(total);
-        self.keys.resize(total, f32::NAN);
-        self.hulls.resize(total, sentinel);
+        self.keys.clear();
+        self.keys.resize(total, NO_KEY);
+        self.hulls.resize(total, [0.0; 8]);
         self.ids.resize(total, u32::MAX);
-        for (k, &(first, last)) in keyed.iter().zip(&self.spans) {
-            let (hull, id) = (hulls[k.1 as usize], ids[k.1 as usize]);
-            for c in &mut self.cursor[first as usize..=last as usize] {
-                self.keys[*c] = k.0;
-                self.hulls[*c] = hull;
-                self.ids[*c] = id;
-                *c += 1;
+        for (k, &(first, last)) in self.spans.iter().enumerate() {
+            for band in first as usize..=last as usize {
+                let at = self.cursor[band];
+                self.cursor[band] = at + 1;
+                self.keys[at] = keys[k];
+                self.hulls[at] = hulls[k];
+                self.ids[at] = ids[k];
             }
         }
     }
@@ -179,22 +167,25 @@ mod tests {
     #[test]
     fn a_box_goes_into_every_band_it_reaches_in_order() {
         let hull = |lo_y: f32, hi_y: f32| -> Packed {
-            [0.0, lo_y, f32::NEG_INFINITY, f32::NEG_INFINITY, -1.0, -hi_y, f32::NEG_INFINITY, f32::NEG_INFINITY]
+            let n = f32::NEG_INFINITY;
+            [0.0, lo_y, n, n, -1.0, -hi_y, n, n]
         };
-        let hulls = [hull(0.1, 0.2), hull(0.1, 0.9), hull(0.6, 0.7)];
-        let keyed: Vec<Keyed> = vec![(0.0, 1), (0.5, 0), (0.7, 2)];
-        let ids = [10, 11, 12];
+        let mut sorted = Boxes::default();
+        sorted.reset(3);
+        sorted.keys[..3].copy_from_slice(&[0.0, 0.5, 0.7]);
+        sorted.hulls[..3].copy_from_slice(&[hull(0.1, 0.9), hull(0.1, 0.2), hull(0.6, 0.7)]);
+        sorted.ids[..3].copy_from_slice(&[11, 10, 12]);
         let bands = Bands::spanning(1, 2, 0.0, 1.0);
         let mut layout = Layout::default();
-        layout.build(&keyed, &hulls, &ids, &bands);
+        layout.build(&sorted, 3, &bands);
         // Band 0: ids 11, 10, sentinel; band 1: ids 11, 12, sentinel.
         assert_eq!(layout.starts, vec![0, 3, 6]);
         assert_eq!(layout.ids, vec![11, 10, u32::MAX, 11, 12, u32::MAX]);
-        assert_eq!(layout.keys[..2], [0.0, 0.5]);
-        assert!(layout.keys[2].is_nan());
+        assert_eq!(layout.keys, vec![0.0, 0.5, NO_KEY, 0.0, 0.7, NO_KEY]);
         // 11 and 12 overlap in band 1 only; 10 and 11 in band 0 only.
-        assert!(bands.reports(1, &hulls[1], &hulls[2]));
-        assert!(!bands.reports(0, &hulls[1], &hulls[2]));
-        assert!(bands.reports(0, &hulls[0], &hulls[1]));
+        let h = &sorted.hulls;
+        assert!(bands.reports(1, &h[0], &h[2]));
+        assert!(!bands.reports(0, &h[0], &h[2]));
+        assert!(bands.reports(0, &h[0], &h[1]));
     }
 }

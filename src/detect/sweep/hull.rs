@@ -11,7 +11,9 @@
 //! halves swapped and negated. An unused direction is packed as
 //! `[-inf, .., -inf]` in both halves and never rules a pair out.
 
-use crate::detect::swept::SweptBox;
+use crate::detect::swept::{SweptBox, DIAGONAL_X, DIAGONAL_Y, PAD};
+use crate::geometry::Vec2;
+use crate::line::Line;
 
 /// Eight `f32` lower bounds: `[lo_x, lo_y, lo_u, lo_w, -hi_x, -hi_y, -hi_u, -hi_w]`.
 pub(crate) type Packed = [f32; 8];
@@ -19,19 +21,97 @@ pub(crate) type Packed = [f32; 8];
 /// Lanes per half of a packed hull: one per direction.
 pub(crate) const DIRECTIONS: usize = 4;
 
-/// The largest `f32` at most `x` (`x` is not NaN). Values beyond `f32`'s
-/// range round to its largest finite value or to `-inf`, both lower bounds.
+/// Lines whose coordinates (now or one step ahead) reach beyond this are
+/// treated as wild (tested against every line), which keeps every packed
+/// value far inside `f32`'s range.
+pub(crate) const LARGEST: f64 = 1e30;
+
+/// An `f32` at most `x`, for `|x|` up to [`LARGEST`] times the diagonals'
+/// weight: `x` is lowered by `2^-22` of itself and by `2^-140` before it
+/// is rounded to the nearest `f32`, which moves it by at most `2^-24` of
+/// itself or `2^-150`, so the result stays below `x`. (Branch-free, so that
+/// eight lanes convert as one vector.)
 #[inline]
 pub(crate) fn round_down(x: f64) -> f32 {
-    let f = x as f32;
-    if f64::from(f) > x {
-        f.next_down()
+    const RELATIVE: f64 = 1.0 / 4194304.0; // 2^-22
+    const ABSOLUTE: f64 = 7.174648137343064e-43; // 2^-140
+    (x - x.abs() * RELATIVE - ABSOLUTE) as f32
+}
+
+/// A line's padded swept hull (see [`crate::detect::swept::swept_box`],
+/// whose bounds and padding it repeats) packed; `None` when the line is not
+/// finite or reaches beyond [`LARGEST`].
+///
+/// The padded bounds are rounded to the nearest `f32`, not down: the pad
+/// (`2^-20` of the magnitude `m`, and `1e-12`) is far wider than the
+/// rounding (`2^-24` of a bound, which is at most about `2m`, or `1980`
+/// times that on the diagonals, whose pad is as much wider), so every
+/// packed bound still lies beyond the segment by at least `2^-21 m`: far
+/// more than the exact test's rounding errors (near `2^-50 m`).
+#[inline]
+pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
+    let (p1, p2) = (line.p1, line.p2);
+    // The corners one step ahead are the corners now moved by `d`: along
+    // `x` and `y` the extremes are found before adding `d` (rounding is
+    // monotone, so this is exactly the corners' extent); along the
+    // diagonals the sums differ from the corners' by a rounding, which
+    // the pad covers many times over.
+    let d = line.v * dt;
+    let (lo_x, hi_x) = extent(p1.x, p2.x, d.x);
+    let (lo_y, hi_y) = extent(p1.y, p2.y, d.y);
+    let magnitude = max(max(-lo_x, hi_x), max(-lo_y, hi_y));
+    // NaN anywhere makes the sum NaN; an infinite coordinate makes it
+    // infinite or NaN; past this test every min and max is exact.
+    let sum = p1.x + p1.y + p2.x + p2.y + line.v.x + line.v.y;
+    if !(sum.is_finite() && magnitude <= LARGEST) {
+        return None;
+    }
+    let (x1, x2, dx) = (p1.x * DIAGONAL_X, p2.x * DIAGONAL_X, d.x * DIAGONAL_X);
+    let (y1, y2, dy) = (p1.y * DIAGONAL_Y, p2.y * DIAGONAL_Y, d.y * DIAGONAL_Y);
+    let (lo_u, hi_u) = extent(x1 + y1, x2 + y2, dx + dy);
+    let (lo_w, hi_w) = extent(x1 - y1, x2 - y2, dx - dy);
+    let pad = magnitude * PAD + 1e-12;
+    let pad_diagonal = (DIAGONAL_X + DIAGONAL_Y) * pad;
+    Some([
+        (lo_x - pad) as f32,
+        (lo_y - pad) as f32,
+        (lo_u - pad_diagonal) as f32,
+        (lo_w - pad_diagonal) as f32,
+        -(hi_x + pad) as f32,
+        -(hi_y + pad) as f32,
+        -(hi_u + pad_diagonal) as f32,
+        -(hi_w + pad_diagonal) as f32,
+    ])
+}
+
+/// The extent of the values `a` and `b` and of both moved by `d`.
+#[inline]
+fn extent(a: f64, b: f64, d: f64) -> (f64, f64) {
+    (min(a, b) + min(d, 0.0), max(a, b) + max(d, 0.0))
+}
+
+/// `min` without NaN handling: one instruction.
+#[inline]
+fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
     } else {
-        f
+        b
     }
 }
 
-/// A swept hull (finite, padded) packed and rounded down.
+/// `max` without NaN handling: one instruction.
+#[inline]
+fn max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// A padded swept hull packed and rounded down (its coordinates within
+/// [`LARGEST`] times the diagonals' weight).
 #[inline]
 pub(crate) fn pack(b: &SweptBox) -> Packed {
     [
@@ -84,6 +164,7 @@ mod tests {
 
     #[test]
     fn rounding_down_never_rounds_up() {
+        let big = LARGEST * 2000.0;
         for x in [
             0.1,
             -0.1,
@@ -92,19 +173,57 @@ mod tests {
             -1.0 / 3.0,
             1e-300,
             -1e-300,
-            1e39,
-            -1e39,
-            f64::from(f32::MAX),
+            1e-40,
+            -1e-40,
+            big,
+            -big,
             0.0,
             -0.0,
         ] {
             let f = round_down(x);
-            assert!(f64::from(f) <= x, "{x} rounded to {f}");
-            // And it is the largest such f32.
-            assert!(f == f32::MAX || f64::from(f.next_up()) > x, "{x} rounded to {f}");
+            assert!(f64::from(f) <= x && f.is_finite(), "{x} rounded to {f}");
+            // And not by much.
+            assert!(f64::from(f) >= x - x.abs() * 1e-6 - 1e-40, "{x} rounded to {f}");
         }
-        assert_eq!(round_down(-1e39), f32::NEG_INFINITY);
-        assert_eq!(round_down(1e39), f32::MAX);
+    }
+
+    proptest::proptest! {
+        #[test]
+        fn rounding_down_holds_at_every_scale(m in -1.0f64..1.0, e in -300i32..34) {
+            let x = m * 10f64.powi(e);
+            proptest::prop_assert!(f64::from(round_down(x)) <= x);
+        }
+
+        /// The packed hull of a line holds the line now and one step ahead
+        /// with a margin of at least `2^-21` of its magnitude.
+        #[test]
+        fn line_hulls_hold_their_lines_with_a_margin(
+            x1 in -3.0f64..3.0, y1 in -3.0f64..3.0, x2 in -3.0f64..3.0, y2 in -3.0f64..3.0,
+            vx in -1.0f64..1.0, vy in -1.0f64..1.0, scale in proptest::sample::select(vec![1e-9, 1.0, 1e5]),
+        ) {
+            let l = crate::test_util::line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
+            let p = of_line(&l, 0.5).unwrap();
+            let corners = [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5];
+            let magnitude = corners.iter().map(|c| c.x.abs().max(c.y.abs())).fold(0.0, f64::max);
+            let margin = magnitude / 2097152.0;
+            for c in corners {
+                let (u, w) = (1180.0 * c.x + 800.0 * c.y, 1180.0 * c.x - 800.0 * c.y);
+                let values = [c.x, c.y, u, w];
+                for a in 0..4 {
+                    proptest::prop_assert!(f64::from(lo(&p, a)) <= values[a] - margin);
+                    proptest::prop_assert!(f64::from(hi(&p, a)) >= values[a] + margin);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn lines_beyond_the_largest_or_not_finite_have_no_hull() {
+        let l = |x: f64, v: f64| crate::test_util::line((x, 0.5), (0.6, 0.6), (v, 0.0));
+        assert!(of_line(&l(0.7, 0.01), 0.5).is_some());
+        assert!(of_line(&l(2e30, 0.01), 0.5).is_none());
+        assert!(of_line(&l(0.7, f64::NAN), 0.5).is_none());
+        assert!(of_line(&l(f64::INFINITY, 0.0), 0.5).is_none());
     }
 
     fn boxed(lo: [f64; 4], hi: [f64; 4]) -> Packed {

@@ -23,13 +23,13 @@ mod order;
 mod plan;
 mod scan;
 
-use super::swept::{swept_box, test_pair, test_wild, PairCounts};
+use super::swept::{test_pair, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::Line;
 use crate::narrow::Event;
 use bands::{Bands, Layout};
 use hull::{lo, Packed};
-use order::Keyed;
+use order::{Boxes, NO_KEY};
 use plan::Plan;
 use std::time::{Duration, Instant};
 
@@ -100,20 +100,14 @@ pub struct Sweep {
     /// Steps until the next plan.
     until_plan: u64,
     tuner: BandTuner,
-    /// Every line's id: last step's boxed lines in sorted order first, then
-    /// the others. Hulls are made in this order, so that this step's sort
-    /// has little to do.
-    order: Vec<u32>,
-    /// Where the next `order` is built.
-    next_order: Vec<u32>,
-    /// Each slot's packed hull (slot `k` holds line `order[k]`).
-    hulls: Vec<Packed>,
-    /// Each slot's sort key and slot number; `+inf` for lines without a
-    /// finite hull, which the sort puts last.
-    keyed: Vec<Keyed>,
+    /// Every line's key, packed hull and id: this step's boxed lines in
+    /// sorted order first, then the others. Next step's hulls are made in
+    /// this order, so that its sort has little to do.
+    sorted: Boxes,
+    /// The boxes band by band, when there are several bands.
+    layout: Layout,
     /// Ids of this step's wild lines.
     wild: Vec<u32>,
-    layout: Layout,
     stats: DetectorStats,
     clock: Option<PhaseClock>,
 }
@@ -131,12 +125,9 @@ impl Sweep {
             },
             until_plan: 0,
             tuner: BandTuner::default(),
-            order: Vec::new(),
-            next_order: Vec::new(),
-            hulls: Vec::new(),
-            keyed: Vec::new(),
-            wild: Vec::new(),
+            sorted: Boxes::default(),
             layout: Layout::default(),
+            wild: Vec::new(),
             stats: DetectorStats::default(),
             clock: None,
         }
@@ -165,62 +156,58 @@ impl Sweep {
         }
     }
 
-    /// Makes every line's packed hull in `order`, keyed for the sort.
+    fn parallel(&self, work: usize) -> bool {
+        self.threads > 1 && work >= 2 * self.grain
+    }
+
+    /// Makes every line's packed hull and key, in last step's order.
     fn make_hulls(&mut self, lines: &[Line], dt: f64) {
         let along = self.plan.along;
-        let fill = |order: &[u32], hulls: &mut [Packed], keyed: &mut [Keyed], first: usize| {
-            for (k, ((&id, hull), key)) in order.iter().zip(hulls).zip(keyed).enumerate() {
-                let slot = (first + k) as u32;
-                *key = match swept_box(&lines[id as usize], dt) {
-                    Some(b) => {
-                        *hull = hull::pack(&b);
-                        (lo(hull, along), slot)
+        let fill = |ids: &[u32], hulls: &mut [Packed], keys: &mut [f32]| {
+            for ((&id, hull), key) in ids.iter().zip(hulls).zip(keys) {
+                *key = match hull::of_line(&lines[id as usize], dt) {
+                    Some(packed) => {
+                        *hull = packed;
+                        lo(hull, along)
                     }
-                    None => (f32::INFINITY, slot),
+                    None => NO_KEY,
                 };
             }
         };
-        let n = self.order.len();
-        self.hulls.resize(n, [0.0; 8]);
-        self.keyed.resize(n, (0.0, 0));
-        if self.parallel(n) {
+        let n = self.sorted.len();
+        let b = &mut self.sorted;
+        let (ids, hulls, keys) = (&b.ids[..n], &mut b.hulls[..n], &mut b.keys[..n]);
+        if self.threads > 1 && n >= 2 * self.grain {
             use rayon::prelude::*;
             let chunk = self.grain;
-            self.order
-                .par_chunks(chunk)
-                .zip(self.hulls.par_chunks_mut(chunk))
-                .zip(self.keyed.par_chunks_mut(chunk))
-                .enumerate()
-                .for_each(|(c, ((order, hulls), keyed))| fill(order, hulls, keyed, c * chunk));
+            ids.par_chunks(chunk)
+                .zip(hulls.par_chunks_mut(chunk))
+                .zip(keys.par_chunks_mut(chunk))
+                .for_each(|((ids, hulls), keys)| fill(ids, hulls, keys));
         } else {
-            fill(&self.order, &mut self.hulls, &mut self.keyed, 0);
+            fill(ids, hulls, keys);
         }
-    }
-
-    fn parallel(&self, work: usize) -> bool {
-        self.threads > 1 && work >= 2 * self.grain
     }
 
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
     /// them if the direction changed.
     fn make_plan(&mut self) {
-        let boxed: Vec<u32> = self
-            .keyed
+        let b = &self.sorted;
+        let boxed = b.keys[..b.len()].iter().filter(|&&k| k != NO_KEY).count();
+        let stride = boxed.div_ceil(plan::SAMPLE).max(1);
+        let sample: Vec<Packed> = b.keys[..b.len()]
             .iter()
-            .filter(|k| k.0 != f32::INFINITY)
-            .map(|k| k.1)
-            .collect();
-        let stride = boxed.len().div_ceil(plan::SAMPLE).max(1);
-        let sample: Vec<Packed> = boxed
-            .iter()
+            .zip(&b.hulls)
+            .filter(|(&k, _)| k != NO_KEY)
             .step_by(stride)
-            .map(|&slot| self.hulls[slot as usize])
+            .map(|(_, &hull)| hull)
             .collect();
-        let plan = plan::choose(&sample, boxed.len());
+        let plan = plan::choose(&sample, boxed);
         if plan.along != self.plan.along {
-            for key in &mut self.keyed {
-                if key.0 != f32::INFINITY {
-                    key.0 = lo(&self.hulls[key.1 as usize], plan.along);
+            let b = &mut self.sorted;
+            for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
+                if *key != NO_KEY {
+                    *key = lo(hull, plan.along);
                 }
             }
         }
@@ -257,12 +244,49 @@ impl Sweep {
     /// Records this step's work; a trial that did less than the count in
     /// use becomes the count in use.
     fn end_step(&mut self, entries: usize, candidates: u64) {
-        let work = plan::ENTRY_COST * entries as f64 + candidates as f64;
+        let banded = self.plan.bands.count > 1;
+        let work = plan::work(entries as f64, candidates as f64, banded);
         let t = &mut self.tuner;
         match t.kept.take() {
             Some(kept) if work >= TRIAL_GAIN * t.work => self.plan = kept,
             _ => t.work = work,
         }
+    }
+
+    /// Sweeps the bands `range` (or, with one band, the boxed lines) and
+    /// tests the pairs whose hulls overlap.
+    fn sweep_bands(
+        &self,
+        lines: &[Line],
+        dt: f64,
+        boxed: usize,
+        range: std::ops::Range<usize>,
+        events: &mut Vec<Event>,
+    ) -> PairCounts {
+        let mut counts = PairCounts::default();
+        let along = self.plan.along;
+        let bands = &self.plan.bands;
+        let test = |ids: &[u32], i: usize, j: usize, events: &mut Vec<Event>, counts: &mut PairCounts| {
+            let (a, b) = (ids[i], ids[j]);
+            test_pair((&lines[a as usize], a), (&lines[b as usize], b), dt, events, counts);
+        };
+        if bands.count == 1 {
+            let b = &self.sorted;
+            counts.candidates += scan::sweep(&b.keys, &b.hulls, 0..boxed, along, |i, j| {
+                test(&b.ids, i, j, events, &mut counts)
+            });
+            return counts;
+        }
+        let l = &self.layout;
+        for band in range {
+            let entries = l.starts[band]..l.starts[band + 1] - 1;
+            counts.candidates += scan::sweep(&l.keys, &l.hulls, entries, along, |i, j| {
+                if bands.reports(band, &l.hulls[i], &l.hulls[j]) {
+                    test(&l.ids, i, j, events, &mut counts);
+                }
+            });
+        }
+        counts
     }
 }
 
@@ -282,8 +306,8 @@ impl Detector for Sweep {
         if let Some(clock) = &mut self.clock {
             clock.since = Instant::now();
         }
-        if self.order.len() != lines.len() {
-            self.order = (0..lines.len() as u32).collect();
+        if self.sorted.len() != lines.len() {
+            self.sorted.reset(lines.len());
             self.until_plan = 0;
         }
 
@@ -294,14 +318,10 @@ impl Detector for Sweep {
         self.until_plan -= 1;
         self.lap(Phase::Hulls);
 
-        order::sort(&mut self.keyed);
-        let boxed = self.keyed.partition_point(|k| k.0 != f32::INFINITY);
-        self.next_order.clear();
-        self.next_order
-            .extend(self.keyed.iter().map(|k| self.order[k.1 as usize]));
+        let boxed = self.sorted.sort();
         self.wild.clear();
         self.wild.extend(
-            self.next_order[boxed..]
+            self.sorted.ids[boxed..lines.len()]
                 .iter()
                 .copied()
                 .filter(|&id| !lines[id as usize].is_inert()),
@@ -310,31 +330,16 @@ impl Detector for Sweep {
 
         self.start_trial(boxed);
         let bands = self.plan.bands;
-        self.layout
-            .build(&self.keyed[..boxed], &self.hulls, &self.order, &bands);
-        std::mem::swap(&mut self.order, &mut self.next_order);
+        let entries = if bands.count > 1 {
+            self.layout.build(&self.sorted, boxed, &bands);
+            self.layout.len() - bands.count
+        } else {
+            boxed
+        };
         self.lap(Phase::Layout);
 
         let mut counts = PairCounts::default();
-        let along = self.plan.along;
-        let layout = &self.layout;
-        let sweep_bands = |range: std::ops::Range<usize>, events: &mut Vec<Event>| {
-            let mut counts = PairCounts::default();
-            for band in range {
-                counts.candidates += scan::sweep_band(layout, &bands, band, along, |i, j| {
-                    let (a, b) = (layout.ids[i], layout.ids[j]);
-                    test_pair(
-                        (&lines[a as usize], a),
-                        (&lines[b as usize], b),
-                        dt,
-                        events,
-                        &mut counts,
-                    );
-                });
-            }
-            counts
-        };
-        if self.parallel(layout.len()) && bands.count > 1 {
+        if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
             let per_task = bands.count.div_ceil(4 * self.threads).max(1);
             let found: Vec<(Vec<Event>, PairCounts)> = (0..bands.count)
@@ -343,7 +348,8 @@ impl Detector for Sweep {
                 .into_par_iter()
                 .map(|first| {
                     let mut found = Vec::new();
-                    let c = sweep_bands(first..(first + per_task).min(bands.count), &mut found);
+                    let range = first..(first + per_task).min(bands.count);
+                    let c = self.sweep_bands(lines, dt, boxed, range, &mut found);
                     (found, c)
                 })
                 .collect();
@@ -352,17 +358,17 @@ impl Detector for Sweep {
                 counts.add(&c);
             }
         } else {
-            counts.add(&sweep_bands(0..bands.count, events));
+            counts.add(&self.sweep_bands(lines, dt, boxed, 0..bands.count, events));
         }
         test_wild(
             lines,
             &self.wild,
-            self.order[..boxed].iter().copied(),
+            self.sorted.ids[..boxed].iter().copied(),
             dt,
             events,
             &mut counts,
         );
-        self.end_step(self.layout.len() - bands.count, counts.candidates);
+        self.end_step(entries, counts.candidates);
         self.lap(Phase::Sweep);
 
         self.stats.candidate_pairs += counts.candidates;

@@ -1,83 +1,181 @@
-//! Keeping boxes sorted by their least value along the sweep direction.
+//! The boxes in sorted order: by their least value along the sweep
+//! direction, as parallel arrays of keys, packed hulls and ids, kept from
+//! step to step.
 //!
 //! Lines move little in a step, so last step's order is nearly this step's:
-//! an insertion sort finishes in about one pass. When the order has changed
-//! a lot (the first step, a new sweep direction, a scene flying apart) the
-//! insertion sort stops after a budget of moves and a radix sort does the
-//! whole job instead.
+//! hulls are made in last step's order, and an insertion sort in place
+//! finishes in about one pass with a few short moves. When the order has
+//! changed a lot (the first step, a new sweep direction, a scene flying
+//! apart) the insertion sort stops after a budget of moves and a radix
+//! sort does the whole job instead.
 
-/// A box's sort key (its least value along the sweep direction) and where
-/// its packed hull waits.
-pub(crate) type Keyed = (f32, u32);
+use super::hull::Packed;
+
+/// The key of a box that takes no part in the sweep (a line without a
+/// finite hull): it sorts after every real key, and no comparison
+/// `key <= end` with a real box's end holds for it, so it also stops a
+/// scan.
+pub(crate) const NO_KEY: f32 = f32::INFINITY;
 
 /// Moves an insertion sort may make per element before it gives way to a
-/// radix sort: a radix sort of `f32` keys costs about as much as this many
-/// moves.
+/// radix sort, which costs about as much as this many moves.
 const MOVES_PER_ELEMENT: usize = 8;
 
-/// Sorts `keyed` by key (ties in any order: the sweep tests tied boxes both
-/// ways round). Keys are never NaN. Returns whether the radix sort was used.
-pub(crate) fn sort(keyed: &mut [Keyed]) -> bool {
-    if insertion_sort(keyed, MOVES_PER_ELEMENT * keyed.len() + 64) {
-        return false;
-    }
-    radsort::sort_by_key(keyed, |k| k.0);
-    true
+/// Boxes as parallel arrays, followed by one sentinel entry (key
+/// [`NO_KEY`]) so that a scan always stops.
+#[derive(Debug, Default)]
+pub(crate) struct Boxes {
+    /// Least value along the sweep direction, or [`NO_KEY`].
+    pub keys: Vec<f32>,
+    /// Packed hull (meaningless where the key is [`NO_KEY`]).
+    pub hulls: Vec<Packed>,
+    /// Line id.
+    pub ids: Vec<u32>,
+    /// Spare arrays for the radix sort's gather.
+    spare: Option<Box<Boxes>>,
+    keyed: Vec<(f32, u32)>,
 }
 
-/// Insertion sort that gives up after `budget` moves (leaving `keyed`
-/// permuted but unsorted). Returns whether it finished.
-fn insertion_sort(keyed: &mut [Keyed], mut budget: usize) -> bool {
-    for i in 1..keyed.len() {
-        let item = keyed[i];
-        if keyed[i - 1].0 <= item.0 {
-            continue;
-        }
-        let mut j = i;
-        while j > 0 && keyed[j - 1].0 > item.0 {
-            keyed[j] = keyed[j - 1];
-            j -= 1;
-        }
-        keyed[j] = item;
-        let moved = i - j;
-        if moved > budget {
-            return false;
-        }
-        budget -= moved;
+impl Boxes {
+    /// Resets to the ids `0..n`, in that order, with room for their hulls.
+    pub(crate) fn reset(&mut self, n: usize) {
+        self.ids.clear();
+        self.ids.extend(0..n as u32);
+        self.ids.push(u32::MAX);
+        self.keys.clear();
+        self.keys.resize(n + 1, NO_KEY);
+        self.hulls.clear();
+        self.hulls.resize(n + 1, [0.0; 8]);
     }
-    true
+
+    /// Boxes held, the sentinel not counted.
+    pub(crate) fn len(&self) -> usize {
+        self.ids.len().saturating_sub(1)
+    }
+
+    /// Sorts the boxes by key (ties in any order: the sweep tests tied
+    /// boxes both ways round), the sentinel staying last. Keys are never
+    /// NaN. Returns the number of boxes with a real key, which now come
+    /// first.
+    pub(crate) fn sort(&mut self) -> usize {
+        let n = self.len();
+        if !self.insertion_sort(n, MOVES_PER_ELEMENT * n + 64) {
+            self.radix_sort(n);
+        }
+        self.keys[..n].partition_point(|&k| k != NO_KEY)
+    }
+
+    /// Insertion sort of the first `n` boxes that gives up after `budget`
+    /// moves (leaving them permuted but unsorted). Returns whether it
+    /// finished.
+    fn insertion_sort(&mut self, n: usize, mut budget: usize) -> bool {
+        let (keys, hulls, ids) = (&mut self.keys[..n], &mut self.hulls[..n], &mut self.ids[..n]);
+        for i in 1..n {
+            let key = keys[i];
+            if keys[i - 1] <= key {
+                continue;
+            }
+            let (hull, id) = (hulls[i], ids[i]);
+            let mut j = i;
+            while j > 0 && keys[j - 1] > key {
+                keys[j] = keys[j - 1];
+                hulls[j] = hulls[j - 1];
+                ids[j] = ids[j - 1];
+                j -= 1;
+            }
+            keys[j] = key;
+            hulls[j] = hull;
+            ids[j] = id;
+            let moved = i - j;
+            if moved > budget {
+                return false;
+            }
+            budget -= moved;
+        }
+        true
+    }
+
+    /// Radix sort of the first `n` boxes by key.
+    fn radix_sort(&mut self, n: usize) {
+        self.keyed.clear();
+        self.keyed
+            .extend(self.keys[..n].iter().enumerate().map(|(k, &key)| (key, k as u32)));
+        radsort::sort_by_key(&mut self.keyed, |k| k.0);
+        let mut spare = self.spare.take().unwrap_or_default();
+        spare.keys.clear();
+        spare.hulls.clear();
+        spare.ids.clear();
+        for &(key, k) in &self.keyed {
+            spare.keys.push(key);
+            spare.hulls.push(self.hulls[k as usize]);
+            spare.ids.push(self.ids[k as usize]);
+        }
+        spare.keys.push(NO_KEY);
+        spare.hulls.push([0.0; 8]);
+        spare.ids.push(u32::MAX);
+        std::mem::swap(&mut self.keys, &mut spare.keys);
+        std::mem::swap(&mut self.hulls, &mut spare.hulls);
+        std::mem::swap(&mut self.ids, &mut spare.ids);
+        self.spare = Some(spare);
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn sorted(keyed: &[Keyed]) -> bool {
-        keyed.windows(2).all(|w| w[0].0 <= w[1].0)
+    fn boxes(keys: &[f32]) -> Boxes {
+        let mut b = Boxes::default();
+        b.reset(keys.len());
+        b.keys[..keys.len()].copy_from_slice(keys);
+        for (k, &key) in keys.iter().enumerate() {
+            b.hulls[k] = [key; 8];
+        }
+        b
+    }
+
+    fn check(b: &Boxes, keys: &[f32], boxed: usize) {
+        let n = keys.len();
+        assert!(b.keys[..n].windows(2).all(|w| w[0] <= w[1]));
+        assert_eq!(b.keys[n], NO_KEY);
+        assert_eq!(b.ids[n], u32::MAX);
+        for k in 0..n {
+            // Each box kept its hull and id together.
+            assert_eq!(b.keys[k], keys[b.ids[k] as usize]);
+            assert!(b.hulls[k][0] == b.keys[k] || b.keys[k] == NO_KEY);
+        }
+        let mut ids = b.ids[..n].to_vec();
+        ids.sort_unstable();
+        assert_eq!(ids, (0..n as u32).collect::<Vec<_>>());
+        assert_eq!(b.keys[..n].partition_point(|&k| k != NO_KEY), boxed);
     }
 
     #[test]
-    fn nearly_sorted_input_is_insertion_sorted() {
-        let mut keyed: Vec<Keyed> = (0..1000).map(|i| (i as f32, i)).collect();
-        keyed.swap(10, 11);
-        keyed.swap(500, 503);
-        assert!(!sort(&mut keyed));
-        assert!(sorted(&keyed));
-        let mut slots: Vec<u32> = keyed.iter().map(|k| k.1).collect();
-        slots.sort_unstable();
-        assert_eq!(slots, (0..1000).collect::<Vec<_>>());
+    fn nearly_sorted_boxes_are_insertion_sorted() {
+        let mut keys: Vec<f32> = (0..1000).map(|i| i as f32).collect();
+        keys.swap(10, 11);
+        keys.swap(500, 503);
+        keys[7] = NO_KEY;
+        let mut b = boxes(&keys);
+        assert!(b.insertion_sort(keys.len(), 1000));
+        let mut b = boxes(&keys);
+        assert_eq!(b.sort(), 999);
+        check(&b, &keys, 999);
     }
 
     #[test]
-    fn scrambled_input_falls_back_to_radix() {
-        let mut keyed: Vec<Keyed> = (0..1000u32)
-            .map(|i| (((i * 7919) % 1000) as f32 - 500.0, i))
+    fn scrambled_boxes_fall_back_to_radix() {
+        let mut keys: Vec<f32> = (0..1000u32)
+            .map(|i| ((i * 7919) % 1000) as f32 - 500.0)
             .collect();
-        keyed.push((f32::NEG_INFINITY, 1000));
-        keyed.push((-0.0, 1001));
-        keyed.push((0.0, 1002));
-        assert!(sort(&mut keyed));
-        assert!(sorted(&keyed));
-        assert_eq!(keyed[0].1, 1000);
+        keys.extend([f32::NEG_INFINITY, -0.0, 0.0, NO_KEY]);
+        let mut b = boxes(&keys);
+        assert!(!b.insertion_sort(keys.len(), 8 * keys.len()));
+        let mut b = boxes(&keys);
+        assert_eq!(b.sort(), keys.len() - 1);
+        check(&b, &keys, keys.len() - 1);
+        // Sorting again (now in order) keeps it so.
+        assert_eq!(b.sort(), keys.len() - 1);
+        check(&b, &keys, keys.len() - 1);
     }
 }

@@ -27,11 +27,20 @@ pub(crate) fn across(a: usize) -> usize {
     [1, 0, 3, 2][a]
 }
 
-/// The model's cost of putting one box into one band (making its hull,
-/// sorting and laying it out), in units of one candidate pair: measured on
-/// generated scenes of 10^4 to 10^6 lines, where an entry costs about six
-/// times what a candidate does.
-pub(crate) const ENTRY_COST: f64 = 6.0;
+/// The model's cost of sweeping one box (its own work, apart from the
+/// pairs it meets), in units of one candidate pair met.
+pub(crate) const SWEEP_COST: f64 = 4.0;
+
+/// The model's cost of laying one box out in one band (done only when
+/// there are several), in units of one candidate pair met.
+pub(crate) const LAYOUT_COST: f64 = 10.0;
+
+/// The work of a sweep that lays out `entries` boxes (in several bands if
+/// `banded`) and meets `candidates` pairs, in units of one candidate.
+pub(crate) fn work(entries: f64, candidates: f64, banded: bool) -> f64 {
+    let per_entry = if banded { SWEEP_COST + LAYOUT_COST } else { SWEEP_COST };
+    per_entry * entries + candidates
+}
 
 /// Most boxes the plan looks at; beyond this it samples evenly.
 pub(crate) const SAMPLE: usize = 16 * 1024;
@@ -89,8 +98,15 @@ fn spread(sample: &[Packed], total: usize, a: usize) -> Spread {
 /// that many over `count` of the boxes and so meets `1 / count` of the
 /// candidates of a sweep of as many boxes.
 pub(crate) fn cost(total: usize, candidates: f64, share: f64, count: usize) -> f64 {
+    if count == 1 {
+        return work(total as f64, candidates, false);
+    }
     let copies = 1.0 + count as f64 * share;
-    ENTRY_COST * total as f64 * copies + candidates * copies * copies / count as f64
+    work(
+        total as f64 * copies,
+        candidates * copies * copies / count as f64,
+        true,
+    )
 }
 
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them.
