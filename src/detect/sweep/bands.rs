@@ -108,35 +108,40 @@ impl Layout {
         // keeps every band sorted.
         self.spans.clear();
         self.cursor.clear();
-        self.cursor.resize(bands.count, 0);
-        for hull in hulls {
+        self.cursor.resize(bands.count + 1, 0);
+        self.spans.extend(hulls.iter().map(|hull| {
             let (first, last) = bands.span(hull);
-            self.cursor[first] += 1;
-            for c in &mut self.cursor[first + 1..=last] {
-                *c += 1;
+            (first as u32, last as u32)
+        }));
+        for &(first, last) in &self.spans {
+            for band in first..=last {
+                self.cursor[band as usize] += 1;
             }
-            self.spans.push((first as u32, last as u32));
         }
         self.starts.clear();
         let mut total = 0;
-        for c in &mut self.cursor {
+        for c in &mut self.cursor[..bands.count] {
             self.starts.push(total);
             let entries = *c;
             *c = total;
             total += entries + 1;
         }
         self.starts.push(total);
-        self.keys.clear();
+        // Every entry is written below; only the sentinels need their key.
         self.keys.resize(total, NO_KEY);
         self.hulls.resize(total, [0.0; 8]);
         self.ids.resize(total, u32::MAX);
+        for &start in &self.starts[1..] {
+            self.keys[start - 1] = NO_KEY;
+        }
+        let (out_keys, out_hulls, out_ids) = (&mut self.keys[..total], &mut self.hulls[..total], &mut self.ids[..total]);
         for (k, &(first, last)) in self.spans.iter().enumerate() {
-            for band in first as usize..=last as usize {
-                let at = self.cursor[band];
-                self.cursor[band] = at + 1;
-                self.keys[at] = keys[k];
-                self.hulls[at] = hulls[k];
-                self.ids[at] = ids[k];
+            for band in first..=last {
+                let at = self.cursor[band as usize];
+                self.cursor[band as usize] = at + 1;
+                out_keys[at] = keys[k];
+                out_hulls[at] = hulls[k];
+                out_ids[at] = ids[k];
             }
         }
     }

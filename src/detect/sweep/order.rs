@@ -17,9 +17,15 @@ use super::hull::Packed;
 /// scan.
 pub(crate) const NO_KEY: f32 = f32::INFINITY;
 
-/// Moves an insertion sort may make per element before it gives way to a
-/// radix sort, which costs about as much as this many moves.
+/// Moves an insertion sort of keys and slots may make per element before
+/// it gives way to a radix sort, which costs about as much as this many
+/// moves.
 const MOVES_PER_ELEMENT: usize = 8;
+
+/// Boxes are moved in place while a sort moves fewer than one in this
+/// many of them; beyond that, keys and slots are sorted and the boxes
+/// gathered once (a box is five times the size of a key and a slot).
+const RESTLESS_SHARE: usize = 4;
 
 /// Boxes as parallel arrays, followed by one sentinel entry (key
 /// [`NO_KEY`]) so that a scan always stops.
@@ -31,9 +37,13 @@ pub(crate) struct Boxes {
     pub hulls: Vec<Packed>,
     /// Line id.
     pub ids: Vec<u32>,
-    /// Spare arrays for the radix sort's gather.
+    /// Spare arrays for the gather after a sort by slot.
     spare: Option<Box<Boxes>>,
+    /// Keys and slots, for sorting by slot.
     keyed: Vec<(f32, u32)>,
+    /// Whether the last sort moved so many boxes that sorting slots and
+    /// gathering the boxes once is cheaper than moving them.
+    restless: bool,
 }
 
 impl Boxes {
@@ -59,8 +69,11 @@ impl Boxes {
     /// first.
     pub(crate) fn sort(&mut self) -> usize {
         let n = self.len();
-        if !self.insertion_sort(n, MOVES_PER_ELEMENT * n + 64) {
-            self.radix_sort(n);
+        if self.restless {
+            self.sort_by_slot(n);
+        } else if !self.insertion_sort(n, n / RESTLESS_SHARE) {
+            self.restless = true;
+            self.sort_by_slot(n);
         }
         self.keys[..n].partition_point(|&k| k != NO_KEY)
     }
@@ -95,21 +108,25 @@ impl Boxes {
         true
     }
 
-    /// Radix sort of the first `n` boxes by key.
-    fn radix_sort(&mut self, n: usize) {
+    /// Sorts keys and slots of the first `n` boxes (by insertion, or by
+    /// radix if that goes on too long), then gathers the boxes in that
+    /// order. Notes whether the boxes were restless enough for it.
+    fn sort_by_slot(&mut self, n: usize) {
         self.keyed.clear();
         self.keyed
             .extend(self.keys[..n].iter().enumerate().map(|(k, &key)| (key, k as u32)));
-        radsort::sort_by_key(&mut self.keyed, |k| k.0);
+        let moves = insertion_sort(&mut self.keyed, MOVES_PER_ELEMENT * n + 64);
+        if moves.is_none() {
+            radsort::sort_by_key(&mut self.keyed, |k| k.0);
+        }
+        self.restless = moves.is_none_or(|m| m > n / RESTLESS_SHARE);
         let mut spare = self.spare.take().unwrap_or_default();
         spare.keys.clear();
         spare.hulls.clear();
         spare.ids.clear();
-        for &(key, k) in &self.keyed {
-            spare.keys.push(key);
-            spare.hulls.push(self.hulls[k as usize]);
-            spare.ids.push(self.ids[k as usize]);
-        }
+        spare.keys.extend(self.keyed.iter().map(|k| k.0));
+        spare.hulls.extend(self.keyed.iter().map(|k| self.hulls[k.1 as usize]));
+        spare.ids.extend(self.keyed.iter().map(|k| self.ids[k.1 as usize]));
         spare.keys.push(NO_KEY);
         spare.hulls.push([0.0; 8]);
         spare.ids.push(u32::MAX);
@@ -118,6 +135,29 @@ impl Boxes {
         std::mem::swap(&mut self.ids, &mut spare.ids);
         self.spare = Some(spare);
     }
+}
+
+/// Insertion sort of keys and slots that gives up after `budget` moves.
+/// Returns the moves made, if it finished.
+fn insertion_sort(keyed: &mut [(f32, u32)], budget: usize) -> Option<usize> {
+    let mut moves = 0;
+    for i in 1..keyed.len() {
+        let item = keyed[i];
+        if keyed[i - 1].0 <= item.0 {
+            continue;
+        }
+        let mut j = i;
+        while j > 0 && keyed[j - 1].0 > item.0 {
+            keyed[j] = keyed[j - 1];
+            j -= 1;
+        }
+        keyed[j] = item;
+        moves += i - j;
+        if moves > budget {
+            return None;
+        }
+    }
+    Some(moves)
 }
 
 #[cfg(test)]
@@ -158,6 +198,8 @@ mod tests {
         keys[7] = NO_KEY;
         let mut b = boxes(&keys);
         assert!(b.insertion_sort(keys.len(), 1000));
+        assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 10), Some(3));
+        assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 2), None);
         let mut b = boxes(&keys);
         assert_eq!(b.sort(), 999);
         check(&b, &keys, 999);
@@ -174,7 +216,11 @@ mod tests {
         let mut b = boxes(&keys);
         assert_eq!(b.sort(), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
-        // Sorting again (now in order) keeps it so.
+        assert!(b.restless);
+        // Sorting again (now in order) keeps it so, and calms down.
+        assert_eq!(b.sort(), keys.len() - 1);
+        check(&b, &keys, keys.len() - 1);
+        assert!(!b.restless);
         assert_eq!(b.sort(), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
     }
