@@ -17,6 +17,7 @@
 //! phases), [`render`] (pictures and the window) and [`generate`] (seeded
 //! scenes).
 
+pub mod broad_phase;
 pub mod detect;
 pub mod generate;
 pub mod geometry;

@@ -9,7 +9,7 @@
 mod brute;
 pub mod quadtree;
 pub mod swept;
-mod sweep;
+pub(crate) mod sweep;
 
 pub use brute::Brute;
 pub use sweep::Sweep;

@@ -4,15 +4,20 @@
 //!
 //! A box with least values `lo[a]` and greatest values `hi[a]` along
 //! directions `a = 0..4` is packed as `[lo[0..4], -hi[0..4]]`, every lane
-//! rounded down to `f32` (so the packed box holds the `f64` one). Two boxes
-//! overlap (closed: touching counts) when `lo_j[a] <= hi_i[a]` and
-//! `lo_i[a] <= hi_j[a]` for every `a`, that is when every lane of `P_j` is
-//! at most the matching lane of [`reach`]`(P_i)`, which is `P_i` with its
-//! halves swapped and negated. An unused direction is packed as
-//! `[-inf, .., -inf]` in both halves and never rules a pair out.
+//! rounded to the nearest `f32`. Two boxes overlap (closed: touching
+//! counts) when `lo_j[a] <= hi_i[a]` and `lo_i[a] <= hi_j[a]` for every
+//! `a`, that is when every lane of `P_j` is at most the matching lane of
+//! [`reach`]`(P_i)`, which is `P_i` with its halves swapped and negated.
+//! An unused direction is packed as `-inf` in both halves and never rules
+//! a pair out.
+//!
+//! Rounding to `f32` never loses an overlap: rounding is monotone (and
+//! symmetric about zero), so `lo_j <= hi_i` implies
+//! `f32(lo_j) <= f32(hi_i)`, even where values beyond `f32`'s range
+//! become infinite. It can only add overlaps between boxes closer than
+//! `f32` resolves, which the exact test behind the sweep turns down.
 
-use crate::detect::swept::{SweptBox, DIAGONAL_X, DIAGONAL_Y, PAD};
-use crate::geometry::Vec2;
+use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
 use crate::line::Line;
 
 /// Eight `f32` lower bounds: `[lo_x, lo_y, lo_u, lo_w, -hi_x, -hi_y, -hi_u, -hi_w]`.
@@ -23,31 +28,18 @@ pub(crate) const DIRECTIONS: usize = 4;
 
 /// Lines whose coordinates (now or one step ahead) reach beyond this are
 /// treated as wild (tested against every line), which keeps every packed
-/// value far inside `f32`'s range.
+/// value finite.
 pub(crate) const LARGEST: f64 = 1e30;
-
-/// An `f32` at most `x`, for `|x|` up to [`LARGEST`] times the diagonals'
-/// weight: `x` is lowered by `2^-22` of itself and by `2^-140` before it
-/// is rounded to the nearest `f32`, which moves it by at most `2^-24` of
-/// itself or `2^-150`, so the result stays below `x`. (Branch-free, so that
-/// eight lanes convert as one vector.)
-#[inline]
-pub(crate) fn round_down(x: f64) -> f32 {
-    const RELATIVE: f64 = 1.0 / 4194304.0; // 2^-22
-    const ABSOLUTE: f64 = 7.174648137343064e-43; // 2^-140
-    (x - x.abs() * RELATIVE - ABSOLUTE) as f32
-}
 
 /// A line's padded swept hull (see [`crate::detect::swept::swept_box`],
 /// whose bounds and padding it repeats) packed; `None` when the line is not
 /// finite or reaches beyond [`LARGEST`].
 ///
-/// The padded bounds are rounded to the nearest `f32`, not down: the pad
-/// (`2^-20` of the magnitude `m`, and `1e-12`) is far wider than the
-/// rounding (`2^-24` of a bound, which is at most about `2m`, or `1980`
-/// times that on the diagonals, whose pad is as much wider), so every
-/// packed bound still lies beyond the segment by at least `2^-21 m`: far
-/// more than the exact test's rounding errors (near `2^-50 m`).
+/// The pad (`2^-20` of the magnitude `m`, and `1e-12`) is far wider than
+/// the rounding to `f32` (`2^-24` of a bound, which is at most about `2m`,
+/// or `1980` times that on the diagonals, whose pad is as much wider), so
+/// every packed bound still lies beyond the segment by at least `2^-21 m`:
+/// far more than the exact test's rounding errors (near `2^-50 m`).
 #[inline]
 pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
     let (p1, p2) = (line.p1, line.p2);
@@ -110,19 +102,19 @@ fn max(a: f64, b: f64) -> f64 {
     }
 }
 
-/// A padded swept hull packed and rounded down (its coordinates within
-/// [`LARGEST`] times the diagonals' weight).
+/// A box with least values `lo` and greatest values `hi` along the four
+/// directions, packed.
 #[inline]
-pub(crate) fn pack(b: &SweptBox) -> Packed {
+pub(crate) fn pack(lo: [f64; 4], hi: [f64; 4]) -> Packed {
     [
-        round_down(b.min_x),
-        round_down(b.min_y),
-        round_down(b.min_u),
-        round_down(b.min_w),
-        round_down(-b.max_x),
-        round_down(-b.max_y),
-        round_down(-b.max_u),
-        round_down(-b.max_w),
+        lo[0] as f32,
+        lo[1] as f32,
+        lo[2] as f32,
+        lo[3] as f32,
+        -hi[0] as f32,
+        -hi[1] as f32,
+        -hi[2] as f32,
+        -hi[3] as f32,
     ]
 }
 
@@ -162,36 +154,18 @@ pub(crate) fn hi(p: &Packed, a: usize) -> f32 {
 mod tests {
     use super::*;
 
-    #[test]
-    fn rounding_down_never_rounds_up() {
-        let big = LARGEST * 2000.0;
-        for x in [
-            0.1,
-            -0.1,
-            0.75,
-            1.0 / 3.0,
-            -1.0 / 3.0,
-            1e-300,
-            -1e-300,
-            1e-40,
-            -1e-40,
-            big,
-            -big,
-            0.0,
-            -0.0,
-        ] {
-            let f = round_down(x);
-            assert!(f64::from(f) <= x && f.is_finite(), "{x} rounded to {f}");
-            // And not by much.
-            assert!(f64::from(f) >= x - x.abs() * 1e-6 - 1e-40, "{x} rounded to {f}");
-        }
-    }
-
     proptest::proptest! {
+        /// Packing keeps every overlap, however close or far the values.
         #[test]
-        fn rounding_down_holds_at_every_scale(m in -1.0f64..1.0, e in -300i32..34) {
-            let x = m * 10f64.powi(e);
-            proptest::prop_assert!(f64::from(round_down(x)) <= x);
+        fn packing_never_loses_an_overlap(
+            a in -1.0f64..1.0, b in -1.0f64..1.0, e in proptest::sample::select(vec![-300, -40, -5, 0, 5, 38, 39, 300]),
+            gap in proptest::sample::select(vec![0.0, 1e-30, 1e-9, 1e-7]),
+        ) {
+            let scale = 10f64.powi(e);
+            let (lo_j, hi_i) = (a * scale, a * scale + gap * scale.abs());
+            let n = f64::NEG_INFINITY;
+            let (p, q) = (pack([lo_j, n, n, n], [lo_j + b.abs() * scale, -n, -n, -n]), pack([hi_i - scale, n, n, n], [hi_i, -n, -n, -n]));
+            proptest::prop_assert!(overlaps(&p, &reach(&q)));
         }
 
         /// The packed hull of a line holds the line now and one step ahead
@@ -227,16 +201,7 @@ mod tests {
     }
 
     fn boxed(lo: [f64; 4], hi: [f64; 4]) -> Packed {
-        pack(&SweptBox {
-            min_x: lo[0],
-            min_y: lo[1],
-            min_u: lo[2],
-            min_w: lo[3],
-            max_x: hi[0],
-            max_y: hi[1],
-            max_u: hi[2],
-            max_w: hi[3],
-        })
+        pack(lo, hi)
     }
 
     #[test]

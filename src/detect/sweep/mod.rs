@@ -17,11 +17,11 @@
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
 
-mod bands;
-mod hull;
-mod order;
-mod plan;
-mod scan;
+pub(crate) mod bands;
+pub(crate) mod hull;
+pub(crate) mod order;
+pub(crate) mod plan;
+pub(crate) mod scan;
 
 use super::swept::{test_pair, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
@@ -202,7 +202,7 @@ impl Sweep {
             .step_by(stride)
             .map(|(_, &hull)| hull)
             .collect();
-        let plan = plan::choose(&sample, boxed);
+        let plan = plan::choose(&sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
             for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
@@ -264,28 +264,9 @@ impl Sweep {
         events: &mut Vec<Event>,
     ) -> PairCounts {
         let mut counts = PairCounts::default();
-        let along = self.plan.along;
-        let bands = &self.plan.bands;
-        let test = |ids: &[u32], i: usize, j: usize, events: &mut Vec<Event>, counts: &mut PairCounts| {
-            let (a, b) = (ids[i], ids[j]);
-            test_pair((&lines[a as usize], a), (&lines[b as usize], b), dt, events, counts);
-        };
-        if bands.count == 1 {
-            let b = &self.sorted;
-            counts.candidates += scan::sweep(&b.keys, &b.hulls, 0..boxed, along, |i, j| {
-                test(&b.ids, i, j, events, &mut counts)
-            });
-            return counts;
-        }
-        let l = &self.layout;
-        for band in range {
-            let entries = l.starts[band]..l.starts[band + 1] - 1;
-            counts.candidates += scan::sweep(&l.keys, &l.hulls, entries, along, |i, j| {
-                if bands.reports(band, &l.hulls[i], &l.hulls[j]) {
-                    test(&l.ids, i, j, events, &mut counts);
-                }
-            });
-        }
+        counts.candidates = scan::sweep_bands(&self.sorted, boxed, &self.layout, &self.plan, range, |a, b| {
+            test_pair((&lines[a as usize], a), (&lines[b as usize], b), dt, events, &mut counts)
+        });
         counts
     }
 }

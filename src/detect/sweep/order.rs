@@ -78,6 +78,18 @@ impl Boxes {
         self.keys[..n].partition_point(|&k| k != NO_KEY)
     }
 
+    /// Sorts boxes in no particular order (radix sort), as
+    /// [`Boxes::sort`] does; returns the number with a real key.
+    pub(crate) fn sort_scrambled(&mut self) -> usize {
+        let n = self.len();
+        self.keyed.clear();
+        self.keyed
+            .extend(self.keys[..n].iter().enumerate().map(|(k, &key)| (key, k as u32)));
+        radsort::sort_by_key(&mut self.keyed, |k| k.0);
+        self.gather();
+        self.keys[..n].partition_point(|&k| k != NO_KEY)
+    }
+
     /// Insertion sort of the first `n` boxes that gives up after `budget`
     /// moves (leaving them permuted but unsorted). Returns whether it
     /// finished.
@@ -120,6 +132,11 @@ impl Boxes {
             radsort::sort_by_key(&mut self.keyed, |k| k.0);
         }
         self.restless = moves.is_none_or(|m| m > n / RESTLESS_SHARE);
+        self.gather();
+    }
+
+    /// Puts the boxes in the order of `keyed`.
+    fn gather(&mut self) {
         let mut spare = self.spare.take().unwrap_or_default();
         spare.keys.clear();
         spare.hulls.clear();

@@ -109,8 +109,10 @@ pub(crate) fn cost(total: usize, candidates: f64, share: f64, count: usize) -> f
     )
 }
 
-/// Chooses a plan for `total` boxes from `sample`, drawn evenly from them.
-pub(crate) fn choose(sample: &[Packed], total: usize) -> Plan {
+/// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
+/// sweeping along one of the first `directions` directions (2: the axes
+/// only, for boxes without diagonals; 4: the diagonals too).
+pub(crate) fn choose(sample: &[Packed], total: usize, directions: usize) -> Plan {
     let spreads: Vec<Spread> = (0..DIRECTIONS).map(|a| spread(sample, total, a)).collect();
     let mut best = (
         f64::INFINITY,
@@ -120,7 +122,7 @@ pub(crate) fn choose(sample: &[Packed], total: usize) -> Plan {
             spread: (0.0, 0.0),
         },
     );
-    for along in 0..DIRECTIONS {
+    for along in 0..directions.min(DIRECTIONS) {
         let s = &spreads[along];
         let c = &spreads[across(along)];
         let width = f64::from(c.to) - f64::from(c.from);
@@ -161,7 +163,7 @@ mod tests {
         // Boxes strung out along x, all at the same height: along y every
         // pair meets, along x only neighbours.
         let sample: Vec<Packed> = (0..200).map(|i| boxed(i as f32, 0.0, 1.5, 1.0)).collect();
-        let plan = choose(&sample, sample.len());
+        let plan = choose(&sample, sample.len(), 2);
         assert_eq!(plan.along, 0);
         assert_eq!(plan.bands.count, 1);
     }
@@ -174,7 +176,7 @@ mod tests {
                 boxed(x, y, 1.0, 1.0)
             })
             .collect();
-        let plan = choose(&sample, 1_000_000);
+        let plan = choose(&sample, 1_000_000, 2);
         assert!(plan.bands.count > 16, "{plan:?}");
         // More bands cost more than they save past the model's optimum.
         assert!(cost(1000, 1e6, 0.001, 1) > cost(1000, 1e6, 0.001, 30));

@@ -2,7 +2,40 @@
 //! along the sweep direction lies within its own extent; of those, the
 //! ones its packed hull overlaps are reported.
 
+use super::bands::{Bands, Layout};
 use super::hull::{hi, overlaps, reach, Packed};
+use super::order::Boxes;
+use super::plan::Plan;
+
+/// Sweeps the bands `bands` of a plan: with one band, the first `boxed`
+/// of `sorted`; with several, `layout` (built from them). Calls
+/// `found(a, b)` with the ids of every pair whose hulls overlap, once
+/// each. Returns the candidates met.
+pub(crate) fn sweep_bands(
+    sorted: &Boxes,
+    boxed: usize,
+    layout: &Layout,
+    plan: &Plan,
+    bands: std::ops::Range<usize>,
+    mut found: impl FnMut(u32, u32),
+) -> u64 {
+    let cut: &Bands = &plan.bands;
+    if cut.count == 1 {
+        return sweep(&sorted.keys, &sorted.hulls, 0..boxed, plan.along, |i, j| {
+            found(sorted.ids[i], sorted.ids[j])
+        });
+    }
+    let mut candidates = 0;
+    for band in bands {
+        let entries = layout.starts[band]..layout.starts[band + 1] - 1;
+        candidates += sweep(&layout.keys, &layout.hulls, entries, plan.along, |i, j| {
+            if cut.reports(band, &layout.hulls[i], &layout.hulls[j]) {
+                found(layout.ids[i], layout.ids[j]);
+            }
+        });
+    }
+    candidates
+}
 
 /// Sweeps the boxes `range` of sorted `keys` and `hulls`, each against the
 /// boxes after it up to the first whose key lies beyond its extent along
@@ -20,7 +53,9 @@ pub(crate) fn sweep(
     let mut candidates = 0;
     for i in range {
         let hull = &hulls[i];
-        let end = hi(hull, along);
+        // Keys are at most f32::MAX, so a box reaching to +inf still
+        // stops at the sentinel.
+        let end = hi(hull, along).min(f32::MAX);
         let reach = reach(hull);
         let mut j = i + 1;
         while keys[j] <= end {

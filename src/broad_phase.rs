@@ -1,0 +1,222 @@
+//! The sweep's broad phase on boxes of your own: every pair of
+//! axis-aligned boxes that overlap, found by sorting and sweeping (see
+//! [`Sweep`](crate::detect::Sweep)) instead of testing every pair.
+//!
+//! ```
+//! use screensaver::broad_phase::{overlapping_pairs, Aabb};
+//!
+//! let boxes = [
+//!     Aabb { min: [0.0, 0.0], max: [1.0, 1.0] },
+//!     Aabb { min: [1.0, 0.5], max: [2.0, 2.0] }, // touches the first
+//!     Aabb { min: [5.0, 5.0], max: [6.0, 6.0] },
+//! ];
+//! assert_eq!(overlapping_pairs(&boxes), vec![(0, 1)]);
+//! ```
+
+use crate::detect::sweep::bands::Layout;
+use crate::detect::sweep::hull::{lo, pack, Packed, DIRECTIONS};
+use crate::detect::sweep::order::{Boxes, NO_KEY};
+use crate::detect::sweep::{plan, scan};
+
+/// An axis-aligned box, closed: boxes that only touch overlap. A box whose
+/// least value exceeds its greatest on either axis, or that holds a NaN, is
+/// empty and overlaps nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Aabb {
+    /// Least `x` and `y`.
+    pub min: [f64; 2],
+    /// Greatest `x` and `y`.
+    pub max: [f64; 2],
+}
+
+impl Aabb {
+    /// True when the two boxes overlap: neither is empty, and on both axes
+    /// each box's least value is at most the other's greatest.
+    #[inline]
+    pub fn overlaps(&self, other: &Aabb) -> bool {
+        !self.is_empty()
+            && !other.is_empty()
+            && (self.min[0] <= other.max[0])
+            && (other.min[0] <= self.max[0])
+            && (self.min[1] <= other.max[1])
+            && (other.min[1] <= self.max[1])
+    }
+
+    /// True when the box holds no point: its least value exceeds its
+    /// greatest on an axis, or it has a NaN.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        !(self.min[0] <= self.max[0] && self.min[1] <= self.max[1])
+    }
+}
+
+/// Every pair of `boxes` that overlap ([`Aabb::overlaps`]), once each, the
+/// lower index first, in no particular order.
+///
+/// # Panics
+/// If there are more boxes than `u32` indices.
+pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
+    let mut pairs = Vec::new();
+    for_each_overlapping_pair(boxes, |a, b| pairs.push((a, b)));
+    pairs
+}
+
+/// Calls `found(a, b)` for every pair of `boxes` that overlap, once each,
+/// with `a < b`, in no particular order; allocates no list of pairs.
+///
+/// # Panics
+/// If there are more boxes than `u32` indices.
+pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)) {
+    assert!(u32::try_from(boxes.len()).is_ok(), "too many boxes for u32 indices");
+    let mut sorted = Boxes::default();
+    sorted.reset(boxes.len());
+    let unbounded = [f64::INFINITY; 2];
+    for (k, b) in boxes.iter().enumerate() {
+        if b.is_empty() {
+            continue;
+        }
+        // Lanes beyond f32's range are held to its largest value (keys
+        // must stay below the sentinel's); clamping keeps order, as
+        // rounding does, so no overlap is lost.
+        let hull = pack(
+            [b.min[0], b.min[1], -unbounded[0], -unbounded[1]],
+            [b.max[0], b.max[1], unbounded[0], unbounded[1]],
+        )
+        .map(|lane| lane.min(f32::MAX));
+        sorted.hulls[k] = hull;
+        sorted.keys[k] = 0.0;
+    }
+    let boxed: Vec<Packed> = (0..boxes.len())
+        .filter(|&k| sorted.keys[k] != NO_KEY)
+        .map(|k| sorted.hulls[k])
+        .collect();
+    let stride = boxed.len().div_ceil(plan::SAMPLE).max(1);
+    let sample: Vec<Packed> = boxed.iter().step_by(stride).copied().collect();
+    let chosen = plan::choose(&sample, boxed.len(), 2);
+    debug_assert!(chosen.along < 2 && DIRECTIONS == 4);
+    for k in 0..boxes.len() {
+        if sorted.keys[k] != NO_KEY {
+            sorted.keys[k] = lo(&sorted.hulls[k], chosen.along);
+        }
+    }
+    let count = sorted.sort_scrambled();
+    let mut layout = Layout::default();
+    if chosen.bands.count > 1 {
+        layout.build(&sorted, count, &chosen.bands);
+    }
+    // The sweep compares boxes rounded to f32: confirm each pair exactly.
+    scan::sweep_bands(&sorted, count, &layout, &chosen, 0..chosen.bands.count, |a, b| {
+        if boxes[a as usize].overlaps(&boxes[b as usize]) {
+            found(a.min(b), a.max(b));
+        }
+    });
+}
+
+/// Every overlapping pair by testing all pairs: the oracle the sweep is
+/// checked against, and as fast as anything for a few dozen boxes.
+pub fn overlapping_pairs_brute(boxes: &[Aabb]) -> Vec<(u32, u32)> {
+    let mut pairs = Vec::new();
+    for (i, a) in boxes.iter().enumerate() {
+        for (j, b) in boxes.iter().enumerate().skip(i + 1) {
+            if a.overlaps(b) {
+                pairs.push((i as u32, j as u32));
+            }
+        }
+    }
+    pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    fn sorted(mut pairs: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+        pairs.sort_unstable();
+        pairs
+    }
+
+    fn aabb(x: f64, y: f64, w: f64, h: f64) -> Aabb {
+        Aabb {
+            min: [x, y],
+            max: [x + w, y + h],
+        }
+    }
+
+    #[test]
+    fn touching_nested_identical_and_nan() {
+        let boxes = [
+            aabb(0.0, 0.0, 1.0, 1.0),
+            aabb(1.0, 1.0, 1.0, 1.0), // touches 0 at a corner
+            aabb(0.25, 0.25, 0.5, 0.5), // inside 0
+            aabb(0.0, 0.0, 1.0, 1.0), // same as 0
+            aabb(f64::NAN, 0.0, 1.0, 1.0),
+            aabb(0.5, 0.5, 0.0, 0.0), // a point inside 0
+            aabb(3.0, 3.0, 0.0, 0.0),
+            Aabb { min: [0.5, 0.5], max: [0.4, 0.6] }, // empty, inside 0
+        ];
+        let expected = vec![(0, 1), (0, 2), (0, 3), (0, 5), (1, 3), (2, 3), (2, 5), (3, 5)];
+        assert_eq!(sorted(overlapping_pairs(&boxes)), expected);
+        assert_eq!(overlapping_pairs_brute(&boxes), expected);
+        assert!(overlapping_pairs(&[]).is_empty());
+    }
+
+    #[test]
+    fn values_closer_than_f32_resolves_are_told_apart() {
+        // 1 and 1 + 2^-40 are one f32: only the exact test separates them.
+        let gap = 1.0 + 2f64.powi(-40);
+        let boxes = [aabb(0.0, 0.0, 1.0, 1.0), aabb(gap, 0.0, 1.0, 1.0), aabb(1.0, 0.0, 0.0, 1.0)];
+        assert_eq!(sorted(overlapping_pairs(&boxes)), vec![(0, 2)]);
+    }
+
+    #[test]
+    fn many_small_boxes_agree_with_all_pairs() {
+        // Enough to cut bands.
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
+        let boxes: Vec<Aabb> = (0..20_000)
+            .map(|_| aabb(rng.random(), rng.random(), 0.006 * rng.random::<f64>(), 0.004))
+            .collect();
+        let found = sorted(overlapping_pairs(&boxes));
+        assert!(found.len() > 1000, "{} pairs", found.len());
+        assert_eq!(found, overlapping_pairs_brute(&boxes));
+    }
+
+    /// Coordinates of every awkward kind.
+    fn coord() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            4 => -10.0f64..10.0,
+            2 => prop::sample::select(vec![0.0, -0.0, 1.0, 0.5, 2.0]),
+            1 => prop::sample::select(vec![1e300, -1e300, 1e39, -1e39, 1e-300, -1e-300, f64::INFINITY, f64::NEG_INFINITY, f64::NAN]),
+            1 => (-1.0f64..1.0).prop_map(|v| v * 1e-20),
+        ]
+    }
+
+    fn any_box() -> impl Strategy<Value = Aabb> {
+        prop_oneof![
+            // Possibly inverted, possibly wild.
+            (coord(), coord(), coord(), coord()).prop_map(|(a, b, c, d)| Aabb { min: [a, b], max: [c, d] }),
+            // Ordinary boxes, some of zero size.
+            (-10.0f64..10.0, -10.0f64..10.0, prop::sample::select(vec![0.0, 0.1, 1.0, 5.0]), prop::sample::select(vec![0.0, 0.1, 1.0]))
+                .prop_map(|(x, y, w, h)| aabb(x, y, w, h)),
+        ]
+    }
+
+    proptest! {
+        #[test]
+        fn the_sweep_finds_exactly_the_all_pairs_overlaps(
+            boxes in prop::collection::vec(any_box(), 0..80),
+            copies in prop::collection::vec(any::<prop::sample::Index>(), 0..5),
+        ) {
+            let mut boxes = boxes;
+            if !boxes.is_empty() {
+                for c in copies {
+                    boxes.push(boxes[c.index(boxes.len())]);
+                }
+            }
+            let mut each = Vec::new();
+            for_each_overlapping_pair(&boxes, |a, b| each.push((a, b)));
+            prop_assert_eq!(sorted(each), overlapping_pairs_brute(&boxes));
+        }
+    }
+}
