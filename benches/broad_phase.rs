@@ -1,40 +1,40 @@
 //! The broad phase alone against broccoli, on the same boxes: the swept
-//! boxes of generated scenes of 10^4, 10^5 and 10^6 lines (one step's
-//! worth: build plus all overlapping pairs, for both).
-//!
-//! Both get axis-aligned boxes (the quadtree's diagonal extents are set to
-//! those of the box, so they prune nothing more), and both run on one
-//! thread.
+//! boxes of generated scenes of 10^4, 10^5 and 10^6 lines, uniform and
+//! clustered (one step's worth: build plus all overlapping pairs, for
+//! each; one thread).
 
 use broccoli::rect;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use screensaver::detect::quadtree::count_overlapping;
-use screensaver::detect::swept::{swept_box, SweptBox, DIAGONAL_X, DIAGONAL_Y};
+use screensaver::broad_phase::{for_each_overlapping_pair, Aabb};
+use screensaver::detect::swept::swept_box;
 use screensaver::generate::{generate, SceneKind};
-use screensaver::{DetectorConfig, DetectorKind, World};
+use screensaver::{DetectorKind, World};
 
 /// The swept boxes of a generated scene's first step, as plain boxes.
-fn boxes(lines: usize) -> Vec<SweptBox> {
-    let scene = generate(SceneKind::Uniform, lines, 7);
+fn boxes(kind: SceneKind, lines: usize) -> Vec<Aabb> {
+    let scene = generate(kind, lines, 7);
     let world = World::from_scene(&scene, DetectorKind::Brute.build());
     world
         .lines()
         .iter()
         .filter_map(|l| swept_box(l, 0.5))
-        .map(|b| SweptBox {
-            min_u: b.min_x * DIAGONAL_X + b.min_y * DIAGONAL_Y,
-            max_u: b.max_x * DIAGONAL_X + b.max_y * DIAGONAL_Y,
-            min_w: b.min_x * DIAGONAL_X - b.max_y * DIAGONAL_Y,
-            max_w: b.max_x * DIAGONAL_X - b.min_y * DIAGONAL_Y,
-            ..b
+        .map(|b| Aabb {
+            min: [b.min_x, b.min_y],
+            max: [b.max_x, b.max_y],
         })
         .collect()
 }
 
-fn broccoli_pairs(boxes: &[SweptBox]) -> u64 {
+fn sweep_pairs(boxes: &[Aabb]) -> u64 {
+    let mut count = 0u64;
+    for_each_overlapping_pair(boxes, |_, _| count += 1);
+    count
+}
+
+fn broccoli_pairs(boxes: &[Aabb]) -> u64 {
     let mut aabbs: Vec<_> = boxes
         .iter()
-        .map(|b| (rect(b.min_x, b.max_x, b.min_y, b.max_y), ()))
+        .map(|b| (rect(b.min[0], b.max[0], b.min[1], b.max[1]), ()))
         .collect();
     let mut tree = broccoli::Tree::new(&mut aabbs);
     let mut count = 0u64;
@@ -45,20 +45,16 @@ fn broccoli_pairs(boxes: &[SweptBox]) -> u64 {
 fn broad_phase(c: &mut Criterion) {
     let mut group = c.benchmark_group("broad_phase");
     group.sample_size(10);
-    let config = DetectorConfig::default();
-    for lines in [10_000, 100_000, 1_000_000] {
-        let boxes = boxes(lines);
-        eprintln!(
-            "{lines} lines: quadtree {} pairs, broccoli {} pairs",
-            count_overlapping(&boxes, &config),
-            broccoli_pairs(&boxes)
-        );
-        group.bench_function(BenchmarkId::new("quadtree", lines), |b| {
-            b.iter(|| count_overlapping(&boxes, &config))
-        });
-        group.bench_function(BenchmarkId::new("broccoli", lines), |b| {
-            b.iter(|| broccoli_pairs(&boxes))
-        });
+    for kind in [SceneKind::Uniform, SceneKind::Clustered] {
+        for lines in [10_000, 100_000, 1_000_000] {
+            let boxes = boxes(kind, lines);
+            let (ours, theirs) = (sweep_pairs(&boxes), broccoli_pairs(&boxes));
+            eprintln!("{kind} {lines} boxes: sweep {ours} pairs, broccoli {theirs} pairs");
+            assert_eq!(ours, theirs, "both find every overlapping pair");
+            let id = |name| BenchmarkId::new(format!("{name}/{kind}"), lines);
+            group.bench_function(id("sweep"), |b| b.iter(|| sweep_pairs(&boxes)));
+            group.bench_function(id("broccoli"), |b| b.iter(|| broccoli_pairs(&boxes)));
+        }
     }
     group.finish();
 }

@@ -67,7 +67,10 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
 /// # Panics
 /// If there are more boxes than `u32` indices.
 pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)) {
-    assert!(u32::try_from(boxes.len()).is_ok(), "too many boxes for u32 indices");
+    assert!(
+        u32::try_from(boxes.len()).is_ok(),
+        "too many boxes for u32 indices"
+    );
     let mut sorted = Boxes::default();
     sorted.reset(boxes.len());
     let unbounded = [f64::INFINITY; 2];
@@ -105,11 +108,18 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
         layout.build(&sorted, count, &chosen.bands);
     }
     // The sweep compares boxes rounded to f32: confirm each pair exactly.
-    scan::sweep_bands(&sorted, count, &layout, &chosen, 0..chosen.bands.count, |a, b| {
-        if boxes[a as usize].overlaps(&boxes[b as usize]) {
-            found(a.min(b), a.max(b));
-        }
-    });
+    scan::sweep_bands(
+        &sorted,
+        count,
+        &layout,
+        &chosen,
+        0..chosen.bands.count,
+        |a, b| {
+            if boxes[a as usize].overlaps(&boxes[b as usize]) {
+                found(a.min(b), a.max(b));
+            }
+        },
+    );
 }
 
 /// Every overlapping pair by testing all pairs: the oracle the sweep is
@@ -147,15 +157,27 @@ mod tests {
     fn touching_nested_identical_and_nan() {
         let boxes = [
             aabb(0.0, 0.0, 1.0, 1.0),
-            aabb(1.0, 1.0, 1.0, 1.0), // touches 0 at a corner
+            aabb(1.0, 1.0, 1.0, 1.0),   // touches 0 at a corner
             aabb(0.25, 0.25, 0.5, 0.5), // inside 0
-            aabb(0.0, 0.0, 1.0, 1.0), // same as 0
+            aabb(0.0, 0.0, 1.0, 1.0),   // same as 0
             aabb(f64::NAN, 0.0, 1.0, 1.0),
             aabb(0.5, 0.5, 0.0, 0.0), // a point inside 0
             aabb(3.0, 3.0, 0.0, 0.0),
-            Aabb { min: [0.5, 0.5], max: [0.4, 0.6] }, // empty, inside 0
+            Aabb {
+                min: [0.5, 0.5],
+                max: [0.4, 0.6],
+            }, // empty, inside 0
         ];
-        let expected = vec![(0, 1), (0, 2), (0, 3), (0, 5), (1, 3), (2, 3), (2, 5), (3, 5)];
+        let expected = vec![
+            (0, 1),
+            (0, 2),
+            (0, 3),
+            (0, 5),
+            (1, 3),
+            (2, 3),
+            (2, 5),
+            (3, 5),
+        ];
         assert_eq!(sorted(overlapping_pairs(&boxes)), expected);
         assert_eq!(overlapping_pairs_brute(&boxes), expected);
         assert!(overlapping_pairs(&[]).is_empty());
@@ -165,7 +187,11 @@ mod tests {
     fn values_closer_than_f32_resolves_are_told_apart() {
         // 1 and 1 + 2^-40 are one f32: only the exact test separates them.
         let gap = 1.0 + 2f64.powi(-40);
-        let boxes = [aabb(0.0, 0.0, 1.0, 1.0), aabb(gap, 0.0, 1.0, 1.0), aabb(1.0, 0.0, 0.0, 1.0)];
+        let boxes = [
+            aabb(0.0, 0.0, 1.0, 1.0),
+            aabb(gap, 0.0, 1.0, 1.0),
+            aabb(1.0, 0.0, 0.0, 1.0),
+        ];
         assert_eq!(sorted(overlapping_pairs(&boxes)), vec![(0, 2)]);
     }
 
@@ -175,7 +201,14 @@ mod tests {
         use rand::{Rng, SeedableRng};
         let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
         let boxes: Vec<Aabb> = (0..20_000)
-            .map(|_| aabb(rng.random(), rng.random(), 0.006 * rng.random::<f64>(), 0.004))
+            .map(|_| {
+                aabb(
+                    rng.random(),
+                    rng.random(),
+                    0.006 * rng.random::<f64>(),
+                    0.004,
+                )
+            })
             .collect();
         let found = sorted(overlapping_pairs(&boxes));
         assert!(found.len() > 1000, "{} pairs", found.len());
@@ -195,9 +228,17 @@ mod tests {
     fn any_box() -> impl Strategy<Value = Aabb> {
         prop_oneof![
             // Possibly inverted, possibly wild.
-            (coord(), coord(), coord(), coord()).prop_map(|(a, b, c, d)| Aabb { min: [a, b], max: [c, d] }),
+            (coord(), coord(), coord(), coord()).prop_map(|(a, b, c, d)| Aabb {
+                min: [a, b],
+                max: [c, d]
+            }),
             // Ordinary boxes, some of zero size.
-            (-10.0f64..10.0, -10.0f64..10.0, prop::sample::select(vec![0.0, 0.1, 1.0, 5.0]), prop::sample::select(vec![0.0, 0.1, 1.0]))
+            (
+                -10.0f64..10.0,
+                -10.0f64..10.0,
+                prop::sample::select(vec![0.0, 0.1, 1.0, 5.0]),
+                prop::sample::select(vec![0.0, 0.1, 1.0])
+            )
                 .prop_map(|(x, y, w, h)| aabb(x, y, w, h)),
         ]
     }

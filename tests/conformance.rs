@@ -12,7 +12,7 @@ mod common;
 use common::{check_scene, check_scene_with};
 use screensaver::detect::TreeMode;
 use screensaver::DetectorConfig;
-use screensaver::DetectorKind::{Brute, Quadtree};
+use screensaver::DetectorKind::{Brute, Quadtree, Sweep};
 
 const SCENES: [&str; 7] = [
     "beaver",
@@ -128,6 +128,29 @@ fn quadtree_odd_shapes_every_scene_to_step_1001() {
     ] {
         for scene in SCENES {
             check_scene_with(scene, Quadtree, &config, Some(1001));
+        }
+    }
+}
+
+#[test]
+fn sweep_every_scene_to_the_end() {
+    for scene in SCENES {
+        check_scene(scene, Sweep, None);
+    }
+}
+
+/// A grain of a few lines makes the sweep's parallel paths (hulls, bands)
+/// run on these small scenes.
+#[test]
+fn sweep_on_2_3_and_8_threads_every_scene_to_step_1001() {
+    for threads in [2, 3, 8] {
+        let config = DetectorConfig {
+            threads,
+            grain: 8,
+            ..DetectorConfig::default()
+        };
+        for scene in SCENES {
+            check_scene_with(scene, Sweep, &config, Some(1001));
         }
     }
 }

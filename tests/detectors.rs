@@ -204,3 +204,26 @@ fn empty_and_single_line_scenes() {
     };
     check_all(&[line], 3).unwrap();
 }
+
+/// Every fast detector against the oracle at scale: generated scenes of
+/// thousands of lines (enough for the sweep to cut bands), event for event.
+#[test]
+fn thousands_of_lines_agree_with_the_oracle() {
+    use screensaver::generate::{generate, SceneKind};
+    for (kind, lines) in [(SceneKind::Uniform, 5_000), (SceneKind::Clustered, 8_000)] {
+        let scene = generate(kind, lines, 11);
+        for detector in fast_detectors() {
+            let mut world = World::with_detector(&scene, detector);
+            let mut oracle = Brute::default();
+            for _ in 0..2 {
+                world
+                    .step_verified(&mut oracle)
+                    .unwrap_or_else(|m| panic!("{detector} on {kind} {lines}: {m}"));
+            }
+            assert!(
+                world.counters().line > 0,
+                "{kind} {lines}: no events to compare"
+            );
+        }
+    }
+}

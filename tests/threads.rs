@@ -51,3 +51,25 @@ fn any_thread_count_gives_the_same_bits() {
         }
     }
 }
+
+#[test]
+fn the_sweep_gives_the_same_bits_on_any_thread_count() {
+    let run = |threads| {
+        let scene = generate(SceneKind::Clustered, 100_000, 7);
+        let config = DetectorConfig {
+            threads,
+            ..DetectorConfig::default()
+        };
+        let mut world =
+            World::with_config(&scene, DetectorKind::Sweep, &config).expect("a thread pool");
+        world.run(4);
+        let c = world.counters();
+        (world.lines().to_vec(), (c.wall, c.line))
+    };
+    let (lines, counts) = run(1);
+    for threads in [2, 3, 8] {
+        let (other, other_counts) = run(threads);
+        assert_eq!(counts, other_counts, "sweep on {threads} threads");
+        assert!(same_bits(&lines, &other), "sweep on {threads} threads");
+    }
+}

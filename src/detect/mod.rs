@@ -8,12 +8,12 @@
 
 mod brute;
 pub mod quadtree;
-pub mod swept;
 pub(crate) mod sweep;
+pub mod swept;
 
 pub use brute::Brute;
-pub use sweep::Sweep;
 pub use quadtree::{Quadtree, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+pub use sweep::Sweep;
 
 use crate::line::Line;
 use crate::narrow::Event;

@@ -40,7 +40,7 @@ impl Bands {
     pub(crate) fn spanning(across: usize, count: usize, from: f32, to: f32) -> Self {
         let count = count.max(1);
         let width = to - from;
-        if count == 1 || !(width > 0.0) || !width.is_finite() {
+        if count == 1 || width.is_nan() || width <= 0.0 || !width.is_finite() {
             return Self {
                 across,
                 ..Self::one()
@@ -103,7 +103,11 @@ impl Layout {
     /// Lays out the first `boxed` of `sorted` (whose keys are real and in
     /// order) in `bands`, of which there are several.
     pub(crate) fn build(&mut self, sorted: &Boxes, boxed: usize, bands: &Bands) {
-        let (keys, hulls, ids) = (&sorted.keys[..boxed], &sorted.hulls[..boxed], &sorted.ids[..boxed]);
+        let (keys, hulls, ids) = (
+            &sorted.keys[..boxed],
+            &sorted.hulls[..boxed],
+            &sorted.ids[..boxed],
+        );
         // Count each band's entries, then scatter in sorted order, which
         // keeps every band sorted.
         self.spans.clear();
@@ -134,7 +138,11 @@ impl Layout {
         for &start in &self.starts[1..] {
             self.keys[start - 1] = NO_KEY;
         }
-        let (out_keys, out_hulls, out_ids) = (&mut self.keys[..total], &mut self.hulls[..total], &mut self.ids[..total]);
+        let (out_keys, out_hulls, out_ids) = (
+            &mut self.keys[..total],
+            &mut self.hulls[..total],
+            &mut self.ids[..total],
+        );
         for (k, &(first, last)) in self.spans.iter().enumerate() {
             for band in first..=last {
                 let at = self.cursor[band as usize];

@@ -122,9 +122,7 @@ pub(crate) fn pack(lo: [f64; 4], hi: [f64; 4]) -> Packed {
 /// must not exceed for the two to overlap.
 #[inline]
 pub(crate) fn reach(p: &Packed) -> Packed {
-    [
-        -p[4], -p[5], -p[6], -p[7], -p[0], -p[1], -p[2], -p[3],
-    ]
+    [-p[4], -p[5], -p[6], -p[7], -p[0], -p[1], -p[2], -p[3]]
 }
 
 /// True when the box packed as `p` overlaps the one whose [`reach`] is `r`.
@@ -183,9 +181,9 @@ mod tests {
             for c in corners {
                 let (u, w) = (1180.0 * c.x + 800.0 * c.y, 1180.0 * c.x - 800.0 * c.y);
                 let values = [c.x, c.y, u, w];
-                for a in 0..4 {
-                    proptest::prop_assert!(f64::from(lo(&p, a)) <= values[a] - margin);
-                    proptest::prop_assert!(f64::from(hi(&p, a)) >= values[a] + margin);
+                for (a, value) in values.into_iter().enumerate() {
+                    proptest::prop_assert!(f64::from(lo(&p, a)) <= value - margin);
+                    proptest::prop_assert!(f64::from(hi(&p, a)) >= value + margin);
                 }
             }
         }

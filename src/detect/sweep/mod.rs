@@ -264,9 +264,22 @@ impl Sweep {
         events: &mut Vec<Event>,
     ) -> PairCounts {
         let mut counts = PairCounts::default();
-        counts.candidates = scan::sweep_bands(&self.sorted, boxed, &self.layout, &self.plan, range, |a, b| {
-            test_pair((&lines[a as usize], a), (&lines[b as usize], b), dt, events, &mut counts)
-        });
+        counts.candidates = scan::sweep_bands(
+            &self.sorted,
+            boxed,
+            &self.layout,
+            &self.plan,
+            range,
+            |a, b| {
+                test_pair(
+                    (&lines[a as usize], a),
+                    (&lines[b as usize], b),
+                    dt,
+                    events,
+                    &mut counts,
+                )
+            },
+        );
         counts
     }
 }

@@ -83,8 +83,12 @@ impl Boxes {
     pub(crate) fn sort_scrambled(&mut self) -> usize {
         let n = self.len();
         self.keyed.clear();
-        self.keyed
-            .extend(self.keys[..n].iter().enumerate().map(|(k, &key)| (key, k as u32)));
+        self.keyed.extend(
+            self.keys[..n]
+                .iter()
+                .enumerate()
+                .map(|(k, &key)| (key, k as u32)),
+        );
         radsort::sort_by_key(&mut self.keyed, |k| k.0);
         self.gather();
         self.keys[..n].partition_point(|&k| k != NO_KEY)
@@ -94,7 +98,11 @@ impl Boxes {
     /// moves (leaving them permuted but unsorted). Returns whether it
     /// finished.
     fn insertion_sort(&mut self, n: usize, mut budget: usize) -> bool {
-        let (keys, hulls, ids) = (&mut self.keys[..n], &mut self.hulls[..n], &mut self.ids[..n]);
+        let (keys, hulls, ids) = (
+            &mut self.keys[..n],
+            &mut self.hulls[..n],
+            &mut self.ids[..n],
+        );
         for i in 1..n {
             let key = keys[i];
             if keys[i - 1] <= key {
@@ -125,13 +133,17 @@ impl Boxes {
     /// order. Notes whether the boxes were restless enough for it.
     fn sort_by_slot(&mut self, n: usize) {
         self.keyed.clear();
-        self.keyed
-            .extend(self.keys[..n].iter().enumerate().map(|(k, &key)| (key, k as u32)));
+        self.keyed.extend(
+            self.keys[..n]
+                .iter()
+                .enumerate()
+                .map(|(k, &key)| (key, k as u32)),
+        );
         let moves = insertion_sort(&mut self.keyed, MOVES_PER_ELEMENT * n + 64);
         if moves.is_none() {
             radsort::sort_by_key(&mut self.keyed, |k| k.0);
         }
-        self.restless = moves.is_none_or(|m| m > n / RESTLESS_SHARE);
+        self.restless = moves.map_or(true, |m| m > n / RESTLESS_SHARE);
         self.gather();
     }
 
@@ -142,8 +154,12 @@ impl Boxes {
         spare.hulls.clear();
         spare.ids.clear();
         spare.keys.extend(self.keyed.iter().map(|k| k.0));
-        spare.hulls.extend(self.keyed.iter().map(|k| self.hulls[k.1 as usize]));
-        spare.ids.extend(self.keyed.iter().map(|k| self.ids[k.1 as usize]));
+        spare
+            .hulls
+            .extend(self.keyed.iter().map(|k| self.hulls[k.1 as usize]));
+        spare
+            .ids
+            .extend(self.keyed.iter().map(|k| self.ids[k.1 as usize]));
         spare.keys.push(NO_KEY);
         spare.hulls.push([0.0; 8]);
         spare.ids.push(u32::MAX);
@@ -215,7 +231,10 @@ mod tests {
         keys[7] = NO_KEY;
         let mut b = boxes(&keys);
         assert!(b.insertion_sort(keys.len(), 1000));
-        assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 10), Some(3));
+        assert_eq!(
+            insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 10),
+            Some(3)
+        );
         assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 2), None);
         let mut b = boxes(&keys);
         assert_eq!(b.sort(), 999);

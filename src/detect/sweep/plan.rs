@@ -38,7 +38,11 @@ pub(crate) const LAYOUT_COST: f64 = 10.0;
 /// The work of a sweep that lays out `entries` boxes (in several bands if
 /// `banded`) and meets `candidates` pairs, in units of one candidate.
 pub(crate) fn work(entries: f64, candidates: f64, banded: bool) -> f64 {
-    let per_entry = if banded { SWEEP_COST + LAYOUT_COST } else { SWEEP_COST };
+    let per_entry = if banded {
+        SWEEP_COST + LAYOUT_COST
+    } else {
+        SWEEP_COST
+    };
     per_entry * entries + candidates
 }
 
@@ -137,7 +141,14 @@ pub(crate) fn choose(sample: &[Packed], total: usize, directions: usize) -> Plan
             if estimate < best.0 {
                 let bands = Bands::spanning(across(along), count, c.from, c.to);
                 let spread = (c.from, c.to);
-                best = (estimate, Plan { along, bands, spread });
+                best = (
+                    estimate,
+                    Plan {
+                        along,
+                        bands,
+                        spread,
+                    },
+                );
             }
             if share.is_infinite() {
                 break;
