@@ -38,8 +38,9 @@ struct Cli {
     /// Scene file to run; without it, a built-in scene of 1000 lines.
     input: Option<PathBuf>,
 
-    /// Collision detector: `quadtree` (fast) or `brute` (all pairs, the
-    /// original algorithm).
+    /// Collision detector: `quadtree` (the design write-up's tree), `sweep`
+    /// (sort and sweep; fastest on the course scenes) or `brute` (all
+    /// pairs, the original algorithm).
     #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = parse::<DetectorKind>)]
     detector: DetectorKind,
 

@@ -251,3 +251,27 @@ fn json_stats_split_detection_into_the_detectors_phases() {
         serde_json::json!({})
     );
 }
+
+#[test]
+fn the_sweep_reports_its_plan_and_phases() {
+    let out = screensaver(&["30", "--stats", "--detector", "sweep"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(text.contains("detector: sweep (along "), "{text}");
+    for phase in ["hulls", "sort", "layout", "sweep and test"] {
+        assert!(text.contains(&format!("    {phase} ")), "{phase}: {text}");
+    }
+    // The same counts as the default detector.
+    let counts = |args: &[&str]| {
+        let out = screensaver(args);
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (
+            v["line_line_collisions"].clone(),
+            v["line_wall_collisions"].clone(),
+        )
+    };
+    assert_eq!(
+        counts(&["30", "--json", "--detector", "sweep"]),
+        counts(&["30", "--json"])
+    );
+}
