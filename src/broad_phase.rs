@@ -13,8 +13,8 @@
 //! assert_eq!(overlapping_pairs(&boxes), vec![(0, 1)]);
 //! ```
 
-use crate::detect::sweep::bands::Layout;
 use crate::detect::sweep::hull::{lo, pack, Packed, DIRECTIONS};
+use crate::detect::sweep::layout::Layout;
 use crate::detect::sweep::order::{Boxes, NO_KEY};
 use crate::detect::sweep::{plan, scan};
 
@@ -102,11 +102,21 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
             sorted.keys[k] = lo(&sorted.hulls[k], chosen.along);
         }
     }
-    let count = sorted.sort_scrambled();
     let mut layout = Layout::default();
-    if chosen.bands.count > 1 {
-        layout.build(&sorted, count, &chosen.bands);
-    }
+    let count = if chosen.bands.count > 1 {
+        // Each band is sorted on its own, in cache.
+        let spans: Vec<(u32, u32)> = sorted.hulls[..boxes.len()]
+            .iter()
+            .map(|hull| {
+                let (first, last) = chosen.bands.span(hull);
+                (first as u32, last as u32 + 1)
+            })
+            .collect();
+        layout.build(&sorted, boxes.len(), &spans, &chosen.bands, 1);
+        0
+    } else {
+        sorted.sort_scrambled()
+    };
     // The sweep compares boxes rounded to f32: confirm each pair exactly.
     scan::sweep_bands(
         &sorted,

@@ -19,6 +19,7 @@
 
 pub(crate) mod bands;
 pub(crate) mod hull;
+pub(crate) mod layout;
 pub(crate) mod order;
 pub(crate) mod plan;
 pub(crate) mod scan;
@@ -27,14 +28,19 @@ use super::swept::{test_pair, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::Line;
 use crate::narrow::Event;
-use bands::{Bands, Layout};
+use bands::Bands;
 use hull::{lo, Packed};
+use layout::Layout;
 use order::{Boxes, NO_KEY};
 use plan::Plan;
 use std::time::{Duration, Instant};
 
 /// Steps between two plans (the first step always makes one).
 const PLAN_EVERY: u64 = 256;
+
+/// Groups of bands per thread in a parallel sweep: more groups than
+/// threads even out bands that meet more pairs than others.
+const SWEEP_GROUPS_PER_THREAD: usize = 4;
 
 /// Steps between two trials of another band count.
 const TRIAL_EVERY: u64 = 16;
@@ -104,8 +110,13 @@ pub struct Sweep {
     /// sorted order first, then the others. Next step's hulls are made in
     /// this order, so that its sort has little to do.
     sorted: Boxes,
+    /// With several bands: the bands each slot's box reaches (first, and
+    /// one past the last).
+    spans: Vec<(u32, u32)>,
     /// The boxes band by band, when there are several bands.
     layout: Layout,
+    /// Where the next order is gathered, when there are several bands.
+    next_order: Vec<u32>,
     /// Ids of this step's wild lines.
     wild: Vec<u32>,
     stats: DetectorStats,
@@ -126,7 +137,9 @@ impl Sweep {
             until_plan: 0,
             tuner: BandTuner::default(),
             sorted: Boxes::default(),
+            spans: Vec::new(),
             layout: Layout::default(),
+            next_order: Vec::new(),
             wild: Vec::new(),
             stats: DetectorStats::default(),
             clock: None,
@@ -189,6 +202,29 @@ impl Sweep {
         }
     }
 
+    /// With several bands: the bands each slot's box reaches.
+    fn make_spans(&mut self, bands: &Bands) {
+        let fill = |hulls: &[Packed], spans: &mut [(u32, u32)]| {
+            for (hull, span) in hulls.iter().zip(spans) {
+                let (first, last) = bands.span(hull);
+                *span = (first as u32, last as u32 + 1);
+            }
+        };
+        let n = self.sorted.len();
+        self.spans.resize(n, (0, 0));
+        let hulls = &self.sorted.hulls[..n];
+        if self.parallel(n) {
+            use rayon::prelude::*;
+            let chunk = self.grain;
+            hulls
+                .par_chunks(chunk)
+                .zip(self.spans.par_chunks_mut(chunk))
+                .for_each(|(hulls, spans)| fill(hulls, spans));
+        } else {
+            fill(hulls, &mut self.spans);
+        }
+    }
+
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
     /// them if the direction changed.
     fn make_plan(&mut self) {
@@ -218,10 +254,10 @@ impl Sweep {
 
     /// Picks this step's band count: now and then, one step tries a count
     /// next to the one in use.
-    fn start_trial(&mut self, boxed: usize) {
+    fn start_trial(&mut self) {
         let t = &mut self.tuner;
         t.since_trial += 1;
-        if t.since_trial < TRIAL_EVERY || t.work == 0.0 || boxed < 64 {
+        if t.since_trial < TRIAL_EVERY || t.work == 0.0 || self.sorted.len() < 64 {
             return;
         }
         t.since_trial = 0;
@@ -312,37 +348,52 @@ impl Detector for Sweep {
         self.until_plan -= 1;
         self.lap(Phase::Hulls);
 
-        let boxed = self.sorted.sort();
+        self.start_trial();
+        let bands = self.plan.bands;
+        let n = lines.len();
+        let (boxed, entries) = if bands.count > 1 {
+            self.make_spans(&bands);
+            self.lap(Phase::Sort);
+            let groups = if self.parallel(n) { self.threads } else { 1 };
+            self.layout
+                .build(&self.sorted, n, &self.spans, &bands, groups);
+            self.next_order.clear();
+            self.layout.home_order(&mut self.next_order);
+            let boxed = self.next_order.len();
+            let b = &self.sorted;
+            self.next_order.extend(
+                b.keys[..n]
+                    .iter()
+                    .zip(&b.ids)
+                    .filter(|(&key, _)| key == NO_KEY)
+                    .map(|(_, &id)| id),
+            );
+            self.sorted.ids[..n].copy_from_slice(&self.next_order);
+            (boxed, self.layout.len() - bands.count)
+        } else {
+            let boxed = self.sorted.sort();
+            self.lap(Phase::Sort);
+            (boxed, boxed)
+        };
         self.wild.clear();
         self.wild.extend(
-            self.sorted.ids[boxed..lines.len()]
+            self.sorted.ids[boxed..n]
                 .iter()
                 .copied()
                 .filter(|&id| !lines[id as usize].is_inert()),
         );
-        self.lap(Phase::Sort);
-
-        self.start_trial(boxed);
-        let bands = self.plan.bands;
-        let entries = if bands.count > 1 {
-            self.layout.build(&self.sorted, boxed, &bands);
-            self.layout.len() - bands.count
-        } else {
-            boxed
-        };
         self.lap(Phase::Layout);
 
         let mut counts = PairCounts::default();
         if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
-            let per_task = bands.count.div_ceil(4 * self.threads).max(1);
-            let found: Vec<(Vec<Event>, PairCounts)> = (0..bands.count)
-                .step_by(per_task)
-                .collect::<Vec<_>>()
+            let groups = self
+                .layout
+                .group_bounds(SWEEP_GROUPS_PER_THREAD * self.threads);
+            let found: Vec<(Vec<Event>, PairCounts)> = groups
                 .into_par_iter()
-                .map(|first| {
+                .map(|range| {
                     let mut found = Vec::new();
-                    let range = first..(first + per_task).min(bands.count);
                     let c = self.sweep_bands(lines, dt, boxed, range, &mut found);
                     (found, c)
                 })

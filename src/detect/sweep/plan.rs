@@ -67,15 +67,15 @@ struct Spread {
 
 /// Looks at `sample`, drawn evenly from `total` boxes, along direction `a`.
 fn spread(sample: &[Packed], total: usize, a: usize) -> Spread {
-    let mut los: Vec<f32> = sample.iter().map(|p| lo(p, a)).collect();
-    los.sort_unstable_by(f32::total_cmp);
+    let mut extents: Vec<(f32, f32)> = sample.iter().map(|p| (lo(p, a), hi(p, a))).collect();
+    radsort::sort_by_key(&mut extents, |e| e.0);
+    // A sweep meets, for each box, the boxes after it in sorted order whose
+    // least value is within its extent.
     let mut met = 0u64;
     let mut extent = 0.0f64;
-    for p in sample {
-        let (l, h) = (lo(p, a), hi(p, a));
-        let below = los.partition_point(|&v| v < l);
-        let within = los.partition_point(|&v| v <= h);
-        met += (within - below).saturating_sub(1) as u64;
+    for (rank, &(l, h)) in extents.iter().enumerate() {
+        let within = extents.partition_point(|e| e.0 <= h);
+        met += within.saturating_sub(rank + 1) as u64;
         let e = f64::from(h) - f64::from(l);
         if e.is_finite() {
             extent += e;
@@ -84,8 +84,8 @@ fn spread(sample: &[Packed], total: usize, a: usize) -> Spread {
     let n = sample.len().max(1);
     let extent = extent / n as f64;
     let scale = total as f64 / n as f64;
-    let from = los.get(n / 100).copied().unwrap_or(0.0);
-    let last = los.get(n - 1 - n / 100).copied().unwrap_or(0.0);
+    let from = extents.get(n / 100).map_or(0.0, |e| e.0);
+    let last = extents.get(n - 1 - n / 100).map_or(0.0, |e| e.0);
     Spread {
         candidates: met as f64 * scale * scale,
         extent,
@@ -117,7 +117,9 @@ pub(crate) fn cost(total: usize, candidates: f64, share: f64, count: usize) -> f
 /// sweeping along one of the first `directions` directions (2: the axes
 /// only, for boxes without diagonals; 4: the diagonals too).
 pub(crate) fn choose(sample: &[Packed], total: usize, directions: usize) -> Plan {
-    let spreads: Vec<Spread> = (0..DIRECTIONS).map(|a| spread(sample, total, a)).collect();
+    let directions = directions.min(DIRECTIONS);
+    // Each direction's partner across is among the first `directions`.
+    let spreads: Vec<Spread> = (0..directions).map(|a| spread(sample, total, a)).collect();
     let mut best = (
         f64::INFINITY,
         Plan {
@@ -126,7 +128,7 @@ pub(crate) fn choose(sample: &[Packed], total: usize, directions: usize) -> Plan
             spread: (0.0, 0.0),
         },
     );
-    for along in 0..directions.min(DIRECTIONS) {
+    for along in 0..directions {
         let s = &spreads[along];
         let c = &spreads[across(along)];
         let width = f64::from(c.to) - f64::from(c.from);

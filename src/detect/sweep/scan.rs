@@ -2,13 +2,14 @@
 //! along the sweep direction lies within its own extent; of those, the
 //! ones its packed hull overlaps are reported.
 
-use super::bands::{Bands, Layout};
+use super::bands::Bands;
 use super::hull::{hi, overlaps, reach, Packed};
+use super::layout::{Layout, HOME};
 use super::order::Boxes;
 use super::plan::Plan;
 
 /// Sweeps the bands `bands` of a plan: with one band, the first `boxed`
-/// of `sorted`; with several, `layout` (built from them). Calls
+/// of `sorted`; with several, `layout`. Calls
 /// `found(a, b)` with the ids of every pair whose hulls overlap, once
 /// each. Returns the candidates met.
 pub(crate) fn sweep_bands(
@@ -30,7 +31,7 @@ pub(crate) fn sweep_bands(
         let entries = layout.starts[band]..layout.starts[band + 1] - 1;
         candidates += sweep(&layout.keys, &layout.hulls, entries, plan.along, |i, j| {
             if cut.reports(band, &layout.hulls[i], &layout.hulls[j]) {
-                found(layout.ids[i], layout.ids[j]);
+                found(layout.ids[i] & !HOME, layout.ids[j] & !HOME);
             }
         });
     }
