@@ -22,6 +22,8 @@ pub(crate) struct Bands {
     pub start: f32,
     /// Bands per unit along `across`.
     pub per_unit: f32,
+    /// The last band's number, as a float.
+    last: f32,
 }
 
 impl Bands {
@@ -32,6 +34,7 @@ impl Bands {
             count: 1,
             start: 0.0,
             per_unit: 0.0,
+            last: 0.0,
         }
     }
 
@@ -51,17 +54,20 @@ impl Bands {
             count,
             start: from,
             per_unit: count as f32 / width,
+            last: (count - 1) as f32,
         }
     }
 
     /// The band holding value `v` along `across` (`v` is not NaN).
     #[inline]
     pub(crate) fn of(&self, v: f32) -> usize {
-        // The float-to-integer cast saturates: below the start (and -inf)
-        // gives 0, beyond the end gives a huge index, clamped to the last.
-        // With one band `per_unit` is 0 and every value (NaN from
-        // `inf * 0` included, which casts to 0) gives band 0.
-        (((v - self.start) * self.per_unit) as usize).min(self.count - 1)
+        // Clamped to [0, last band] while still a float (NaN, from
+        // `inf * 0` with one band, fails the first test and gives 0), so
+        // that the conversion is a plain truncation.
+        let t = (v - self.start) * self.per_unit;
+        let t = if t > 0.0 { t } else { 0.0 };
+        let t = if t < self.last { t } else { self.last };
+        t as u32 as usize
     }
 
     /// The first and last band a packed box reaches.

@@ -1,13 +1,20 @@
 //! The boxes laid out band by band: each box copied into every band it
 //! reaches, each band sorted on its own and closed by a sentinel.
 //!
-//! Boxes arrive in last step's order, which is band by band, so every band
-//! receives its boxes nearly sorted (only boxes that crossed into it from
-//! a neighbour are out of place) and an insertion sort of the band, small
-//! enough to stay in the nearest cache, finishes in about one pass. The
-//! bands are split into groups of about equal size, one per thread; each
-//! group owns its stretch of the arrays, so the groups are laid out,
-//! sorted and swept at once without sharing anything they write.
+//! A box's *home* is the band holding its least value across the bands;
+//! it is a *guest* in the other bands it reaches, all above its home.
+//! Boxes arrive in last step's order, homes band by band, so each band's
+//! homes arrive nearly sorted (only boxes that crossed from a neighbour
+//! are out of place) and an insertion sort of them, small enough to stay
+//! in the nearest cache, finishes in about one pass. A band's guests are
+//! the entries of the band below (homes and guests) that reach up into it:
+//! taken from that band once it is sorted, they come sorted, and one merge
+//! with the homes finishes the band.
+//!
+//! The bands are split into groups of about equal size, one per thread;
+//! each group owns its stretch of the arrays (its first band's guests it
+//! gathers and sorts itself), so the groups are laid out, sorted and swept
+//! at once without sharing anything they write.
 
 use super::bands::Bands;
 use super::hull::Packed;
@@ -39,6 +46,25 @@ pub(crate) struct Layout {
     pub starts: Vec<usize>,
     /// Per band, its entries while counting.
     counts: Vec<usize>,
+    /// Per group, its working buffers, kept from step to step.
+    scratch: Vec<Scratch>,
+}
+
+/// One group's working buffers.
+#[derive(Debug, Default)]
+struct Scratch {
+    /// The group's homes, band by band in slot order.
+    homes: Run,
+    /// Where each band's homes start in `homes`, and a cursor per band.
+    home_starts: Vec<usize>,
+    cursor: Vec<usize>,
+    /// One band's homes as keys and positions, to sort.
+    order: Vec<(f32, u32)>,
+    /// The current band's guests, and the next band's.
+    guests: Run,
+    next: Run,
+    /// One band's entries' ends, as merged.
+    ends: Vec<u32>,
 }
 
 /// One group's stretch of the layout: its bands and their arrays.
@@ -91,15 +117,22 @@ impl Layout {
             hulls,
             ids,
             starts,
+            scratch,
             ..
         } = self;
         let stretches = stretches(starts, keys, hulls, ids, groups);
-        let lay = |s: Stretch| lay_out_and_sort(s, starts, slots, n, spans);
+        scratch.resize_with(stretches.len().max(scratch.len()), Scratch::default);
+        let lay = |(s, scratch): (Stretch, &mut Scratch)| {
+            lay_out_and_sort(s, scratch, starts, slots, n, spans)
+        };
         if stretches.len() > 1 {
             use rayon::prelude::*;
-            stretches.into_par_iter().for_each(lay);
+            stretches
+                .into_par_iter()
+                .zip(scratch.par_iter_mut())
+                .for_each(lay);
         } else {
-            stretches.into_iter().for_each(lay);
+            stretches.into_iter().zip(scratch.iter_mut()).for_each(lay);
         }
     }
 
@@ -185,14 +218,52 @@ fn stretches<'a>(
     out
 }
 
-/// Copies into one stretch every box that reaches its bands, in slot
-/// order, then sorts each of its bands.
-///
-/// A band's home entries come in last step's order, nearly sorted; its
-/// guests (boxes whose home is a band below) come in their own bands'
-/// orders. Homes are written from the front of the band and guests from
-/// its back, each run is sorted, and the two are merged.
-fn lay_out_and_sort(s: Stretch, starts: &[usize], slots: &Boxes, n: usize, spans: &[(u32, u32)]) {
+/// Entries as parallel arrays: a group's homes, or a band's guests.
+#[derive(Debug, Default)]
+struct Run {
+    keys: Vec<f32>,
+    hulls: Vec<Packed>,
+    ids: Vec<u32>,
+    /// One past the last band each entry reaches.
+    ends: Vec<u32>,
+}
+
+impl Run {
+    fn clear(&mut self) {
+        self.keys.clear();
+        self.hulls.clear();
+        self.ids.clear();
+        self.ends.clear();
+    }
+
+    fn push(&mut self, key: f32, hull: Packed, id: u32, end: u32) {
+        self.keys.push(key);
+        self.hulls.push(hull);
+        self.ids.push(id);
+        self.ends.push(end);
+    }
+
+    /// Puts the entries in the order of `order` (positions), using `spare`.
+    fn gather(&mut self, order: &[(f32, u32)], spare: &mut Run) {
+        spare.clear();
+        for &(key, at) in order {
+            let at = at as usize;
+            spare.push(key, self.hulls[at], self.ids[at], self.ends[at]);
+        }
+        std::mem::swap(self, spare);
+    }
+}
+
+/// Lays out and sorts the bands of one stretch (see the [module
+/// docs](self)).
+fn lay_out_and_sort(
+    s: Stretch,
+    scratch: &mut Scratch,
+    starts: &[usize],
+    slots: &Boxes,
+    n: usize,
+    spans: &[(u32, u32)],
+) {
     let Stretch {
         bands,
         offset,
@@ -201,147 +272,147 @@ fn lay_out_and_sort(s: Stretch, starts: &[usize], slots: &Boxes, n: usize, spans
         ids,
     } = s;
     let (first_band, end_band) = (bands.start as u32, bands.end as u32);
-    // Per band: where the next home goes, and one past where the next
-    // guest goes (the sentinel's place, to begin with).
-    let mut fronts: Vec<usize> = starts[bands.clone()].iter().map(|&s| s - offset).collect();
-    let mut backs: Vec<usize> = starts[bands.start + 1..=bands.end]
-        .iter()
-        .map(|&s| s - 1 - offset)
-        .collect();
+    let home = |first: u32| (first.wrapping_sub(first_band)) as usize;
+    let Scratch {
+        homes,
+        home_starts,
+        cursor,
+        order,
+        guests,
+        next,
+        ends,
+    } = scratch;
+    // Where each band's homes start in `homes`.
+    home_starts.clear();
+    home_starts.resize(bands.len() + 1, 0);
+    for (&key, &(first, _)) in slots.keys[..n].iter().zip(&spans[..n]) {
+        if key != NO_KEY && (first_band..end_band).contains(&first) {
+            home_starts[home(first) + 1] += 1;
+        }
+    }
+    for b in 1..home_starts.len() {
+        home_starts[b] += home_starts[b - 1];
+    }
+    // The homes, band by band in slot order, and the first band's guests.
+    let total = home_starts[bands.len()];
+    homes.keys.resize(total, 0.0);
+    homes.hulls.resize(total, [0.0; 8]);
+    homes.ids.resize(total, 0);
+    homes.ends.resize(total, 0);
+    cursor.clear();
+    cursor.extend_from_slice(home_starts);
+    guests.clear();
     for k in 0..n {
-        let (first, end) = spans[k];
         let key = slots.keys[k];
-        if key == NO_KEY || end <= first_band || first >= end_band {
+        let (first, end) = spans[k];
+        if key == NO_KEY {
             continue;
         }
-        let (hull, id) = (slots.hulls[k], slots.ids[k]);
-        if first >= first_band {
-            let at = &mut fronts[(first - first_band) as usize];
-            keys[*at] = key;
-            hulls[*at] = hull;
-            ids[*at] = id | HOME;
+        if (first_band..end_band).contains(&first) {
+            let at = &mut cursor[home(first)];
+            homes.keys[*at] = key;
+            homes.hulls[*at] = slots.hulls[k];
+            homes.ids[*at] = slots.ids[k] | HOME;
+            homes.ends[*at] = end;
             *at += 1;
-        }
-        for band in (first + 1).max(first_band)..end.min(end_band) {
-            let at = &mut backs[(band - first_band) as usize];
-            *at -= 1;
-            keys[*at] = key;
-            hulls[*at] = hull;
-            ids[*at] = id;
+        } else if first < first_band && end > first_band {
+            guests.push(key, slots.hulls[k], slots.ids[k], end);
         }
     }
-    let mut scratch = Scratch::default();
+    keyed_order(&guests.keys, 0, order);
+    guests.gather(order, next);
+
     for (g, band) in bands.enumerate() {
-        let range = starts[band] - offset..starts[band + 1] - 1 - offset;
-        keys[range.end] = NO_KEY;
-        ids[range.end] = u32::MAX;
-        debug_assert_eq!(fronts[g], backs[g], "homes and guests fill the band");
-        let homes = fronts[g] - range.start;
-        sort_band(
-            &mut keys[range.clone()],
-            &mut hulls[range.clone()],
-            &mut ids[range],
+        // The homes are sorted as keys and positions (a few bytes to move
+        // rather than a whole entry), and gathered by the merge.
+        let run = home_starts[g]..home_starts[g + 1];
+        keyed_order(&homes.keys[run.clone()], run.start, order);
+        let out = starts[band] - offset..starts[band + 1] - 1 - offset;
+        debug_assert_eq!(out.len(), run.len() + guests.keys.len());
+        ends.clear();
+        ends.resize(out.len(), 0);
+        merge(
+            order,
             homes,
-            &mut scratch,
+            guests,
+            (
+                &mut keys[out.clone()],
+                &mut hulls[out.clone()],
+                &mut ids[out.clone()],
+                ends,
+            ),
         );
-    }
-}
-
-/// Room to merge a band's two runs in.
-#[derive(Default)]
-struct Scratch {
-    keys: Vec<f32>,
-    hulls: Vec<Packed>,
-    ids: Vec<u32>,
-}
-
-/// Sorts one band's entries by key: its first `homes` entries are one run
-/// and the rest (in reverse) another; each is sorted, then they are
-/// merged.
-fn sort_band(
-    keys: &mut [f32],
-    hulls: &mut [Packed],
-    ids: &mut [u32],
-    homes: usize,
-    scratch: &mut Scratch,
-) {
-    keys[homes..].reverse();
-    hulls[homes..].reverse();
-    ids[homes..].reverse();
-    sort_run(&mut keys[..homes], &mut hulls[..homes], &mut ids[..homes]);
-    sort_run(&mut keys[homes..], &mut hulls[homes..], &mut ids[homes..]);
-    if homes == 0 || homes == keys.len() || keys[homes - 1] <= keys[homes] {
-        return;
-    }
-    // Move the first run aside and merge both into place: the write
-    // position never passes the second run's read position.
-    scratch.keys.clear();
-    scratch.hulls.clear();
-    scratch.ids.clear();
-    scratch.keys.extend_from_slice(&keys[..homes]);
-    scratch.hulls.extend_from_slice(&hulls[..homes]);
-    scratch.ids.extend_from_slice(&ids[..homes]);
-    let (mut a, mut b, mut at) = (0, homes, 0);
-    while a < homes {
-        if b < keys.len() && keys[b] < scratch.keys[a] {
-            keys[at] = keys[b];
-            hulls[at] = hulls[b];
-            ids[at] = ids[b];
-            b += 1;
-        } else {
-            keys[at] = scratch.keys[a];
-            hulls[at] = scratch.hulls[a];
-            ids[at] = scratch.ids[a];
-            a += 1;
+        keys[out.end] = NO_KEY;
+        ids[out.end] = u32::MAX;
+        // The next band's guests: this band's entries that reach into it.
+        next.clear();
+        let beyond = band as u32 + 1;
+        for (k, at) in out.enumerate() {
+            if ends[k] > beyond {
+                next.push(keys[at], hulls[at], ids[at] & !HOME, ends[k]);
+            }
         }
-        at += 1;
+        std::mem::swap(guests, next);
     }
 }
 
-/// Sorts a run by key: by insertion while that stays short, else by
-/// radix.
-fn sort_run(keys: &mut [f32], hulls: &mut [Packed], ids: &mut [u32]) {
-    let n = keys.len();
-    let mut budget = MOVES_PER_ENTRY * n + 16;
-    for i in 1..n {
-        let key = keys[i];
-        if keys[i - 1] <= key {
+/// Fills `order` with `keys` and their positions (from `first`), sorted by
+/// key.
+fn keyed_order(keys: &[f32], first: usize, order: &mut Vec<(f32, u32)>) {
+    order.clear();
+    order.extend(keys.iter().zip(first as u32..).map(|(&key, at)| (key, at)));
+    sort_keyed(order);
+}
+
+/// Sorts keys and positions by key: by insertion while that stays short,
+/// else by radix.
+fn sort_keyed(order: &mut [(f32, u32)]) {
+    let mut budget = MOVES_PER_ENTRY * order.len() + 16;
+    for i in 1..order.len() {
+        let item = order[i];
+        if order[i - 1].0 <= item.0 {
             continue;
         }
-        let (hull, id) = (hulls[i], ids[i]);
         let mut j = i;
-        while j > 0 && keys[j - 1] > key {
-            keys[j] = keys[j - 1];
-            hulls[j] = hulls[j - 1];
-            ids[j] = ids[j - 1];
+        while j > 0 && order[j - 1].0 > item.0 {
+            order[j] = order[j - 1];
             j -= 1;
         }
-        keys[j] = key;
-        hulls[j] = hull;
-        ids[j] = id;
+        order[j] = item;
         if i - j > budget {
-            radix_sort_band(keys, hulls, ids);
+            radsort::sort_by_key(order, |k| k.0);
             return;
         }
         budget -= i - j;
     }
 }
 
-/// Sorts a run by key with a radix sort of keys and positions, then a
-/// gather.
-fn radix_sort_band(keys: &mut [f32], hulls: &mut [Packed], ids: &mut [u32]) {
-    let mut keyed: Vec<(f32, u32)> = keys
-        .iter()
-        .enumerate()
-        .map(|(k, &key)| (key, k as u32))
-        .collect();
-    radsort::sort_by_key(&mut keyed, |k| k.0);
-    let old_hulls = hulls.to_vec();
-    let old_ids = ids.to_vec();
-    for (at, &(key, k)) in keyed.iter().enumerate() {
-        keys[at] = key;
-        hulls[at] = old_hulls[k as usize];
-        ids[at] = old_ids[k as usize];
+/// Merges the homes taken in `order` and the sorted `guests` into `out`,
+/// which holds exactly both.
+fn merge(
+    order: &[(f32, u32)],
+    homes: &Run,
+    guests: &Run,
+    out: (&mut [f32], &mut [Packed], &mut [u32], &mut [u32]),
+) {
+    let (keys, hulls, ids, ends) = out;
+    let (mut i, mut j) = (0, 0);
+    for at in 0..keys.len() {
+        let take_guest = i == order.len() || (j < guests.keys.len() && guests.keys[j] < order[i].0);
+        if take_guest {
+            keys[at] = guests.keys[j];
+            hulls[at] = guests.hulls[j];
+            ids[at] = guests.ids[j];
+            ends[at] = guests.ends[j];
+            j += 1;
+        } else {
+            let (key, from) = order[i];
+            keys[at] = key;
+            hulls[at] = homes.hulls[from as usize];
+            ids[at] = homes.ids[from as usize];
+            ends[at] = homes.ends[from as usize];
+            i += 1;
+        }
     }
 }
 
@@ -395,17 +466,20 @@ mod tests {
     }
 
     #[test]
-    fn a_scrambled_band_is_sorted() {
-        let n = 500;
-        let keys: Vec<f32> = (0..n).map(|i| ((i * 7919) % n) as f32).collect();
-        let mut k = keys.clone();
-        let mut h: Vec<Packed> = keys.iter().map(|&key| [key; 8]).collect();
-        let mut ids: Vec<u32> = (0..n as u32).collect();
-        sort_band(&mut k, &mut h, &mut ids, n / 3, &mut Scratch::default());
-        assert!(k.windows(2).all(|w| w[0] <= w[1]));
-        for at in 0..n {
-            assert_eq!(h[at][0], k[at]);
-            assert_eq!(keys[ids[at] as usize], k[at]);
+    fn keys_are_sorted_with_their_positions_however_scrambled() {
+        for n in [0, 1, 5, 500] {
+            for step in [1, 7919] {
+                let keys: Vec<f32> = (0..n).map(|i| ((i * step) % n.max(1)) as f32).collect();
+                let mut order = Vec::new();
+                keyed_order(&keys, 100, &mut order);
+                assert!(order.windows(2).all(|w| w[0].0 <= w[1].0));
+                let mut at: Vec<u32> = order.iter().map(|o| o.1).collect();
+                at.sort_unstable();
+                assert_eq!(at, (100..100 + n as u32).collect::<Vec<_>>());
+                assert!(order
+                    .iter()
+                    .all(|&(key, at)| keys[at as usize - 100] == key));
+            }
         }
     }
 
