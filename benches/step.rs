@@ -39,6 +39,7 @@ fn detectors() -> Vec<(&'static str, DetectorKind, DetectorConfig)> {
     };
     vec![
         ("brute", DetectorKind::Brute, DetectorConfig::default()),
+        ("sweep", DetectorKind::Sweep, DetectorConfig::default()),
         (
             "quadtree-cached",
             DetectorKind::Quadtree,

@@ -27,7 +27,7 @@ fn time_run(scene: &Scene, steps: u64, threads: usize) -> f64 {
         ..DetectorConfig::default()
     };
     let mut world =
-        World::with_config(scene, DetectorKind::Quadtree, &config).expect("a thread pool");
+        World::with_config(scene, DetectorKind::DEFAULT, &config).expect("a thread pool");
     let start = Instant::now();
     world.run(steps);
     start.elapsed().as_secs_f64()
@@ -38,7 +38,7 @@ fn time_run(scene: &Scene, steps: u64, threads: usize) -> f64 {
 fn time_copies(scene: &Scene, steps: u64, copies: usize) -> f64 {
     let config = DetectorConfig::default();
     let mut worlds: Vec<World> = (0..copies)
-        .map(|_| World::with_config(scene, DetectorKind::Quadtree, &config).expect("one thread"))
+        .map(|_| World::with_config(scene, DetectorKind::DEFAULT, &config).expect("one thread"))
         .collect();
     let start = Instant::now();
     std::thread::scope(|s| {

@@ -35,6 +35,21 @@ fn series(max_lines: usize) -> Vec<Series> {
         max_lines: max_lines.min(10_000),
         points: Vec::new(),
     }];
+    for threads in [1, 2] {
+        all.push(Series {
+            name: format!(
+                "sweep, {threads} thread{}",
+                if threads > 1 { "s" } else { "" }
+            ),
+            kind: DetectorKind::Sweep,
+            config: DetectorConfig {
+                threads,
+                ..DetectorConfig::default()
+            },
+            max_lines,
+            points: Vec::new(),
+        });
+    }
     for mode in [TreeMode::Auto, TreeMode::Cached, TreeMode::Rebuilt] {
         for threads in [1, 2] {
             all.push(Series {

@@ -199,7 +199,14 @@ fn graphics_without_a_display_is_a_clear_error() {
 fn stats_count_the_work_and_time_every_phase() {
     // Cached then rebuilt, so that every phase of the quadtree runs.
     for mode in ["cached", "rebuilt"] {
-        let out = screensaver(&["50", "--stats", "--tree-mode", mode]);
+        let out = screensaver(&[
+            "50",
+            "--stats",
+            "--detector",
+            "quadtree",
+            "--tree-mode",
+            mode,
+        ]);
         assert!(out.status.success(), "{}", text(&out.stderr));
         let stdout = text(&out.stdout);
         let stats = stdout
@@ -231,7 +238,15 @@ fn stats_count_the_work_and_time_every_phase() {
 
 #[test]
 fn json_stats_split_detection_into_the_detectors_phases() {
-    let out = screensaver(&["50", "--stats", "--json", "--tree-mode", "rebuilt"]);
+    let out = screensaver(&[
+        "50",
+        "--stats",
+        "--json",
+        "--detector",
+        "quadtree",
+        "--tree-mode",
+        "rebuilt",
+    ]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let seconds = &v["stats"]["seconds"];

@@ -129,7 +129,7 @@ impl DetectorKind {
     ];
 
     /// The detector used when none is named.
-    pub const DEFAULT: DetectorKind = DetectorKind::Quadtree;
+    pub const DEFAULT: DetectorKind = DetectorKind::Sweep;
 
     /// The name used on the command line.
     pub fn name(self) -> &'static str {
