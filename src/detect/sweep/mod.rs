@@ -290,10 +290,15 @@ impl Sweep {
 
     /// Picks this step's band count: now and then, one step tries a count
     /// next to the one in use.
+    ///
+    /// Only counts of two bands and more are tried: one band keeps its
+    /// boxes in one sorted order and several keep them band by band, so a
+    /// step across would cost a whole re-sort there and another back. The
+    /// plan decides between one band and several.
     fn start_trial(&mut self) {
         let t = &mut self.tuner;
         t.since_trial += 1;
-        if t.since_trial < TRIAL_EVERY || t.work == 0.0 || self.sorted.len() < 64 {
+        if t.since_trial < TRIAL_EVERY || t.work == 0.0 || self.plan.bands.count == 1 {
             return;
         }
         t.since_trial = 0;
@@ -304,7 +309,7 @@ impl Sweep {
         } else {
             bands.count * 4 / 5
         };
-        if count == 0 || count == bands.count {
+        if count < 2 || count == bands.count {
             return;
         }
         let (from, to) = self.plan.spread;

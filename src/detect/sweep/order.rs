@@ -143,7 +143,9 @@ impl Boxes {
         if moves.is_none() {
             radsort::sort_by_key(&mut self.keyed, |k| k.0);
         }
-        self.restless = moves.map_or(true, |m| m > n / RESTLESS_SHARE);
+        // Calm again only well below the threshold, so that a scene near
+        // it does not try (and abandon) the in-place sort every other step.
+        self.restless = moves.map_or(true, |m| m > n / (4 * RESTLESS_SHARE));
         self.gather();
     }
 

@@ -21,19 +21,27 @@ pub(crate) fn sweep_bands(
     mut found: impl FnMut(u32, u32),
 ) -> u64 {
     let cut: &Bands = &plan.bands;
+    // The sweep only notes the pairs (its loops stay small, with nothing
+    // else live in registers); they are handed on afterwards.
+    let mut pairs = Vec::new();
     if cut.count == 1 {
-        return sweep(&sorted.keys, &sorted.hulls, 0..boxed, plan.along, |i, j| {
-            found(sorted.ids[i], sorted.ids[j])
-        });
+        let candidates = sweep(&sorted.keys, &sorted.hulls, 0..boxed, plan.along, &mut pairs);
+        for &(i, j) in &pairs {
+            found(sorted.ids[i as usize], sorted.ids[j as usize]);
+        }
+        return candidates;
     }
     let mut candidates = 0;
     for band in bands {
         let entries = layout.starts[band]..layout.starts[band + 1] - 1;
-        candidates += sweep(&layout.keys, &layout.hulls, entries, plan.along, |i, j| {
+        pairs.clear();
+        candidates += sweep(&layout.keys, &layout.hulls, entries, plan.along, &mut pairs);
+        for &(i, j) in &pairs {
+            let (i, j) = (i as usize, j as usize);
             if cut.reports(band, &layout.hulls[i], &layout.hulls[j]) {
                 found(layout.ids[i] & !HOME, layout.ids[j] & !HOME);
             }
-        });
+        }
     }
     candidates
 }
@@ -41,7 +49,7 @@ pub(crate) fn sweep_bands(
 /// Sweeps the boxes `range` of sorted `keys` and `hulls`, each against the
 /// boxes after it up to the first whose key lies beyond its extent along
 /// direction `along` (a sentinel after the last box guarantees one), and
-/// calls `found(i, j)` for every pair whose hulls overlap. Returns the
+/// appends to `found` every pair `(i, j)` whose hulls overlap. Returns the
 /// pairs met (the candidates).
 #[inline]
 pub(crate) fn sweep(
@@ -49,7 +57,7 @@ pub(crate) fn sweep(
     hulls: &[Packed],
     range: std::ops::Range<usize>,
     along: usize,
-    mut found: impl FnMut(usize, usize),
+    found: &mut Vec<(u32, u32)>,
 ) -> u64 {
     let mut candidates = 0;
     for i in range {
@@ -61,7 +69,7 @@ pub(crate) fn sweep(
         let mut j = i + 1;
         while keys[j] <= end {
             if overlaps(&hulls[j], &reach) {
-                found(i, j);
+                found.push((i as u32, j as u32));
             }
             j += 1;
         }
