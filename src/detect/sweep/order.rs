@@ -22,10 +22,11 @@ pub(crate) const NO_KEY: f32 = f32::INFINITY;
 /// moves.
 const MOVES_PER_ELEMENT: usize = 8;
 
-/// Boxes are moved in place while a sort moves fewer than one in this
-/// many of them; beyond that, keys and slots are sorted and the boxes
-/// gathered once (a box is five times the size of a key and a slot).
-const RESTLESS_SHARE: usize = 4;
+/// Boxes are moved in place while a sort makes fewer than this many moves
+/// per box; beyond that, keys and slots are sorted and the boxes gathered
+/// once (a box is five times the size of a key and a slot, and the gather
+/// costs about two moves of a box per box).
+const RESTLESS_MOVES: usize = 2;
 
 /// Boxes as parallel arrays, followed by one sentinel entry (key
 /// [`NO_KEY`]) so that a scan always stops.
@@ -71,7 +72,7 @@ impl Boxes {
         let n = self.len();
         if self.restless {
             self.sort_by_slot(n);
-        } else if !self.insertion_sort(n, n / RESTLESS_SHARE) {
+        } else if !self.insertion_sort(n, RESTLESS_MOVES * n) {
             self.restless = true;
             self.sort_by_slot(n);
         }
@@ -143,9 +144,10 @@ impl Boxes {
         if moves.is_none() {
             radsort::sort_by_key(&mut self.keyed, |k| k.0);
         }
-        // Calm again only well below the threshold, so that a scene near
-        // it does not try (and abandon) the in-place sort every other step.
-        self.restless = moves.map_or(true, |m| m > n / (4 * RESTLESS_SHARE));
+        // Calm again only well below the threshold (a quarter of it), so
+        // that a scene near it does not try (and abandon) the in-place sort
+        // every other step.
+        self.restless = moves.map_or(true, |m| m > n / 2);
         self.gather();
     }
 
