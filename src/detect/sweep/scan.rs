@@ -25,7 +25,13 @@ pub(crate) fn sweep_bands(
     // else live in registers); they are handed on afterwards.
     let mut pairs = Vec::new();
     if cut.count == 1 {
-        let candidates = sweep(&sorted.keys, &sorted.hulls, 0..boxed, plan.along, &mut pairs);
+        let candidates = sweep(
+            &sorted.keys,
+            &sorted.hulls,
+            0..boxed,
+            plan.along,
+            &mut pairs,
+        );
         for &(i, j) in &pairs {
             found(sorted.ids[i as usize], sorted.ids[j as usize]);
         }
