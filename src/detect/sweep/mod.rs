@@ -107,7 +107,9 @@ struct BandTuner {
     kept: Option<Plan>,
 }
 
-/// The sort-based broad phase (see the [module docs](self)).
+/// The sort-based broad phase: packed hulls sorted along one direction and
+/// swept, in bands across the other where one direction meets too much
+/// (the design write-up, `docs/DESIGN.md`, tells how and why).
 #[derive(Debug)]
 pub struct Sweep {
     threads: usize,
