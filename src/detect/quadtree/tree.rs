@@ -711,7 +711,7 @@ impl Tree {
                 let stays = if known {
                     !changed[i]
                 } else {
-                    entries.get(i + 1).map_or(true, |next| e.key <= next.key)
+                    entries.get(i + 1).is_none_or(|next| e.key <= next.key)
                 };
                 if stays && e.key >= last {
                     run.kept.push(*e);

@@ -17,8 +17,10 @@
 //! become infinite. It can only add overlaps between boxes closer than
 //! `f32` resolves, which the exact test behind the sweep turns down.
 
+use super::order::NO_KEY;
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
 use crate::line::Line;
+use multiversion::multiversion;
 
 /// Eight `f32` lower bounds: `[lo_x, lo_y, lo_u, lo_w, -hi_x, -hi_y, -hi_u, -hi_w]`.
 pub(crate) type Packed = [f32; 8];
@@ -40,7 +42,7 @@ pub(crate) const LARGEST: f64 = 1e30;
 /// or `1980` times that on the diagonals, whose pad is as much wider), so
 /// every packed bound still lies beyond the segment by at least `2^-21 m`:
 /// far more than the exact test's rounding errors (near `2^-50 m`).
-#[inline]
+#[inline(always)]
 pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
     let (p1, p2) = (line.p1, line.p2);
     // The corners one step ahead are the corners now moved by `d`: along
@@ -77,14 +79,78 @@ pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
 }
 
 /// A point's coordinates along the four directions `x`, `y`, `u`, `w`.
-#[inline]
+#[inline(always)]
 fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
     let (x_, y_) = (x * DIAGONAL_X, y * DIAGONAL_Y);
     [x, y, x_ + y_, x_ - y_]
 }
 
+/// Lines gathered at a time by [`make_gathered`].
+const GATHER_BLOCK: usize = 256;
+
+/// Makes the packed hull of each line `ids[k]` into `hulls[k]`, and its
+/// least value along direction `along` into `keys[k]` ([`NO_KEY`] for a
+/// line without a hull).
+///
+/// Compiled twice, for the baseline and for AVX2 (which does the four
+/// directions' `f64` arithmetic in one register), and chosen when the
+/// program starts by what the processor has. Both clones perform the same
+/// operations in the same order, so their results are the same bits.
+#[multiversion(targets("x86_64+avx2"))]
+pub(crate) fn make(
+    lines: &[Line],
+    ids: &[u32],
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+    along: usize,
+    dt: f64,
+) {
+    for ((&id, hull), key) in ids.iter().zip(hulls).zip(keys) {
+        *key = match of_line(&lines[id as usize], dt) {
+            Some(packed) => {
+                *hull = packed;
+                lo(hull, along)
+            }
+            None => NO_KEY,
+        };
+    }
+}
+
+/// [`make`] for scenes larger than the cache: the lines are gathered a
+/// block at a time in a loop that does nothing else, so that many of their
+/// cache misses are under way at once, and then their hulls are made.
+#[multiversion(targets("x86_64+avx2"))]
+pub(crate) fn make_gathered(
+    lines: &[Line],
+    ids: &[u32],
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+    along: usize,
+    dt: f64,
+) {
+    let mut block = [Line::default(); GATHER_BLOCK];
+    for ((ids, hulls), keys) in ids
+        .chunks(GATHER_BLOCK)
+        .zip(hulls.chunks_mut(GATHER_BLOCK))
+        .zip(keys.chunks_mut(GATHER_BLOCK))
+    {
+        for (line, &id) in block.iter_mut().zip(ids) {
+            *line = lines[id as usize];
+        }
+        for ((line, hull), key) in block.iter().zip(hulls).zip(keys) {
+            *key = match of_line(line, dt) {
+                Some(packed) => {
+                    *hull = packed;
+                    lo(hull, along)
+                }
+                None => NO_KEY,
+            };
+        }
+    }
+}
+
 /// `min` without NaN handling: one instruction.
-#[inline]
+#[inline(always)]
 fn min(a: f64, b: f64) -> f64 {
     if a < b {
         a
@@ -94,7 +160,7 @@ fn min(a: f64, b: f64) -> f64 {
 }
 
 /// `max` without NaN handling: one instruction.
-#[inline]
+#[inline(always)]
 fn max(a: f64, b: f64) -> f64 {
     if a > b {
         a
@@ -121,14 +187,14 @@ pub(crate) fn pack(lo: [f64; 4], hi: [f64; 4]) -> Packed {
 
 /// What a packed box reaches: the upper bounds that another box's lanes
 /// must not exceed for the two to overlap.
-#[inline]
+#[inline(always)]
 pub(crate) fn reach(p: &Packed) -> Packed {
     [-p[4], -p[5], -p[6], -p[7], -p[0], -p[1], -p[2], -p[3]]
 }
 
 /// True when the box packed as `p` overlaps the one whose [`reach`] is `r`.
 /// Written without branches so that it compiles to one vector comparison.
-#[inline]
+#[inline(always)]
 pub(crate) fn overlaps(p: &Packed, r: &Packed) -> bool {
     let mut all = true;
     for k in 0..8 {
@@ -138,13 +204,13 @@ pub(crate) fn overlaps(p: &Packed, r: &Packed) -> bool {
 }
 
 /// The least value of the box packed as `p` along direction `a`.
-#[inline]
+#[inline(always)]
 pub(crate) fn lo(p: &Packed, a: usize) -> f32 {
     p[a]
 }
 
 /// The greatest value of the box packed as `p` along direction `a`.
-#[inline]
+#[inline(always)]
 pub(crate) fn hi(p: &Packed, a: usize) -> f32 {
     -p[a + DIRECTIONS]
 }

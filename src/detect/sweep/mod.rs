@@ -38,14 +38,11 @@ use std::time::{Duration, Instant};
 /// Steps between two plans (the first step always makes one).
 const PLAN_EVERY: u64 = 256;
 
-/// Lines gathered at a time before their hulls are made, in scenes of
-/// [`GATHER_FROM`] lines or more.
-const GATHER_BLOCK: usize = 256;
-
-/// Scenes of this many lines (3 MB of them) or more are gathered a block
-/// at a time: a million lines make their hulls in 17 ms a step instead of
-/// 39 (two threads), while in a scene that fits the cache the copy only
-/// adds instructions (`koch`: 6% more in all).
+/// Scenes of this many lines (3 MB of them) or more gather their lines a
+/// block at a time before making their hulls
+/// ([`hull::make_gathered`]): a million lines make their hulls in 17 ms a
+/// step instead of 39 (two threads), while in a scene that fits the cache
+/// the copy only adds instructions (`koch`: 6% more in all).
 const GATHER_FROM: usize = 1 << 16;
 
 /// Groups of bands per thread in a parallel sweep: more groups than
@@ -191,39 +188,10 @@ impl Sweep {
         let n = self.sorted.len();
         let gather = n >= GATHER_FROM;
         let fill = |ids: &[u32], hulls: &mut [Packed], keys: &mut [f32]| {
-            if !gather {
-                for ((&id, hull), key) in ids.iter().zip(hulls).zip(keys) {
-                    *key = match hull::of_line(&lines[id as usize], dt) {
-                        Some(packed) => {
-                            *hull = packed;
-                            lo(hull, along)
-                        }
-                        None => NO_KEY,
-                    };
-                }
-                return;
-            }
-            // Lines are gathered a block at a time in a loop that does
-            // nothing else, so that many of the cache misses of a large
-            // scene are under way at once; then their hulls are made.
-            let mut block = [Line::default(); GATHER_BLOCK];
-            for ((ids, hulls), keys) in ids
-                .chunks(GATHER_BLOCK)
-                .zip(hulls.chunks_mut(GATHER_BLOCK))
-                .zip(keys.chunks_mut(GATHER_BLOCK))
-            {
-                for (line, &id) in block.iter_mut().zip(ids) {
-                    *line = lines[id as usize];
-                }
-                for ((line, hull), key) in block.iter().zip(hulls).zip(keys) {
-                    *key = match hull::of_line(line, dt) {
-                        Some(packed) => {
-                            *hull = packed;
-                            lo(hull, along)
-                        }
-                        None => NO_KEY,
-                    };
-                }
+            if gather {
+                hull::make_gathered(lines, ids, hulls, keys, along, dt);
+            } else {
+                hull::make(lines, ids, hulls, keys, along, dt);
             }
         };
         let b = &mut self.sorted;

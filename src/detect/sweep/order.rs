@@ -147,7 +147,7 @@ impl Boxes {
         // Calm again only well below the threshold (a quarter of it), so
         // that a scene near it does not try (and abandon) the in-place sort
         // every other step.
-        self.restless = moves.map_or(true, |m| m > n / 2);
+        self.restless = moves.is_none_or(|m| m > n / 2);
         self.gather();
     }
 
