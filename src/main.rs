@@ -303,8 +303,7 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
                 .map(|(name, d)| (name.to_string(), serde_json::json!(d.as_secs_f64())))
                 .collect::<serde_json::Map<_, _>>(),
             "resolve": t.resolve.as_secs_f64(),
-            "move": t.advance.as_secs_f64(),
-            "walls": t.walls.as_secs_f64(),
+            "move_and_walls": t.advance.as_secs_f64(),
         },
     })
 }
@@ -314,9 +313,7 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
     let t = world.phase_times().unwrap_or_default();
     let steps = world.steps().max(1) as f64;
     let per_step = |n: u64| n as f64 / steps;
-    let total = (t.detect + t.resolve + t.advance + t.walls)
-        .as_secs_f64()
-        .max(1e-12);
+    let total = (t.detect + t.resolve + t.advance).as_secs_f64().max(1e-12);
     let phase = |name: &str, d: Duration| {
         format!(
             "  {name:<16}{:>12.6}s {:>6.1}%  {:>10.2} us/step\n",
@@ -362,8 +359,7 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
         }
     }
     out += &phase("resolve", t.resolve);
-    out += &phase("move", t.advance);
-    out += &phase("walls", t.walls);
+    out += &phase("move and walls", t.advance);
     out += "---- END STATS ----\n";
     out
 }

@@ -229,7 +229,7 @@ fn stats_count_the_work_and_time_every_phase() {
         let expected: Vec<&str> = ["detect"]
             .iter()
             .chain(own)
-            .chain(&["resolve", "move", "walls"])
+            .chain(&["resolve", "move and walls"])
             .copied()
             .collect();
         assert_eq!(phases, expected, "{stats}");
