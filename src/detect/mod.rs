@@ -7,6 +7,7 @@
 //! all-pairs [`Brute`] detector is the oracle the others are tested against.
 
 mod brute;
+mod clock;
 pub mod quadtree;
 pub(crate) mod sweep;
 pub mod swept;

@@ -29,6 +29,7 @@
 
 pub mod tree;
 
+use super::clock::PhaseClock;
 use super::swept::{swept_box, test_pair, test_wild, PairCounts, SweptBox, DIAGONAL_X, DIAGONAL_Y};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
@@ -139,12 +140,8 @@ impl Phase {
     }
 }
 
-/// Time per phase, and when the phase under way began.
-#[derive(Debug)]
-struct PhaseClock {
-    times: [Duration; Phase::ALL.len()],
-    since: Instant,
-}
+/// The quadtree's phase timing.
+type Clock = PhaseClock<{ Phase::ALL.len() }>;
 
 /// Auto mode: steps between the starts of two trials of the way not in
 /// use (once the first trial is over).
@@ -306,7 +303,7 @@ pub struct Quadtree {
     valid: bool,
     stats: DetectorStats,
     /// Time per phase, while timing is on.
-    clock: Option<PhaseClock>,
+    clock: Option<Clock>,
 }
 
 impl Default for Quadtree {
@@ -655,9 +652,7 @@ impl Quadtree {
     /// With timing on, adds the time since the last lap to `phase`.
     fn lap(&mut self, phase: Phase) {
         if let Some(clock) = &mut self.clock {
-            let now = Instant::now();
-            clock.times[phase as usize] += now - clock.since;
-            clock.since = now;
+            clock.lap(phase as usize);
         }
     }
 
@@ -1136,7 +1131,7 @@ impl Detector for Quadtree {
         let mut counts = PairCounts::default();
         self.tree.counts = tree::WalkCounts::default();
         if let Some(clock) = &mut self.clock {
-            clock.since = start;
+            clock.start(start);
         }
         let bounds = self.fill_slots(lines, dt, rebuilt);
         self.test_wild(lines, dt, events, &mut counts);
@@ -1166,18 +1161,12 @@ impl Detector for Quadtree {
     }
 
     fn set_timing(&mut self, on: bool) {
-        self.clock = on.then(|| PhaseClock {
-            times: Default::default(),
-            since: Instant::now(),
-        });
+        self.clock = on.then(Clock::new);
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
         match &self.clock {
-            Some(clock) => Phase::ALL
-                .iter()
-                .map(|&p| (p.name(), clock.times[p as usize]))
-                .collect(),
+            Some(clock) => clock.report(Phase::ALL.map(Phase::name)),
             None => Vec::new(),
         }
     }

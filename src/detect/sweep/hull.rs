@@ -106,13 +106,20 @@ pub(crate) fn make(
     dt: f64,
 ) {
     for ((&id, hull), key) in ids.iter().zip(hulls).zip(keys) {
-        *key = match of_line(&lines[id as usize], dt) {
-            Some(packed) => {
-                *hull = packed;
-                lo(hull, along)
-            }
-            None => NO_KEY,
-        };
+        *key = make_one(&lines[id as usize], dt, along, hull);
+    }
+}
+
+/// Makes `line`'s packed hull into `hull` and returns its key (least value
+/// along `along`), or [`NO_KEY`] if it has no hull.
+#[inline(always)]
+fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
+    match of_line(line, dt) {
+        Some(packed) => {
+            *hull = packed;
+            lo(hull, along)
+        }
+        None => NO_KEY,
     }
 }
 
@@ -138,13 +145,7 @@ pub(crate) fn make_gathered(
             *line = lines[id as usize];
         }
         for ((line, hull), key) in block.iter().zip(hulls).zip(keys) {
-            *key = match of_line(line, dt) {
-                Some(packed) => {
-                    *hull = packed;
-                    lo(hull, along)
-                }
-                None => NO_KEY,
-            };
+            *key = make_one(line, dt, along, hull);
         }
     }
 }

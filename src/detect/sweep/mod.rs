@@ -24,6 +24,7 @@ pub(crate) mod order;
 pub(crate) mod plan;
 pub(crate) mod scan;
 
+use super::clock::PhaseClock;
 use super::swept::{test_pair, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::Line;
@@ -83,12 +84,8 @@ impl Phase {
     }
 }
 
-/// Time per phase, and when the phase under way began.
-#[derive(Debug)]
-struct PhaseClock {
-    times: [Duration; Phase::ALL.len()],
-    since: Instant,
-}
+/// The sweep's phase timing.
+type Clock = PhaseClock<{ Phase::ALL.len() }>;
 
 /// The band count in use and the one on trial, with the work each did.
 #[derive(Debug, Default)]
@@ -129,7 +126,7 @@ pub struct Sweep {
     /// Ids of this step's wild lines.
     wild: Vec<u32>,
     stats: DetectorStats,
-    clock: Option<PhaseClock>,
+    clock: Option<Clock>,
 }
 
 impl Sweep {
@@ -172,9 +169,7 @@ impl Sweep {
 
     fn lap(&mut self, phase: Phase) {
         if let Some(clock) = &mut self.clock {
-            let now = Instant::now();
-            clock.times[phase as usize] += now - clock.since;
-            clock.since = now;
+            clock.lap(phase as usize);
         }
     }
 
@@ -345,7 +340,7 @@ impl Detector for Sweep {
     fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
         let before = events.len();
         if let Some(clock) = &mut self.clock {
-            clock.since = Instant::now();
+            clock.start(Instant::now());
         }
         if self.sorted.len() != lines.len() {
             self.sorted.reset(lines.len());
@@ -441,18 +436,12 @@ impl Detector for Sweep {
     }
 
     fn set_timing(&mut self, on: bool) {
-        self.clock = on.then(|| PhaseClock {
-            times: Default::default(),
-            since: Instant::now(),
-        });
+        self.clock = on.then(Clock::new);
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
         match &self.clock {
-            Some(clock) => Phase::ALL
-                .iter()
-                .map(|&p| (p.name(), clock.times[p as usize]))
-                .collect(),
+            Some(clock) => clock.report(Phase::ALL.map(Phase::name)),
             None => Vec::new(),
         }
     }

@@ -83,13 +83,7 @@ impl Boxes {
     /// [`Boxes::sort`] does; returns the number with a real key.
     pub(crate) fn sort_scrambled(&mut self) -> usize {
         let n = self.len();
-        self.keyed.clear();
-        self.keyed.extend(
-            self.keys[..n]
-                .iter()
-                .enumerate()
-                .map(|(k, &key)| (key, k as u32)),
-        );
+        self.key_slots(n);
         radsort::sort_by_key(&mut self.keyed, |k| k.0);
         self.gather();
         self.keys[..n].partition_point(|&k| k != NO_KEY)
@@ -133,13 +127,7 @@ impl Boxes {
     /// radix if that goes on too long), then gathers the boxes in that
     /// order. Notes whether the boxes were restless enough for it.
     fn sort_by_slot(&mut self, n: usize) {
-        self.keyed.clear();
-        self.keyed.extend(
-            self.keys[..n]
-                .iter()
-                .enumerate()
-                .map(|(k, &key)| (key, k as u32)),
-        );
+        self.key_slots(n);
         let moves = insertion_sort(&mut self.keyed, MOVES_PER_ELEMENT * n + 64);
         if moves.is_none() {
             radsort::sort_by_key(&mut self.keyed, |k| k.0);
@@ -149,6 +137,17 @@ impl Boxes {
         // every other step.
         self.restless = moves.is_none_or(|m| m > n / 2);
         self.gather();
+    }
+
+    /// Fills `keyed` with the first `n` boxes' keys and slots.
+    fn key_slots(&mut self, n: usize) {
+        self.keyed.clear();
+        self.keyed.extend(
+            self.keys[..n]
+                .iter()
+                .enumerate()
+                .map(|(k, &key)| (key, k as u32)),
+        );
     }
 
     /// Puts the boxes in the order of `keyed`.
