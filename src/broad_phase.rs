@@ -104,7 +104,6 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
     }
     let mut layout = Layout::default();
     let count = if chosen.bands.count > 1 {
-        // Each band is sorted on its own, in cache.
         let spans: Vec<(u32, u32)> = sorted.hulls[..boxes.len()]
             .iter()
             .map(|hull| {
@@ -112,7 +111,7 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
                 (first as u32, last as u32 + 1)
             })
             .collect();
-        layout.build(&sorted, boxes.len(), &spans, &chosen.bands, 1);
+        layout.build_scrambled(&sorted, boxes.len(), &spans, &chosen.bands);
         0
     } else {
         sorted.sort_scrambled()
