@@ -101,13 +101,7 @@ impl Layout {
                 }
             }
         }
-        self.starts.clear();
-        let mut total = 0;
-        for &c in &self.counts {
-            self.starts.push(total);
-            total += c + 1;
-        }
-        self.starts.push(total);
+        let total = self.set_starts();
         self.keys.resize(total, NO_KEY);
         self.hulls.resize(total, [0.0; 8]);
         self.ids.resize(total, u32::MAX);
@@ -162,13 +156,7 @@ impl Layout {
         for e in &entries {
             self.counts[(e.0 >> 32) as usize] += 1;
         }
-        self.starts.clear();
-        let mut total = 0;
-        for &c in &self.counts {
-            self.starts.push(total);
-            total += c + 1;
-        }
-        self.starts.push(total);
+        self.set_starts();
         self.keys.clear();
         self.hulls.clear();
         self.ids.clear();
@@ -190,6 +178,19 @@ impl Layout {
             self.hulls.push([0.0; 8]);
             self.ids.push(u32::MAX);
         }
+    }
+
+    /// Sets where each band starts from the entries counted in each, with
+    /// room for its sentinel; returns the entries laid out in all.
+    fn set_starts(&mut self) -> usize {
+        self.starts.clear();
+        let mut total = 0;
+        for &c in &self.counts {
+            self.starts.push(total);
+            total += c + 1;
+        }
+        self.starts.push(total);
+        total
     }
 
     /// Consecutive ranges of bands, at most `groups` of them, each holding
