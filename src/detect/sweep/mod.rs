@@ -4,13 +4,13 @@
 //!
 //! A step runs down this folder's files in order:
 //! 1. [`hull`]: every line's padded swept hull, packed as eight `f32`
-//!    lower bounds, made in last step's sorted order;
+//!    lanes, made in last step's order;
 //! 2. [`plan`]: now and then, the direction to sweep along and the bands
 //!    to cut the plane into, chosen on a sample;
-//! 3. [`order`]: the boxes sorted by their least value along that
-//!    direction (nearly sorted already: an insertion sort);
-//! 4. [`bands`]: the boxes laid out band by band in sorted order, the
-//!    contiguous arrays the sweep reads;
+//! 3. with one band, [`order`]: the boxes sorted in place by their least
+//!    value along that direction (nearly sorted already);
+//! 4. with several, [`bands`] and [`layout`]: the bands each box reaches,
+//!    and the boxes laid out band by band, each band sorted;
 //! 5. [`scan`]: each band swept; the pairs whose hulls overlap go to the
 //!    exact test.
 //!
@@ -62,9 +62,11 @@ const TRIAL_GAIN: f64 = 0.97;
 enum Phase {
     /// Making the packed hulls (and, now and then, the plan).
     Hulls,
-    /// Sorting them along the sweep direction.
+    /// With one band, sorting them along the sweep direction; with
+    /// several, finding the bands each reaches.
     Sort,
-    /// Laying them out band by band.
+    /// With several bands, laying them out band by band, each sorted;
+    /// listing the wild lines.
     Layout,
     /// Sweeping the bands and testing the pairs that overlap; testing the
     /// wild lines.
@@ -112,9 +114,10 @@ pub struct Sweep {
     /// Steps until the next plan.
     until_plan: u64,
     tuner: BandTuner,
-    /// Every line's key, packed hull and id: this step's boxed lines in
-    /// sorted order first, then the others. Next step's hulls are made in
-    /// this order, so that its sort has little to do.
+    /// Every line's key, packed hull and id: this step's boxed lines first
+    /// (with one band in sorted order, with several band by band, each
+    /// band's own in sorted order), then the others. Next step's hulls are
+    /// made in this order, so that its sort has little to do.
     sorted: Boxes,
     /// With several bands: the bands each slot's box reaches (first, and
     /// one past the last).
@@ -189,11 +192,11 @@ impl Sweep {
                 hull::make(lines, ids, hulls, keys, along, dt);
             }
         };
+        let (parallel, chunk) = (self.parallel(n), self.grain);
         let b = &mut self.sorted;
         let (ids, hulls, keys) = (&b.ids[..n], &mut b.hulls[..n], &mut b.keys[..n]);
-        if self.threads > 1 && n >= 2 * self.grain {
+        if parallel {
             use rayon::prelude::*;
-            let chunk = self.grain;
             ids.par_chunks(chunk)
                 .zip(hulls.par_chunks_mut(chunk))
                 .zip(keys.par_chunks_mut(chunk))
