@@ -13,7 +13,7 @@
 //! assert_eq!(overlapping_pairs(&boxes), vec![(0, 1)]);
 //! ```
 
-use crate::detect::sweep::hull::{lo, pack, Packed, DIRECTIONS};
+use crate::detect::sweep::hull::{lo, pack, DIRECTIONS};
 use crate::detect::sweep::layout::Layout;
 use crate::detect::sweep::order::{Boxes, NO_KEY};
 use crate::detect::sweep::{plan, scan};
@@ -89,13 +89,9 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
         sorted.hulls[k] = hull;
         sorted.keys[k] = 0.0;
     }
-    let boxed: Vec<Packed> = (0..boxes.len())
-        .filter(|&k| sorted.keys[k] != NO_KEY)
-        .map(|k| sorted.hulls[k])
-        .collect();
-    let stride = boxed.len().div_ceil(plan::SAMPLE).max(1);
-    let sample: Vec<Packed> = boxed.iter().step_by(stride).copied().collect();
-    let chosen = plan::choose(&sample, boxed.len(), 2);
+    let n = boxes.len();
+    let (sample, boxed) = plan::sample(&sorted.keys[..n], &sorted.hulls[..n]);
+    let chosen = plan::choose(&sample, boxed, 2);
     debug_assert!(chosen.along < 2 && DIRECTIONS == 4);
     for k in 0..boxes.len() {
         if sorted.keys[k] != NO_KEY {

@@ -34,6 +34,15 @@ impl<const N: usize> PhaseClock<N> {
     pub(crate) fn report(&self, names: [&'static str; N]) -> Vec<(&'static str, Duration)> {
         names.into_iter().zip(self.times).collect()
     }
+
+    /// [`PhaseClock::report`] of a detector's clock, if timing is on;
+    /// nothing if it is off.
+    pub(crate) fn report_of(
+        clock: Option<&Self>,
+        names: [&'static str; N],
+    ) -> Vec<(&'static str, Duration)> {
+        clock.map_or_else(Vec::new, |c| c.report(names))
+    }
 }
 
 #[cfg(test)]

@@ -1165,10 +1165,7 @@ impl Detector for Quadtree {
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
-        match &self.clock {
-            Some(clock) => clock.report(Phase::ALL.map(Phase::name)),
-            None => Vec::new(),
-        }
+        Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name))
     }
 }
 

@@ -232,16 +232,8 @@ impl Sweep {
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
     /// them if the direction changed.
     fn make_plan(&mut self) {
-        let b = &self.sorted;
-        let boxed = b.keys[..b.len()].iter().filter(|&&k| k != NO_KEY).count();
-        let stride = boxed.div_ceil(plan::SAMPLE).max(1);
-        let sample: Vec<Packed> = b.keys[..b.len()]
-            .iter()
-            .zip(&b.hulls)
-            .filter(|(&k, _)| k != NO_KEY)
-            .step_by(stride)
-            .map(|(_, &hull)| hull)
-            .collect();
+        let n = self.sorted.len();
+        let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
         let plan = plan::choose(&sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
@@ -377,7 +369,10 @@ impl Detector for Sweep {
                     .filter(|(&key, _)| key == NO_KEY)
                     .map(|(_, &id)| id),
             );
-            self.sorted.ids[..n].copy_from_slice(&self.next_order);
+            // The sentinel stays last; the old order becomes next step's
+            // buffer.
+            self.next_order.push(u32::MAX);
+            std::mem::swap(&mut self.sorted.ids, &mut self.next_order);
             (boxed, self.layout.len() - bands.count)
         } else {
             let boxed = self.sorted.sort();
@@ -443,9 +438,6 @@ impl Detector for Sweep {
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
-        match &self.clock {
-            Some(clock) => clock.report(Phase::ALL.map(Phase::name)),
-            None => Vec::new(),
-        }
+        Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name))
     }
 }

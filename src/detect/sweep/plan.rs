@@ -8,6 +8,7 @@
 
 use super::bands::Bands;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
+use super::order::NO_KEY;
 
 /// How to sweep: the direction, and the bands cut across the other one.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,6 +116,22 @@ pub(crate) fn cost(total: usize, candidates: f64, share: f64, count: usize) -> f
         candidates * copies * copies / count as f64,
         true,
     )
+}
+
+/// An even sample of at most [`SAMPLE`] of the boxes whose key is real
+/// (`keys[k] != NO_KEY`, hull `hulls[k]`), and how many such boxes there
+/// are.
+pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
+    let boxed = keys.iter().filter(|&&k| k != NO_KEY).count();
+    let stride = boxed.div_ceil(SAMPLE).max(1);
+    let sample = keys
+        .iter()
+        .zip(hulls)
+        .filter(|(&k, _)| k != NO_KEY)
+        .step_by(stride)
+        .map(|(_, &hull)| hull)
+        .collect();
+    (sample, boxed)
 }
 
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
