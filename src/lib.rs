@@ -14,15 +14,18 @@
 //! exact predicates), [`line`](mod@line) (segments and coordinates),
 //! [`scene`] (`.in` files), [`narrow`] (the exact pair test), [`response`]
 //! (new velocities), [`world`] (one step), [`detect`] (interchangeable broad
-//! phases), [`render`] (pictures and the window) and [`generate`] (seeded
-//! scenes).
+//! phases), [`render`] (pictures and the window), [`generate`] (seeded
+//! scenes), [`checkpoint`] (states and resumable checkpoints) and
+//! [`output`] (files written whole or not at all).
 
 pub mod broad_phase;
+pub mod checkpoint;
 pub mod detect;
 pub mod generate;
 pub mod geometry;
 pub mod line;
 pub mod narrow;
+pub mod output;
 pub mod render;
 pub mod response;
 pub mod scene;

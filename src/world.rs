@@ -1,6 +1,7 @@
 //! The world: every line, the two collision counters, and one step of the
 //! simulation (detect, resolve, move, walls).
 
+use crate::checkpoint::{self, Checkpoint};
 use crate::detect::{Detector, DetectorConfig, DetectorKind, DetectorStats, DEFAULT_GRAIN};
 use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_MAX, BOX_MIN, DT};
 use crate::narrow::Event;
@@ -192,6 +193,23 @@ impl World {
         Self::new(lines, colors, detector)
     }
 
+    /// A world continuing the run that `checkpoint` recorded (its lines,
+    /// colours, step count and counters), with a detector chosen by kind
+    /// and tuned by `config`. Detectors keep nothing from step to step that
+    /// changes results, so the run goes on exactly as it would have.
+    pub fn resume(
+        checkpoint: Checkpoint,
+        kind: DetectorKind,
+        config: &DetectorConfig,
+    ) -> Result<Self, rayon::ThreadPoolBuildError> {
+        let mut world = Self::new(checkpoint.lines, checkpoint.colors, kind.build_with(config));
+        world.steps = checkpoint.steps;
+        world.counters = checkpoint.counters;
+        world.set_threads(config.threads)?;
+        world.set_grain(config.grain);
+        Ok(world)
+    }
+
     /// Convenience: a world from a scene with a detector chosen by kind.
     pub fn with_detector(scene: &Scene, kind: DetectorKind) -> Self {
         Self::from_scene(scene, kind.build())
@@ -314,21 +332,39 @@ impl World {
         self.steps += 1;
     }
 
-    /// The whole state in the reference's checkpoint format: one row per
-    /// line, `id p1.x p1.y p2.x p2.y v.x v.y`, each value the shortest
-    /// decimal that reads back to the same `f64`.
+    /// The whole state in the reference's state format: one row per line,
+    /// `id p1.x p1.y p2.x p2.y v.x v.y`, each value the shortest decimal
+    /// that reads back to the same `f64` (see [`crate::checkpoint`]).
     pub fn state_text(&self) -> String {
-        use std::fmt::Write as _;
         let mut out = String::with_capacity(self.lines.len() * 120);
         for (id, l) in self.lines.iter().enumerate() {
-            writeln!(
-                out,
-                "{id} {:?} {:?} {:?} {:?} {:?} {:?}",
-                l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y
-            )
-            .expect("writing to a String");
+            checkpoint::push_row(&mut out, id, l);
+            out.push('\n');
         }
         out
+    }
+
+    /// Writes the state (as [`World::state_text`]) to `out`, a block at a
+    /// time.
+    pub fn write_state(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+        checkpoint::write_state(out, &self.lines)
+    }
+
+    /// Writes a checkpoint of the run so far to `out`; `scene_digest` is
+    /// the [`checkpoint::scene_digest`] of the scene the run started from.
+    pub fn write_checkpoint(
+        &self,
+        out: &mut dyn std::io::Write,
+        scene_digest: u64,
+    ) -> std::io::Result<()> {
+        checkpoint::write_checkpoint(
+            out,
+            scene_digest,
+            self.steps,
+            self.counters,
+            &self.lines,
+            &self.colors,
+        )
     }
 
     /// Runs one step, with `oracle` finding events on the same state; if the

@@ -1,0 +1,317 @@
+//! Properties checked on arbitrary bytes, shared by the fuzz targets
+//! (`fuzz/fuzz_targets/*.rs`) and by the corpus replay test
+//! (`tests/fuzz_corpus.rs`). Every function panics when a property fails,
+//! which is what libFuzzer reports as a crash.
+
+use screensaver::detect::{Detector, TreeMode};
+use screensaver::line::{BOX_MAX, BOX_MIN};
+use screensaver::{Color, DetectorConfig, DetectorKind, Line, Scene, Vec2, World};
+
+/// The origin every parse is given, so that error messages can be checked
+/// for it.
+const ORIGIN: &str = "fuzz";
+
+/// Steps each generated world runs: enough for lines to move into each
+/// other and for the first responses to feed the next detection.
+const STEPS: usize = 3;
+
+/// Most lines a generated world holds: small worlds keep executions fast,
+/// and the fuzzer finds awkward arrangements more easily among a few lines.
+const MAX_LINES: usize = 24;
+
+/// The number of text lines in `bytes`, the largest line number an error
+/// may name.
+fn text_lines(bytes: &[u8]) -> usize {
+    bytes.iter().filter(|&&b| b == b'\n').count() + 1
+}
+
+/// Checks a parse error's position and message: the message starts with
+/// `origin:line: `, says something after that, and the line exists.
+fn check_error_message(bytes: &[u8], line: usize, message: &str, what: &str) {
+    assert!(
+        (1..=text_lines(bytes)).contains(&line),
+        "{what} error names line {line}, outside 1..={}: {message}",
+        text_lines(bytes)
+    );
+    let prefix = format!("{ORIGIN}:{line}: ");
+    assert!(
+        message.starts_with(&prefix),
+        "{what} error does not start with `{prefix}`: {message:?}"
+    );
+    assert!(
+        message.len() > prefix.len(),
+        "{what} error says nothing after its position: {message:?}"
+    );
+}
+
+/// The bits of every value of a scene line, for comparisons that tell
+/// `-0` from `0` and see NaN equal to itself.
+fn scene_line_bits(l: &screensaver::SceneLine) -> [u64; 6] {
+    [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits)
+}
+
+/// The bits of every value of a line.
+fn line_bits(l: &Line) -> [u64; 6] {
+    [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits)
+}
+
+/// `Scene::parse` on arbitrary bytes: never panics; a scene it accepts holds
+/// only finite values and its `to_text` reads back to the same bits (and
+/// writes the same text again); an error names the origin and a line of the
+/// input.
+pub fn scene_parser(bytes: &[u8]) {
+    let scene = match Scene::parse(bytes, ORIGIN) {
+        Ok(scene) => scene,
+        Err(e) => {
+            check_error_message(bytes, e.line, &e.to_string(), "scene");
+            return;
+        }
+    };
+    for (i, l) in scene.lines.iter().enumerate() {
+        assert!(
+            scene_line_bits(l)
+                .iter()
+                .all(|&b| f64::from_bits(b).is_finite()),
+            "row {} holds a non-finite value: {l:?}",
+            i + 1
+        );
+    }
+    let text = scene.to_text();
+    let again = Scene::parse(text.as_bytes(), ORIGIN)
+        .unwrap_or_else(|e| panic!("to_text does not parse back: {e}\n{text}"));
+    assert_eq!(scene.lines.len(), again.lines.len(), "line count changed");
+    for (i, (a, b)) in scene.lines.iter().zip(&again.lines).enumerate() {
+        assert_eq!(
+            (scene_line_bits(a), a.color),
+            (scene_line_bits(b), b.color),
+            "row {} changed through to_text: {a:?} became {b:?}\n{text}",
+            i + 1
+        );
+    }
+    assert_eq!(text, again.to_text(), "to_text is not stable");
+}
+
+/// Reads bytes off the front of the input; past the end every read gives
+/// zeros, so that any input decodes to something.
+struct Input<'a> {
+    bytes: &'a [u8],
+}
+
+impl Input<'_> {
+    fn is_empty(&self) -> bool {
+        self.bytes.is_empty()
+    }
+
+    fn take<const N: usize>(&mut self) -> [u8; N] {
+        let mut out = [0; N];
+        let n = N.min(self.bytes.len());
+        out[..n].copy_from_slice(&self.bytes[..n]);
+        self.bytes = &self.bytes[n..];
+        out
+    }
+
+    fn u8(&mut self) -> u8 {
+        self.take::<1>()[0]
+    }
+
+    fn u16(&mut self) -> u16 {
+        u16::from_le_bytes(self.take())
+    }
+
+    /// A fraction in `[0, 1]` from two bytes.
+    fn unit(&mut self) -> f64 {
+        f64::from(self.u16()) / f64::from(u16::MAX)
+    }
+}
+
+/// Values that break careless arithmetic or sit exactly on a boundary: the
+/// box edges and their neighbours, the quadtree's first split, signed zeros,
+/// NaN, infinities, and the extremes of magnitude.
+const SPECIAL: [f64; 20] = [
+    0.0,
+    -0.0,
+    f64::NAN,
+    f64::INFINITY,
+    f64::NEG_INFINITY,
+    1e-300,
+    -1e-300,
+    1e300,
+    -1e300,
+    BOX_MIN,
+    BOX_MAX,
+    0.75,
+    f64::MIN_POSITIVE,
+    f64::from_bits(1),
+    f64::MAX,
+    f64::EPSILON,
+    // The doubles just outside the box's edges.
+    0.5 - f64::EPSILON / 4.0,
+    1.0 + f64::EPSILON,
+    // A negative NaN with a payload, which must propagate like any other.
+    f64::from_bits(0xfff8_0000_0000_0001),
+    -1.0,
+];
+
+/// What a decoded value is used for; it sets the scale of ordinary values.
+#[derive(Clone, Copy)]
+enum Field {
+    Coordinate,
+    Velocity,
+}
+
+/// One value: a special value, an ordinary one of the field's scale
+/// (random bits would almost never make lines meet), a value on a 1/64 grid
+/// of the box where tree cells split, or any 64 bits.
+fn value(input: &mut Input, field: Field) -> f64 {
+    let tag = input.u8();
+    match (tag, field) {
+        (0..=39, _) => SPECIAL[usize::from(tag) % SPECIAL.len()],
+        (40..=159, Field::Coordinate) => 0.45 + input.unit() * 0.6,
+        (40..=159, Field::Velocity) => (input.unit() - 0.5) * 0.1,
+        (160..=199, Field::Coordinate) => BOX_MIN + f64::from(input.u8() % 33) / 64.0,
+        (160..=199, Field::Velocity) => (f64::from(input.u8() % 33) - 16.0) / 256.0,
+        (200..=255, _) => f64::from_le_bytes(input.take()),
+    }
+}
+
+fn point(input: &mut Input) -> Vec2 {
+    Vec2::new(
+        value(input, Field::Coordinate),
+        value(input, Field::Coordinate),
+    )
+}
+
+/// One line, often built from an earlier one: a duplicate, a zero-length
+/// line, one sharing an endpoint, one on the same supporting line
+/// (collinear up to rounding), or an axis-aligned one exactly collinear
+/// with an earlier line's endpoint.
+fn next_line(input: &mut Input, earlier: &[Line]) -> Line {
+    let shape = input.u8();
+    let pick = usize::from(input.u8());
+    let base = (!earlier.is_empty()).then(|| earlier[pick % earlier.len()]);
+    let (p1, p2) = match (shape % 8, base) {
+        (4, _) => {
+            let p = point(input);
+            (p, p)
+        }
+        (5, Some(a)) => (a.p1, a.p2),
+        (6, Some(a)) => (a.p2, point(input)),
+        (7, Some(a)) => {
+            let d = a.p2 - a.p1;
+            let (s, t) = (input.unit() * 3.0 - 1.0, input.unit() * 3.0 - 1.0);
+            (a.p1 + d * s, a.p1 + d * t)
+        }
+        (3, Some(a)) => {
+            let (c1, c2) = (
+                value(input, Field::Coordinate),
+                value(input, Field::Coordinate),
+            );
+            if shape & 0x10 == 0 {
+                (Vec2::new(c1, a.p1.y), Vec2::new(c2, a.p1.y))
+            } else {
+                (Vec2::new(a.p1.x, c1), Vec2::new(a.p1.x, c2))
+            }
+        }
+        _ => (point(input), point(input)),
+    };
+    // Duplicates keep the velocity too when asked, so that they stay
+    // together.
+    let v = match base {
+        Some(a) if shape & 0x80 != 0 && shape % 8 == 5 => a.v,
+        _ => Vec2::new(
+            value(input, Field::Velocity),
+            value(input, Field::Velocity),
+        ),
+    };
+    Line { p1, p2, v }
+}
+
+/// Decodes up to [`MAX_LINES`] lines from the input.
+fn decode_lines(bytes: &[u8]) -> Vec<Line> {
+    let mut input = Input { bytes };
+    let count = usize::from(input.u8()) % (MAX_LINES + 1);
+    let mut lines = Vec::with_capacity(count);
+    while lines.len() < count && !input.is_empty() {
+        let line = next_line(&mut input, &lines);
+        lines.push(line);
+    }
+    lines
+}
+
+/// The detectors compared with the all-pairs one: every kind as the command
+/// line builds it, and the quadtree in each way of keeping its tree with
+/// tiny leaves, very deep or no splitting at all.
+fn contenders() -> Vec<(String, Box<dyn Detector>)> {
+    let mut all: Vec<(String, Box<dyn Detector>)> = DetectorKind::ALL
+        .iter()
+        .filter(|&&k| k != DetectorKind::Brute)
+        .map(|&k| (k.name().to_string(), k.build()))
+        .collect();
+    for tree_mode in [TreeMode::Cached, TreeMode::Rebuilt] {
+        for (leaf_size, max_depth) in [(1, 12), (2, 40), (4, 0)] {
+            let config = DetectorConfig {
+                leaf_size,
+                max_depth,
+                tree_mode,
+                ..DetectorConfig::default()
+            };
+            all.push((
+                format!("quadtree {config:?}"),
+                DetectorKind::Quadtree.build_with(&config),
+            ));
+        }
+    }
+    all
+}
+
+/// A few steps of a world decoded from arbitrary bytes, with every detector:
+/// nothing panics, the all-pairs detector's events are in resolving order
+/// with valid ids, and after every step each other detector's world has the
+/// same events, counters and line bits as the all-pairs one.
+pub fn step(bytes: &[u8]) {
+    let lines = decode_lines(bytes);
+    let n = lines.len();
+    let world = |detector| World::new(lines.clone(), vec![Color::Red; n], detector);
+    let mut oracle = world(DetectorKind::Brute.build());
+    let mut others: Vec<(String, World)> = contenders()
+        .into_iter()
+        .map(|(name, d)| (name, world(d)))
+        .collect();
+    for step in 1..=STEPS {
+        oracle.step();
+        let events = oracle.last_events();
+        for pair in events.windows(2) {
+            assert!(
+                pair[0].order_key() < pair[1].order_key(),
+                "step {step}: events out of order: {pair:?}"
+            );
+        }
+        for e in events {
+            assert!(
+                e.first < e.second && (e.second as usize) < n,
+                "step {step}: bad ids in {e:?} among {n} lines"
+            );
+        }
+        let bits: Vec<_> = oracle.lines().iter().map(line_bits).collect();
+        for (name, w) in &mut others {
+            w.step();
+            assert_eq!(
+                w.last_events(),
+                events,
+                "step {step}: {name} found other events than brute\nlines: {lines:?}"
+            );
+            assert_eq!(
+                w.counters(),
+                oracle.counters(),
+                "step {step}: {name} counters differ"
+            );
+            assert_eq!(
+                w.detector_stats().events,
+                w.counters().line,
+                "step {step}: {name} counts its events differently"
+            );
+            let got: Vec<_> = w.lines().iter().map(line_bits).collect();
+            assert_eq!(got, bits, "step {step}: {name} lines differ from brute");
+        }
+    }
+}

@@ -1,0 +1,519 @@
+//! The state of a run as text: the reference's state rows, and checkpoints
+//! that a run can be resumed from.
+//!
+//! A state is one row per line in id order, `id p1.x p1.y p2.x p2.y v.x v.y`
+//! in box coordinates, each value the shortest decimal that reads back to
+//! the same `f64`, written as the reference wrote them (`1e-05`, `1e+16`,
+//! `NaN`), so a state written here matches the reference's files byte for
+//! byte.
+//!
+//! A checkpoint is a state with a header and each line's colour code
+//! after its row:
+//!
+//! ```text
+//! # screensaver checkpoint v1
+//! # scene: 3 lines, digest 6c1f0e3b9a2d4c55
+//! # steps: 1200
+//! # line-wall collisions: 17
+//! # line-line collisions: 240
+//! 0 0.6264977220338983 0.6865993543749994 0.64514178983 0.71409935437 -0.00011 -0.00016 1
+//! ...
+//! ```
+//!
+//! The digest identifies the scene the run started from (its values, not
+//! its spelling), so that a checkpoint is never resumed on another scene.
+
+use crate::line::{Color, Line};
+use crate::scene::Scene;
+use crate::world::Counters;
+use crate::Vec2;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The first line of every checkpoint.
+const MAGIC: &str = "# screensaver checkpoint v1";
+
+/// A run's whole state: enough to continue it bit for bit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Checkpoint {
+    /// The [`scene_digest`] of the scene the run started from.
+    pub scene_digest: u64,
+    /// Steps run.
+    pub steps: u64,
+    /// The counters after those steps.
+    pub counters: Counters,
+    /// Every line, by id, in box coordinates.
+    pub lines: Vec<Line>,
+    /// Every line's colour, by id.
+    pub colors: Vec<Color>,
+}
+
+/// What is wrong with a checkpoint text, and where.
+#[derive(Debug, thiserror::Error)]
+#[error("{origin}:{line}: {problem}")]
+pub struct ParseError {
+    /// The file (or other name) the text came from.
+    pub origin: String,
+    /// The line, counting from 1.
+    pub line: usize,
+    /// What is wrong there.
+    pub problem: String,
+}
+
+/// A checkpoint file that could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The file could not be read.
+    #[error("{}: cannot read: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// What the system said.
+        source: std::io::Error,
+    },
+    /// The text is not a checkpoint.
+    #[error(transparent)]
+    Parse(#[from] ParseError),
+}
+
+/// A digest of a scene's values (FNV-1a over every coordinate's bits and
+/// colour code), which tells whether a checkpoint belongs to it.
+pub fn scene_digest(scene: &Scene) -> u64 {
+    let mut hash = Fnv::default();
+    hash.add(scene.lines.len() as u64);
+    for l in &scene.lines {
+        for v in [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y] {
+            hash.add(v.to_bits());
+        }
+        hash.add(u64::from(l.color.code()));
+    }
+    hash.0
+}
+
+/// The 64-bit FNV-1a hash, fed eight bytes at a time.
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn add(&mut self, word: u64) {
+        for byte in word.to_le_bytes() {
+            self.0 = (self.0 ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    }
+}
+
+/// Appends `x` as the shortest decimal that reads back to the same bits,
+/// spelled as the reference spells it: an exponent has a sign and at
+/// least two digits (`1e-05`, `1e+16`).
+pub fn push_decimal(out: &mut String, x: f64) {
+    let start = out.len();
+    write!(out, "{x:?}").expect("writing to a String");
+    let Some(e) = out[start..].find('e') else {
+        return;
+    };
+    let exponent = out[start + e + 1..].to_string();
+    let (sign, digits) = match exponent.strip_prefix('-') {
+        Some(digits) => ('-', digits.to_string()),
+        None => ('+', exponent),
+    };
+    out.truncate(start + e + 1);
+    write!(out, "{sign}{digits:0>2}").expect("writing to a String");
+}
+
+/// Appends the state row of line `id`: `id p1.x p1.y p2.x p2.y v.x v.y`.
+pub fn push_row(out: &mut String, id: usize, line: &Line) {
+    write!(out, "{id}").expect("writing to a String");
+    for v in [
+        line.p1.x, line.p1.y, line.p2.x, line.p2.y, line.v.x, line.v.y,
+    ] {
+        out.push(' ');
+        push_decimal(out, v);
+    }
+}
+
+/// Writes the state of `lines` (the reference's state format) to `out`,
+/// a block of rows at a time.
+pub fn write_state(out: &mut dyn std::io::Write, lines: &[Line]) -> std::io::Result<()> {
+    write_rows(out, lines, None)
+}
+
+/// Writes the checkpoint of a run of the scene with digest `scene_digest`
+/// after `steps` steps, holding `lines` and `colors`, to `out`.
+pub fn write_checkpoint(
+    out: &mut dyn std::io::Write,
+    scene_digest: u64,
+    steps: u64,
+    counters: Counters,
+    lines: &[Line],
+    colors: &[Color],
+) -> std::io::Result<()> {
+    writeln!(out, "{MAGIC}")?;
+    writeln!(
+        out,
+        "# scene: {} lines, digest {scene_digest:016x}",
+        lines.len()
+    )?;
+    writeln!(out, "# steps: {steps}")?;
+    writeln!(out, "# line-wall collisions: {}", counters.wall)?;
+    writeln!(out, "# line-line collisions: {}", counters.line)?;
+    write_rows(out, lines, Some(colors))
+}
+
+fn write_rows(
+    out: &mut dyn std::io::Write,
+    lines: &[Line],
+    colors: Option<&[Color]>,
+) -> std::io::Result<()> {
+    let mut text = String::with_capacity(1 << 16);
+    for (id, line) in lines.iter().enumerate() {
+        push_row(&mut text, id, line);
+        if let Some(colors) = colors {
+            write!(text, " {}", colors[id].code()).expect("writing to a String");
+        }
+        text.push('\n');
+        if text.len() >= 1 << 16 {
+            out.write_all(text.as_bytes())?;
+            text.clear();
+        }
+    }
+    out.write_all(text.as_bytes())
+}
+
+impl Checkpoint {
+    /// The checkpoint as text ([`Checkpoint::parse`] reads it back).
+    pub fn to_text(&self) -> String {
+        let mut out = Vec::new();
+        write_checkpoint(
+            &mut out,
+            self.scene_digest,
+            self.steps,
+            self.counters,
+            &self.lines,
+            &self.colors,
+        )
+        .expect("writing to memory");
+        String::from_utf8(out).expect("checkpoints are ASCII")
+    }
+
+    /// Reads a checkpoint file.
+    pub fn load(path: &Path) -> Result<Checkpoint, LoadError> {
+        let text = std::fs::read(path).map_err(|source| LoadError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Ok(Self::parse(&text, &path.display().to_string())?)
+    }
+
+    /// Parses a checkpoint text; `origin` names it in errors.
+    pub fn parse(text: &[u8], origin: &str) -> Result<Checkpoint, ParseError> {
+        let mut rows = text.split(|&b| b == b'\n').enumerate().map(|(k, row)| {
+            let row = row.strip_suffix(b"\r").unwrap_or(row);
+            (k + 1, row)
+        });
+        let fail = |line: usize, problem: String| ParseError {
+            origin: origin.to_string(),
+            line,
+            problem,
+        };
+        let mut header = |what: &str| -> Result<(usize, String), ParseError> {
+            match rows.next() {
+                Some((line, row)) => match std::str::from_utf8(row) {
+                    Ok(row) => Ok((line, row.to_string())),
+                    Err(_) => Err(fail(
+                        line,
+                        format!("expected {what}, found bytes that are not text"),
+                    )),
+                },
+                None => Err(fail(1, format!("the file ends before {what}"))),
+            }
+        };
+        let (line, magic) = header("the checkpoint header")?;
+        if magic != MAGIC {
+            return Err(fail(
+                line,
+                format!(
+                    "not a screensaver checkpoint: expected `{MAGIC}`, found `{}`",
+                    show(&magic)
+                ),
+            ));
+        }
+        let (line, scene) = header("the scene line")?;
+        let (count, scene_digest) = parse_scene_line(&scene).ok_or_else(|| {
+            fail(
+                line,
+                format!(
+                    "expected `# scene: N lines, digest HEX`, found `{}`",
+                    show(&scene)
+                ),
+            )
+        })?;
+        let mut number = |key: &str| -> Result<u64, ParseError> {
+            let (line, row) = header(&format!("`# {key}: N`"))?;
+            row.strip_prefix(&format!("# {key}: "))
+                .and_then(|n| n.parse::<u64>().ok())
+                .ok_or_else(|| {
+                    fail(
+                        line,
+                        format!("expected `# {key}: N`, found `{}`", show(&row)),
+                    )
+                })
+        };
+        let steps = number("steps")?;
+        let wall = number("line-wall collisions")?;
+        let line_count = number("line-line collisions")?;
+        let counters = Counters {
+            wall,
+            line: line_count,
+        };
+        // Never trust the declared count for the allocation: a row takes
+        // at least 16 bytes.
+        let capacity = count.min(text.len() / 16 + 1);
+        let mut lines = Vec::with_capacity(capacity);
+        let mut colors = Vec::with_capacity(capacity);
+        for (line, row) in rows.by_ref() {
+            if row.is_empty() {
+                // Only the end of the file may follow a blank line.
+                if let Some((later, _)) = rows.find(|(_, r)| !r.is_empty()) {
+                    return Err(fail(later, "text after a blank line".to_string()));
+                }
+                break;
+            }
+            let id = lines.len();
+            if id == count {
+                return Err(fail(
+                    line,
+                    format!(
+                        "the checkpoint declares {} but has more rows",
+                        plural(count, "line")
+                    ),
+                ));
+            }
+            let (l, color) = parse_row(row, id).map_err(|problem| fail(line, problem))?;
+            lines.push(l);
+            colors.push(color);
+        }
+        if lines.len() < count {
+            return Err(fail(
+                5 + lines.len() + 1,
+                format!(
+                    "the checkpoint declares {} but ends after {}",
+                    plural(count, "line"),
+                    lines.len()
+                ),
+            ));
+        }
+        Ok(Checkpoint {
+            scene_digest,
+            steps,
+            counters,
+            lines,
+            colors,
+        })
+    }
+}
+
+/// `n` things, in the singular for one.
+pub(crate) fn plural(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
+/// A text for an error message: at most 40 characters, control characters
+/// escaped.
+fn show(text: &str) -> String {
+    let cut: String = text.chars().take(40).collect();
+    let mut shown: String = cut.chars().flat_map(char::escape_debug).collect();
+    if text.chars().count() > 40 {
+        shown.push_str("...");
+    }
+    shown
+}
+
+/// `# scene: N lines, digest HEX` (or `1 line`).
+fn parse_scene_line(row: &str) -> Option<(usize, u64)> {
+    let rest = row.strip_prefix("# scene: ")?;
+    let (count, rest) = rest.split_once(' ')?;
+    let count: usize = count.parse().ok()?;
+    let rest = rest
+        .strip_prefix(if count == 1 { "line" } else { "lines" })?
+        .strip_prefix(", digest ")?;
+    if rest.len() != 16 {
+        return None;
+    }
+    Some((count, u64::from_str_radix(rest, 16).ok()?))
+}
+
+/// One row: `id p1.x p1.y p2.x p2.y v.x v.y color`, for line `id`.
+fn parse_row(row: &[u8], id: usize) -> Result<(Line, Color), String> {
+    let row = std::str::from_utf8(row).map_err(|_| {
+        format!(
+            "row {id}: bytes that are not text: `{}`",
+            show(&String::from_utf8_lossy(row))
+        )
+    })?;
+    let fields: Vec<&str> = row.split_ascii_whitespace().collect();
+    if fields.len() != 8 {
+        return Err(format!(
+            "row {id}: expected 8 fields (id, six values, colour), found {}: `{}`",
+            fields.len(),
+            show(row)
+        ));
+    }
+    if fields[0].parse::<usize>().ok() != Some(id) {
+        return Err(format!(
+            "expected the row of line {id}, found id `{}`",
+            show(fields[0])
+        ));
+    }
+    let mut v = [0.0; 6];
+    for (k, field) in fields[1..7].iter().enumerate() {
+        v[k] = field
+            .parse::<f64>()
+            .map_err(|_| format!("row {id}: `{}` is not a number", show(field)))?;
+    }
+    let color = fields[7]
+        .parse::<i64>()
+        .ok()
+        .and_then(Color::from_code)
+        .ok_or_else(|| format!("row {id}: colour `{}` is not 0 or 1", show(fields[7])))?;
+    let line = Line {
+        p1: Vec2::new(v[0], v[1]),
+        p2: Vec2::new(v[2], v[3]),
+        v: Vec2::new(v[4], v[5]),
+    };
+    Ok((line, color))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample() -> Checkpoint {
+        let l = |x: f64| Line {
+            p1: Vec2::new(x, 0.6),
+            p2: Vec2::new(0.7, f64::NAN),
+            v: Vec2::new(-1e-5, 3e16),
+        };
+        Checkpoint {
+            scene_digest: 0x0123_4567_89ab_cdef,
+            steps: 1200,
+            counters: Counters {
+                wall: 17,
+                line: 240,
+            },
+            lines: vec![l(0.55), l(-0.0)],
+            colors: vec![Color::Gray, Color::Red],
+        }
+    }
+
+    #[test]
+    fn decimals_are_spelled_as_the_reference_spells_them() {
+        let spell = |x: f64| {
+            let mut s = String::new();
+            push_decimal(&mut s, x);
+            s
+        };
+        assert_eq!(spell(1e-5), "1e-05");
+        assert_eq!(spell(-0.00011289491525423729), "-0.00011289491525423729");
+        assert_eq!(spell(1.5e-20), "1.5e-20");
+        assert_eq!(spell(1e16), "1e+16");
+        assert_eq!(spell(2.5e300), "2.5e+300");
+        assert_eq!(spell(0.6264977220338983), "0.6264977220338983");
+        assert_eq!(spell(f64::NAN), "NaN");
+        assert_eq!(spell(-0.0), "-0.0");
+        for x in [1e-5, 1.5e-20, 1e16, 2.5e300, 5e-324, f64::MAX] {
+            assert_eq!(spell(x).parse::<f64>().unwrap().to_bits(), x.to_bits());
+        }
+    }
+
+    #[test]
+    fn a_checkpoint_reads_back_to_the_same_bits() {
+        let c = sample();
+        let text = c.to_text();
+        assert!(text.starts_with("# screensaver checkpoint v1\n# scene: 2 lines, digest 0123456789abcdef\n# steps: 1200\n"));
+        let back = Checkpoint::parse(text.as_bytes(), "c").unwrap();
+        assert_eq!(back.to_text(), text);
+        assert_eq!(back.lines[1].p1.x.to_bits(), (-0.0f64).to_bits());
+        assert!(back.lines[0].p2.y.is_nan());
+        assert_eq!(
+            (back.steps, back.counters, back.colors.clone()),
+            (c.steps, c.counters, c.colors.clone())
+        );
+    }
+
+    #[test]
+    fn damage_is_reported_with_its_line() {
+        let text = sample().to_text();
+        let cases: Vec<(String, &str)> = vec![
+            (String::new(), "c:1: not a screensaver checkpoint"),
+            (
+                text.replace("v1", "v2"),
+                "c:1: not a screensaver checkpoint",
+            ),
+            (
+                text.replace("# steps: 1200", "# steps: many"),
+                "c:3: expected `# steps: N`",
+            ),
+            (
+                text.replace("digest 0123", "digest 0z23"),
+                "c:2: expected `# scene",
+            ),
+            (
+                text.replace(" 0.55 ", " 0.5.5 "),
+                "c:6: row 0: `0.5.5` is not a number",
+            ),
+            (
+                text.replace("NaN -1e-05 3e+16 0", "NaN -1e-05 3e+16 7"),
+                "c:7: row 1: colour `7` is not 0 or 1",
+            ),
+            (
+                text.replace("\n1 ", "\n2 "),
+                "c:7: expected the row of line 1, found id `2`",
+            ),
+            (
+                text.replace("2 lines", "3 lines"),
+                "c:8: the checkpoint declares 3 lines but ends after 2",
+            ),
+            (
+                text.replace("2 lines", "1 line"),
+                "c:7: the checkpoint declares 1 line but has more rows",
+            ),
+            (format!("{text}\n5"), "c:9: text after a blank line"),
+            (
+                text.replace("\n1 ", "\n1 \u{1b}"),
+                "c:7: row 1: `\\u{1b}-0.0` is not a number",
+            ),
+        ];
+        for (bad, expected) in cases {
+            let err = Checkpoint::parse(bad.as_bytes(), "c")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.starts_with(expected),
+                "{err:?} should start with {expected:?}"
+            );
+        }
+        let err = Checkpoint::parse(b"\xff\xfe", "c").unwrap_err().to_string();
+        assert!(
+            err.starts_with("c:1: expected the checkpoint header"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn the_digest_tells_scenes_apart() {
+        let a = crate::generate::default_scene();
+        let mut b = a.clone();
+        b.lines[5].v.x = f64::from_bits(b.lines[5].v.x.to_bits() ^ 1);
+        assert_eq!(scene_digest(&a), scene_digest(&a.clone()));
+        assert_ne!(scene_digest(&a), scene_digest(&b));
+    }
+}
