@@ -289,7 +289,7 @@ impl Checkpoint {
                     line,
                     format!(
                         "the checkpoint declares {} but has more rows",
-                        plural(count, "line")
+                        plural(count as u64, "line")
                     ),
                 ));
             }
@@ -302,7 +302,7 @@ impl Checkpoint {
                 5 + lines.len() + 1,
                 format!(
                     "the checkpoint declares {} but ends after {}",
-                    plural(count, "line"),
+                    plural(count as u64, "line"),
                     lines.len()
                 ),
             ));
@@ -318,7 +318,7 @@ impl Checkpoint {
 }
 
 /// `n` things, in the singular for one.
-pub(crate) fn plural(n: usize, thing: &str) -> String {
+pub(crate) fn plural(n: u64, thing: &str) -> String {
     if n == 1 {
         format!("1 {thing}")
     } else {

@@ -15,8 +15,9 @@
 //! [`scene`] (`.in` files), [`narrow`] (the exact pair test), [`response`]
 //! (new velocities), [`world`] (one step), [`detect`] (interchangeable broad
 //! phases), [`render`] (pictures and the window), [`generate`] (seeded
-//! scenes), [`checkpoint`] (states and resumable checkpoints) and
-//! [`output`] (files written whole or not at all).
+//! scenes), [`checkpoint`] (states and resumable checkpoints), [`output`]
+//! (files written whole or not at all) and [`stop`] (clean stops on
+//! signals).
 
 pub mod broad_phase;
 pub mod checkpoint;
@@ -29,6 +30,7 @@ pub mod output;
 pub mod render;
 pub mod response;
 pub mod scene;
+pub mod stop;
 pub mod world;
 
 #[cfg(test)]

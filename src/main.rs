@@ -3,13 +3,16 @@
 
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use screensaver::checkpoint::{self, Checkpoint};
 use screensaver::detect::{Brute, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{default_scene, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
+use screensaver::output;
 use screensaver::render::{window, Recorder, Size, Target};
+use screensaver::stop::Signal;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
 use std::ops::ControlFlow;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -32,7 +35,7 @@ struct Cli {
     command: Option<Command>,
 
     /// Number of frames to run (the simulation runs FRAMES + 1 steps).
-    #[arg(required = true)]
+    #[arg(required = true, value_parser = parse_frames)]
     frames: Option<u64>,
 
     /// Scene file to run; without it, a built-in scene of 1000 lines.
@@ -45,7 +48,7 @@ struct Cli {
     detector: DetectorKind,
 
     /// Quadtree: most lines a leaf holds before it splits.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_LEAF_SIZE, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_LEAF_SIZE, value_parser = at_least_one)]
     leaf_size: usize,
 
     /// Quadtree: deepest level a node may split at.
@@ -60,12 +63,12 @@ struct Cli {
 
     /// Threads to run on (default: all cores). Results are the same for any
     /// number; 1 runs everything on one thread with no pool.
-    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024))]
+    #[arg(long, value_name = "N", value_parser = thread_count)]
     threads: Option<usize>,
 
     /// The smallest piece of work handed to a thread, in lines (or events,
     /// when resolving).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRAIN, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..))]
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRAIN, value_parser = at_least_one)]
     grain: usize,
 
     /// Run the all-pairs detector beside the chosen one at every step and
@@ -102,16 +105,32 @@ struct Cli {
 
     /// With --render: a frame every K steps (for .png, a numbered sequence
     /// FILE-000000.png, FILE-000010.png, ...).
-    #[arg(long, value_name = "K", requires = "render", value_parser = clap::value_parser!(u64).range(1..))]
+    #[arg(long, value_name = "K", requires = "render", value_parser = at_least_one_u64)]
     render_every: Option<u64>,
 
     /// With --render: picture size.
     #[arg(long, value_name = "WxH", default_value = "1180x800", value_parser = parse::<Size>)]
     size: Size,
 
-    /// Write the final state to FILE, in the reference checkpoint format.
+    /// Write the final state to FILE, in the reference's state format.
     #[arg(long, value_name = "FILE")]
     state_out: Option<PathBuf>,
+
+    /// Write a checkpoint of the run to FILE (every K steps with
+    /// --checkpoint-every, and when the run ends or is stopped), from which
+    /// --resume continues it.
+    #[arg(long, value_name = "FILE")]
+    checkpoint: Option<PathBuf>,
+
+    /// With --checkpoint: write it every K steps as well.
+    #[arg(long, value_name = "K", requires = "checkpoint", value_parser = at_least_one_u64)]
+    checkpoint_every: Option<u64>,
+
+    /// Continue the run recorded in the checkpoint FILE (written by
+    /// --checkpoint from the same INPUT) up to FRAMES, counted from the
+    /// start: the run ends exactly where the uninterrupted run would.
+    #[arg(long, value_name = "FILE")]
+    resume: Option<PathBuf>,
 }
 
 #[derive(Debug, Subcommand)]
@@ -145,15 +164,77 @@ fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
     s.parse()
 }
 
+/// A frame count: a whole number, written out.
+fn parse_frames(s: &str) -> Result<u64, String> {
+    s.parse::<u64>().map_err(|_| {
+        let hint = match s.parse::<f64>() {
+            Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < 1e19 => {
+                format!("; write it out, as {}", x as u64)
+            }
+            _ => String::new(),
+        };
+        format!("`{s}` is not a whole number of frames{hint}")
+    })
+}
+
+/// A count of one or more.
+fn at_least_one_u64(s: &str) -> Result<u64, String> {
+    match s.parse::<u64>() {
+        Ok(0) => Err("must be at least 1".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!("`{s}` is not a whole number")),
+    }
+}
+
+/// A count of one or more, as a size.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    let n = at_least_one_u64(s)?;
+    usize::try_from(n).map_err(|_| format!("{n} is too large"))
+}
+
+/// A thread count, 1 to 1024.
+fn thread_count(s: &str) -> Result<usize, String> {
+    match at_least_one(s)? {
+        n if n > 1024 => Err(format!("{n} is more than 1024 threads")),
+        n => Ok(n),
+    }
+}
+
+/// Why a command did not finish.
+enum Failure {
+    /// Something went wrong: the message says what.
+    Error(String),
+    /// Standard output was closed (`| head`): a normal end.
+    ClosedPipe,
+}
+
+impl From<String> for Failure {
+    fn from(message: String) -> Self {
+        Failure::Error(message)
+    }
+}
+
+/// How a run ended.
+enum Ended {
+    /// Every step ran.
+    Finished,
+    /// A signal stopped it.
+    Stopped(Signal),
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = screensaver::stop::install() {
+        eprintln!("screensaver: warning: cannot catch SIGINT and SIGTERM: {e}");
+    }
     let outcome = match &cli.command {
-        Some(Command::Gen(args)) => gen(args),
+        Some(Command::Gen(args)) => gen(args).map(|()| Ended::Finished),
         None => run(&cli),
     };
     match outcome {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(message) => {
+        Ok(Ended::Finished) | Err(Failure::ClosedPipe) => ExitCode::SUCCESS,
+        Ok(Ended::Stopped(signal)) => ExitCode::from(signal.exit_status()),
+        Err(Failure::Error(message)) => {
             eprintln!("screensaver: error: {message}");
             ExitCode::FAILURE
         }
@@ -162,21 +243,28 @@ fn main() -> ExitCode {
 
 /// `screensaver gen`: streams the scene out, so that even huge scenes are
 /// never held in memory.
-fn gen(args: &GenArgs) -> Result<(), String> {
+fn gen(args: &GenArgs) -> Result<(), Failure> {
     let lines = generate_iter(args.kind, args.lines, args.seed);
     match &args.output {
-        Some(path) => {
-            let mut file = std::fs::File::create(path)
-                .map_err(|e| format!("{}: cannot create: {e}", path.display()))?;
-            screensaver::scene::write_scene(&mut file, args.lines, lines)
-                .map_err(|e| format!("{}: cannot write: {e}", path.display()))
-        }
+        Some(path) => output::write_with(path, |mut out| {
+            screensaver::scene::write_scene(&mut out, args.lines, lines)
+        })
+        .map_err(|e| Failure::Error(e.to_string())),
         None => screensaver::scene::write_scene(&mut std::io::stdout().lock(), args.lines, lines)
-            .map_err(|e| format!("cannot write the scene: {e}")),
+            .map_err(|e| stdout_failure(e, "the scene")),
     }
 }
 
-fn run(cli: &Cli) -> Result<(), String> {
+/// A failed write to standard output: a closed pipe ends quietly.
+fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        Failure::ClosedPipe
+    } else {
+        Failure::Error(format!("cannot write {what}: {e}"))
+    }
+}
+
+fn run(cli: &Cli) -> Result<Ended, Failure> {
     let frames = cli
         .frames
         .expect("clap requires FRAMES without a subcommand");
@@ -193,6 +281,7 @@ fn run(cli: &Cli) -> Result<(), String> {
             format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})"),
         ),
     };
+    let digest = checkpoint::scene_digest(&scene);
     let config = DetectorConfig {
         leaf_size: cli.leaf_size,
         max_depth: cli.max_depth,
@@ -202,12 +291,20 @@ fn run(cli: &Cli) -> Result<(), String> {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         grain: cli.grain,
     };
-    let mut world = World::with_config(&scene, cli.detector, &config)
-        .map_err(|e| format!("cannot start {} threads: {e}", config.threads))?;
+    let steps = frames.saturating_add(1);
+    let threads_error = |e| format!("cannot start {} threads: {e}", config.threads);
+    let mut world = match &cli.resume {
+        Some(path) => {
+            let saved = Checkpoint::load(path).map_err(|e| e.to_string())?;
+            check_resumable(&saved, path, &scene, digest, steps)?;
+            World::resume(saved, cli.detector, &config).map_err(threads_error)?
+        }
+        None => World::with_config(&scene, cli.detector, &config).map_err(threads_error)?,
+    };
     // The world holds its own copy; a huge scene's text form can go.
     drop(scene);
     world.set_timing(cli.stats);
-    let steps = frames.saturating_add(1);
+    check_outputs(cli)?;
 
     let recorder = match &cli.render {
         Some(path) => {
@@ -227,9 +324,16 @@ fn run(cli: &Cli) -> Result<(), String> {
         write_out(&mut stdout, &header)?;
     }
 
+    let saver = cli.checkpoint.as_ref().map(|path| Saver {
+        path,
+        every: cli.checkpoint_every,
+        digest,
+    });
+    let first_step = world.steps();
+    let to_run = steps.saturating_sub(first_step);
     let elapsed = if cli.graphics {
         let options = window::Options {
-            steps,
+            steps: to_run,
             fps: cli.fps,
             hold: cli.hold,
         };
@@ -237,19 +341,38 @@ fn run(cli: &Cli) -> Result<(), String> {
         world = outcome.world;
         outcome.elapsed
     } else {
-        simulate(&mut world, steps, cli.verify, recorder)?
+        simulate(&mut world, to_run, cli.verify, recorder, saver.as_ref())?
     };
+    let stopped = screensaver::stop::requested();
     let counts = world.counters();
 
+    if let Some(saver) = &saver {
+        saver.save(&world)?;
+    }
     if let Some(path) = &cli.state_out {
-        std::fs::write(path, world.state_text())
-            .map_err(|e| format!("{}: cannot write the state: {e}", path.display()))?;
+        output::write_with(path, |out| world.write_state(out)).map_err(|e| e.to_string())?;
+    }
+    if let Some(signal) = stopped {
+        eprintln!(
+            "screensaver: stopped by {} after step {} of {}",
+            signal.name(),
+            world.steps(),
+            steps
+        );
+    }
+    if cli.verify && world.mismatch().is_none() {
+        eprintln!(
+            "screensaver: verified: {} steps, every event as the all-pairs detector found it",
+            world.steps() - first_step
+        );
     }
 
     let report = if cli.json {
         let mut value = serde_json::json!({
             "frames": frames,
             "steps": steps,
+            "steps_run": world.steps(),
+            "interrupted": stopped.is_some(),
             "input": cli.input.as_ref().map(|p| p.display().to_string()),
             "lines": world.lines().len(),
             "detector": cli.detector.name(),
@@ -258,6 +381,9 @@ fn run(cli: &Cli) -> Result<(), String> {
             "line_wall_collisions": counts.wall,
             "line_line_collisions": counts.line,
         });
+        if cli.verify {
+            value["verified_steps"] = serde_json::json!(world.steps() - first_step);
+        }
         if cli.stats {
             value["stats"] = stats_json(&world, &config, cli.detector);
         }
@@ -274,7 +400,74 @@ fn run(cli: &Cli) -> Result<(), String> {
         }
         text
     };
-    write_out(&mut stdout, &report)
+    write_out(&mut stdout, &report)?;
+    Ok(stopped.map_or(Ended::Finished, Ended::Stopped))
+}
+
+/// Refuses a checkpoint that does not continue this run: another scene, or
+/// a step past the run's end.
+fn check_resumable(
+    saved: &Checkpoint,
+    path: &Path,
+    scene: &Scene,
+    digest: u64,
+    steps: u64,
+) -> Result<(), String> {
+    let name = path.display();
+    if saved.lines.len() != scene.lines.len() || saved.scene_digest != digest {
+        return Err(format!(
+            "{name}:2: the checkpoint is of another scene ({} lines, digest {:016x}; this scene has {} lines, digest {digest:016x})",
+            saved.lines.len(),
+            saved.scene_digest,
+            scene.lines.len()
+        ));
+    }
+    if saved.steps > steps {
+        return Err(format!(
+            "{name}:3: the checkpoint is at step {}, past this run's {steps} steps",
+            saved.steps
+        ));
+    }
+    Ok(())
+}
+
+/// Checks, before any step runs, that every file the run will write can be
+/// written, so that a long run never ends in an error it could have
+/// reported at once.
+fn check_outputs(cli: &Cli) -> Result<(), String> {
+    let mut paths: Vec<PathBuf> = Vec::new();
+    paths.extend(cli.state_out.iter().cloned());
+    paths.extend(cli.checkpoint.iter().cloned());
+    if let Some(path) = &cli.render {
+        Target::for_path(path, cli.render_every.is_some()).map_err(|e| e.to_string())?;
+        paths.push(path.clone());
+    }
+    for path in paths {
+        output::check_writable(&path).map_err(|e| e.to_string())?;
+    }
+    Ok(())
+}
+
+/// Writes checkpoints of a run.
+struct Saver<'a> {
+    path: &'a Path,
+    /// Steps between two checkpoints (besides the last).
+    every: Option<u64>,
+    /// The scene's digest.
+    digest: u64,
+}
+
+impl Saver<'_> {
+    /// Whether a checkpoint is due after this step.
+    fn due(&self, world: &World) -> bool {
+        self.every.is_some_and(|k| world.steps() % k == 0)
+    }
+
+    /// Writes the world's checkpoint, whole or not at all.
+    fn save(&self, world: &World) -> Result<(), String> {
+        output::write_with(self.path, |out| world.write_checkpoint(out, self.digest))
+            .map_err(|e| e.to_string())
+    }
 }
 
 fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> serde_json::Value {
@@ -373,6 +566,7 @@ fn simulate(
     steps: u64,
     verify: bool,
     mut recorder: Option<Recorder>,
+    saver: Option<&Saver>,
 ) -> Result<Duration, String> {
     if verify {
         world.set_oracle(Box::new(Brute::default()));
@@ -381,6 +575,7 @@ fn simulate(
         recorder.start(world).map_err(|e| e.to_string())?;
     }
     let mut render_error = None;
+    let mut save_error = None;
     let show_progress = std::io::stderr().is_terminal();
     let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
@@ -395,6 +590,15 @@ fn simulate(
                 render_error = Some(e.to_string());
                 return ControlFlow::Break(());
             }
+        }
+        if let Some(saver) = saver.filter(|s| s.due(world)) {
+            if let Err(e) = saver.save(world) {
+                save_error = Some(e);
+                return ControlFlow::Break(());
+            }
+        }
+        if screensaver::stop::requested().is_some() {
+            return ControlFlow::Break(());
         }
         if show_progress {
             match &bar {
@@ -415,7 +619,7 @@ fn simulate(
             bar.finish_and_clear();
         }
     }
-    if let Some(e) = render_error {
+    if let Some(e) = render_error.or(save_error) {
         return Err(e);
     }
     if let Some(mismatch) = world.mismatch() {
@@ -437,8 +641,8 @@ fn progress_bar(steps: u64, done: u64) -> ProgressBar {
     bar
 }
 
-fn write_out(out: &mut impl Write, text: &str) -> Result<(), String> {
+fn write_out(out: &mut impl Write, text: &str) -> Result<(), Failure> {
     out.write_all(text.as_bytes())
         .and_then(|()| out.flush())
-        .map_err(|e| format!("cannot write the results: {e}"))
+        .map_err(|e| stdout_failure(e, "the results"))
 }

@@ -16,6 +16,13 @@ pub struct OutputError {
     pub source: std::io::Error,
 }
 
+impl OutputError {
+    /// Why the file could not be written.
+    pub fn reason(&self) -> String {
+        describe(&self.path, &self.source)
+    }
+}
+
 /// The system's reason, with the folder named when it is missing.
 fn describe(path: &Path, e: &std::io::Error) -> String {
     if e.kind() == std::io::ErrorKind::NotFound {
@@ -45,9 +52,16 @@ pub struct AtomicFile {
 impl AtomicFile {
     /// Starts writing the file that will be `path`.
     pub fn create(path: &Path) -> Result<AtomicFile, OutputError> {
-        let temp = tempfile::Builder::new()
-            .prefix(".screensaver-")
-            .suffix(".part")
+        let mut builder = tempfile::Builder::new();
+        builder.prefix(".screensaver-").suffix(".part");
+        // Temporary files are private by default; the final file is made
+        // as any new file is (read-write for all, less the umask).
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            builder.permissions(std::fs::Permissions::from_mode(0o666));
+        }
+        let temp = builder
             .tempfile_in(folder(path))
             .map_err(|source| OutputError {
                 path: path.to_path_buf(),

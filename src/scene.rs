@@ -50,7 +50,7 @@ pub enum ParseErrorKind {
         found: String,
     },
     /// The file ends before the declared number of rows.
-    #[error("the file declares {declared} lines but ends after {found}")]
+    #[error("the file declares {} but ends after {found}", crate::checkpoint::plural(*declared, "line"))]
     TooFewRows {
         /// The declared count.
         declared: u64,
@@ -58,7 +58,7 @@ pub enum ParseErrorKind {
         found: u64,
     },
     /// Something follows the last declared row.
-    #[error("the file declares {declared} lines but has more rows (or trailing text `{found}`)")]
+    #[error("the file declares {} but has more rows (or trailing text `{found}`)", crate::checkpoint::plural(*declared, "line"))]
     TooManyRows {
         /// The declared count.
         declared: u64,
@@ -145,13 +145,18 @@ impl fmt::Display for Token<'_> {
 /// A token's bytes for an error message, shortened if long.
 fn show(word: &[u8]) -> String {
     const MAX: usize = 40;
-    let text = String::from_utf8_lossy(word);
-    if text.chars().count() > MAX {
-        let cut: String = text.chars().take(MAX).collect();
-        format!("{cut}...")
-    } else {
-        text.into_owned()
+    // Bytes that are not printable ASCII are shown as `\xNN`, so that a
+    // binary file's bytes never reach the terminal as they are.
+    let mut shown: String = word
+        .iter()
+        .take(MAX)
+        .flat_map(|&b| std::ascii::escape_default(b))
+        .map(char::from)
+        .collect();
+    if word.len() > MAX {
+        shown.push_str("...");
     }
+    shown
 }
 
 struct Lexer<'a> {
@@ -508,7 +513,7 @@ mod tests {
     fn too_many_rows() {
         let (line, msg) = err("1\n(1, 2), (3, 4), 0, 0, 0\n(5, 6), (7, 8), 0, 0, 0\n");
         assert_eq!(line, 3);
-        assert!(msg.contains("declares 1 lines but has more rows"), "{msg}");
+        assert!(msg.contains("declares 1 line but has more rows"), "{msg}");
         assert_eq!(err("1\n(1, 2), (3, 4), 0, 0, 0 junk\n").0, 2);
     }
 

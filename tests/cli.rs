@@ -121,7 +121,7 @@ fn bad_inputs_name_the_file_line_and_problem() {
     );
     assert_input_error(
         "1\n(1, 2), (3, 4), 0, 0, 0\n(1, 2), (3, 4), 0, 0, 0\n",
-        "3: the file declares 1 lines but has more rows",
+        "3: the file declares 1 line but has more rows",
     );
     assert_input_error(
         "1\n(1, 2), (3, 4), 0, 0\n",

@@ -12,7 +12,6 @@ pub mod window;
 use crate::line::{Color, Line, BOX_MAX, BOX_MIN, WINDOW_HEIGHT, WINDOW_WIDTH};
 use crate::World;
 use std::fmt::Write as _;
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 use tiny_skia::{LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
@@ -190,7 +189,16 @@ fn write_error(path: &Path, e: impl std::fmt::Display) -> RenderError {
 
 /// Writes a frame as a PNG.
 pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<(), RenderError> {
-    pixmap.save_png(path).map_err(|e| write_error(path, e))
+    let bytes = pixmap.encode_png().map_err(|e| write_error(path, e))?;
+    crate::output::write_file(path, &bytes).map_err(written)
+}
+
+/// A write that failed, as a render error (the message names the file).
+fn written(e: crate::output::OutputError) -> RenderError {
+    RenderError::Write {
+        path: e.path.clone(),
+        message: e.reason(),
+    }
 }
 
 /// The name of frame `index` of a PNG sequence named after `path`.
@@ -242,7 +250,7 @@ pub fn svg(world: &World, size: Size) -> String {
 
 /// Writes the world as an SVG file.
 pub fn save_svg(world: &World, size: Size, path: &Path) -> Result<(), RenderError> {
-    std::fs::write(path, svg(world, size)).map_err(|e| write_error(path, e))
+    crate::output::write_file(path, svg(world, size).as_bytes()).map_err(written)
 }
 
 /// The GIF palette: black, then eight shades each of the two line colours
@@ -259,7 +267,7 @@ pub fn gif_palette() -> Vec<[u8; 3]> {
 
 /// An animated GIF being written frame by frame.
 pub struct GifWriter {
-    encoder: gif::Encoder<std::io::BufWriter<std::fs::File>>,
+    encoder: gif::Encoder<std::io::BufWriter<crate::output::AtomicFile>>,
     palette: Vec<[u8; 3]>,
     path: PathBuf,
     /// Hundredths of a second each frame shows for.
@@ -275,7 +283,7 @@ impl GifWriter {
             u16::try_from(size.width).map_err(too_big)?,
             u16::try_from(size.height).map_err(too_big)?,
         );
-        let file = std::fs::File::create(path).map_err(|e| write_error(path, e))?;
+        let file = crate::output::AtomicFile::create(path).map_err(written)?;
         let palette = gif_palette();
         let flat: Vec<u8> = palette.iter().flatten().copied().collect();
         let mut encoder = gif::Encoder::new(std::io::BufWriter::new(file), w, h, &flat)
@@ -314,14 +322,17 @@ impl GifWriter {
             .map_err(|e| write_error(&self.path, e))
     }
 
-    /// Finishes the file.
+    /// Finishes the file, which takes its name only now.
     pub fn finish(self) -> Result<(), RenderError> {
         let path = self.path.clone();
-        let mut out = self
+        let out = self
             .encoder
             .into_inner()
             .map_err(|e| write_error(&path, e))?;
-        out.flush().map_err(|e| write_error(&path, e))
+        let file = out
+            .into_inner()
+            .map_err(|e| write_error(&path, e.error()))?;
+        file.commit().map_err(written)
     }
 }
 

@@ -361,6 +361,10 @@ impl ApplicationHandler for App {
     }
 
     fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if crate::stop::requested().is_some() {
+            event_loop.exit();
+            return;
+        }
         let finished = self.shared.finished.load(Ordering::Acquire);
         if finished && !self.options.hold && self.shared.latest.lock().map_or(true, |l| l.is_none())
         {
