@@ -3,9 +3,10 @@
 //! (`tests/fuzz_corpus.rs`). Every function panics when a property fails,
 //! which is what libFuzzer reports as a crash.
 
+use screensaver::checkpoint::Checkpoint;
 use screensaver::detect::{Detector, TreeMode};
 use screensaver::line::{BOX_MAX, BOX_MIN};
-use screensaver::{Color, DetectorConfig, DetectorKind, Line, Scene, Vec2, World};
+use screensaver::{Color, Counters, DetectorConfig, DetectorKind, Line, Scene, Vec2, World};
 
 /// The origin every parse is given, so that error messages can be checked
 /// for it.
@@ -218,10 +219,7 @@ fn next_line(input: &mut Input, earlier: &[Line]) -> Line {
     // together.
     let v = match base {
         Some(a) if shape & 0x80 != 0 && shape % 8 == 5 => a.v,
-        _ => Vec2::new(
-            value(input, Field::Velocity),
-            value(input, Field::Velocity),
-        ),
+        _ => Vec2::new(value(input, Field::Velocity), value(input, Field::Velocity)),
     };
     Line { p1, p2, v }
 }
@@ -314,4 +312,44 @@ pub fn step(bytes: &[u8]) {
             assert_eq!(got, bits, "step {step}: {name} lines differ from brute");
         }
     }
+}
+
+/// Everything a checkpoint holds, values as bits, for comparisons that
+/// tell `-0` from `0` and NaNs apart by sign and payload.
+fn checkpoint_bits(c: &Checkpoint) -> (u64, u64, Counters, Vec<[u64; 6]>, Vec<Color>) {
+    (
+        c.scene_digest,
+        c.steps,
+        c.counters,
+        c.lines.iter().map(line_bits).collect(),
+        c.colors.clone(),
+    )
+}
+
+/// `Checkpoint::parse` on arbitrary bytes: never panics; a checkpoint it
+/// accepts has a colour per line, and its `to_text` reads back to the same
+/// bits and writes the same text again; an error names the origin and a
+/// line of the input.
+pub fn checkpoint_parser(bytes: &[u8]) {
+    let checkpoint = match Checkpoint::parse(bytes, ORIGIN) {
+        Ok(c) => c,
+        Err(e) => {
+            check_error_message(bytes, e.line, &e.to_string(), "checkpoint");
+            return;
+        }
+    };
+    assert_eq!(
+        checkpoint.lines.len(),
+        checkpoint.colors.len(),
+        "one colour per line"
+    );
+    let text = checkpoint.to_text();
+    let again = Checkpoint::parse(text.as_bytes(), ORIGIN)
+        .unwrap_or_else(|e| panic!("to_text does not parse back: {e}\n{text}"));
+    assert_eq!(text, again.to_text(), "to_text is not stable");
+    assert_eq!(
+        checkpoint_bits(&checkpoint),
+        checkpoint_bits(&again),
+        "the checkpoint changed through to_text:\n{text}"
+    );
 }

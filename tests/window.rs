@@ -163,3 +163,23 @@ fn the_window_closes_after_the_frames_and_prints_the_results() {
     assert!(stdout.contains("0 Line-Wall Collisions"), "{stdout}");
     assert!(stdout.contains("---- END RESULTS ----"), "{stdout}");
 }
+
+#[test]
+fn sigterm_closes_the_window_with_the_results() {
+    let Some(x) = Xvfb::start() else { return };
+    let scene = scene();
+    let child = screensaver(&x.display, &["-g", "--hold", "100000000"], &scene);
+    // Let the window open and the run get going.
+    std::thread::sleep(Duration::from_secs(2));
+    let killed = Command::new("kill")
+        .args(["-TERM", &child.id().to_string()])
+        .status()
+        .expect("running kill");
+    assert!(killed.success());
+    let out = child.wait_with_output().expect("waiting for screensaver");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(143), "{stderr}");
+    assert!(stdout.contains("---- END RESULTS ----"), "{stdout}");
+    assert!(stderr.contains("stopped by SIGTERM"), "{stderr}");
+}
