@@ -634,8 +634,15 @@ fn simulate(
 fn progress_bar(steps: u64, done: u64) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
     bar.set_style(
-        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {per_sec}  eta {eta}")
-            .expect("valid progress template"),
+        ProgressStyle::with_template("{bar:40} {pos}/{len} steps  {rate}  eta {eta}")
+            .expect("valid progress template")
+            // Whole steps per second, not indicatif's `96,921.1088/s`.
+            .with_key(
+                "rate",
+                |state: &indicatif::ProgressState, w: &mut dyn std::fmt::Write| {
+                    let _ = write!(w, "{:.0} steps/s", state.per_sec());
+                },
+            ),
     );
     bar.set_position(done);
     bar

@@ -1,7 +1,7 @@
 //! Conformance with the reference program: counters after every step and
 //! whole states at checkpoints, bit for bit, read from the reference data
 //! (`SCREENSAVER_REFERENCE`, default `../shared/reference`; skipped with a
-//! message when absent).
+//! message when absent, or failed if `SCREENSAVER_REQUIRE_REFERENCE=1`).
 //!
 //! The all-pairs detector is slow, so by default it runs as far as CI time
 //! allows; `cargo test --release --test conformance -- --ignored` runs it

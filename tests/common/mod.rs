@@ -15,6 +15,11 @@ pub fn reference_dir(test: &str) -> Option<PathBuf> {
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference"));
     if dir.join("inputs").is_dir() && dir.join("expected").is_dir() {
         Some(dir)
+    } else if std::env::var_os("SCREENSAVER_REQUIRE_REFERENCE").is_some_and(|v| v == "1") {
+        panic!(
+            "{test}: no reference data at {} and SCREENSAVER_REQUIRE_REFERENCE=1",
+            dir.display()
+        );
     } else {
         eprintln!(
             "{test}: skipped: no reference data at {} (set SCREENSAVER_REFERENCE)",
