@@ -27,9 +27,11 @@ pub mod geometry;
 pub mod line;
 pub mod narrow;
 pub mod output;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod response;
 pub mod scene;
+#[cfg(feature = "signals")]
 pub mod stop;
 pub mod world;
 

@@ -7,6 +7,7 @@
 //! "MIT"). Frames of any size keep the window's 1180:800
 //! shape, centred, with black bars if the size has another shape.
 
+#[cfg(feature = "window")]
 pub mod window;
 
 use crate::line::{Color, Line, BOX_MAX, BOX_MIN, WINDOW_HEIGHT, WINDOW_WIDTH};
