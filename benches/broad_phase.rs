@@ -6,7 +6,7 @@
 use broccoli::rect;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use screensaver::broad_phase::{for_each_overlapping_pair, Aabb};
-use screensaver::detect::swept::swept_box;
+use screensaver::detect::swept_box;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorKind, World};
 

@@ -13,7 +13,7 @@
 
 use broccoli::rect;
 use screensaver::broad_phase::{for_each_overlapping_pair, Aabb};
-use screensaver::detect::swept::swept_box;
+use screensaver::detect::swept_box;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorKind, World};
 use std::time::Instant;

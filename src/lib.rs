@@ -29,7 +29,7 @@ pub mod narrow;
 pub mod output;
 #[cfg(feature = "render")]
 pub mod render;
-pub mod response;
+pub(crate) mod response;
 pub mod scene;
 #[cfg(feature = "signals")]
 pub mod stop;

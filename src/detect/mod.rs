@@ -8,13 +8,14 @@
 
 mod brute;
 mod clock;
-pub mod quadtree;
+mod quadtree;
 pub(crate) mod sweep;
-pub mod swept;
+pub(crate) mod swept;
 
 pub use brute::Brute;
 pub use quadtree::{Quadtree, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 pub use sweep::Sweep;
+pub use swept::{swept_box, SweptBox};
 
 use crate::line::Line;
 use crate::narrow::Event;

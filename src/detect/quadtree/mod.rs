@@ -1080,41 +1080,6 @@ impl Quadtree {
     }
 }
 
-/// Counts the pairs of `boxes` whose hulls overlap (up to the tree's
-/// conservative quantisation): the broad phase alone, building a fresh tree
-/// and walking it, for benchmarks against other broad phases.
-pub fn count_overlapping(boxes: &[SweptBox], config: &super::DetectorConfig) -> u64 {
-    struct Count(u64);
-    impl tree::Collector for Count {
-        fn pair(&mut self, _: u32, _: u32) {
-            self.0 += 1;
-        }
-        fn fork(&self) -> Self {
-            Count(0)
-        }
-        fn join(&mut self, other: Self) {
-            self.0 += other.0;
-        }
-    }
-    let Some(bounds) = boxes.iter().copied().reduce(|a, b| a.union(&b)) else {
-        return 0;
-    };
-    let grid = Grid::over(&bounds);
-    let mut tree = Tree::new(config.leaf_size, config.max_depth);
-    let max_depth = tree.max_depth();
-    tree.entries.extend(boxes.iter().enumerate().map(|(k, b)| {
-        let cells = grid.cells(b, k as u32);
-        Entry {
-            key: tree::key(&cells, max_depth, false),
-            cells,
-        }
-    }));
-    tree.sort(config.threads > 1);
-    let mut count = Count(0);
-    tree.pairs(&mut count, config.threads, config.grain);
-    count.0
-}
-
 impl Detector for Quadtree {
     fn name(&self) -> &'static str {
         "quadtree"

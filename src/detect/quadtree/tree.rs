@@ -463,11 +463,6 @@ impl<'a> Refill<'a> {
         self.entries.len()
     }
 
-    /// Whether the run holds no entry.
-    pub fn is_empty(&self) -> bool {
-        self.entries.is_empty()
-    }
-
     /// Sets the run's `k`-th entry.
     #[inline]
     pub fn set(&mut self, k: usize, entry: Entry) {
@@ -829,6 +824,7 @@ impl Tree {
     /// (entries must be sorted). The probe's own line is reported too if it
     /// is in the tree. Returns what the query did (queries take `&self`, so
     /// that many can run at once; add the counts to [`Tree::counts`]).
+    #[cfg(test)]
     pub fn query(&self, probe: &Cells, mut sink: impl FnMut(u32)) -> WalkCounts {
         self.query_many(std::slice::from_ref(probe), &mut Vec::new(), |_, id| {
             sink(id)
