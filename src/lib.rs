@@ -12,7 +12,7 @@
 //!
 //! The modules follow the simulation's concepts: [`geometry`] (vectors and
 //! exact predicates), [`line`](mod@line) (segments and coordinates),
-//! [`scene`] (`.in` files), [`narrow`] (the exact pair test), [`response`]
+//! [`scene`] (`.in` files), [`narrow`] (the exact pair test), `response`
 //! (new velocities), [`world`] (one step), [`detect`] (interchangeable broad
 //! phases), [`render`] (pictures and the window), [`generate`] (seeded
 //! scenes), [`checkpoint`] (states and resumable checkpoints), [`output`]
