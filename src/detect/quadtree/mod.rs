@@ -599,7 +599,7 @@ fn union(a: Option<SweptBox>, b: Option<SweptBox>) -> Option<SweptBox> {
 
 impl Quadtree {
     /// A quadtree whose leaves hold at most `leaf_size` lines (at least 1)
-    /// unless `max_depth` (at most [`tree::GRID_LEVELS`]) stops the
+    /// unless `max_depth` (at most 15, the grid's finest level) stops the
     /// splitting, kept from step to step as `mode` says. With `threads`
     /// above 1 it splits its work on the current rayon pool, in pieces of at
     /// least `grain` lines.
