@@ -56,8 +56,9 @@ struct Cli {
     max_depth: u32,
 
     /// Quadtree: `cached` keeps fat hulls and the pairs they give from step
-    /// to step; `rebuilt` rebuilds the tree every step; `auto` uses the
-    /// cached way except while rebuilding is measured to be faster.
+    /// to step; `rebuilt` rebuilds the tree every step; `auto` rebuilds at
+    /// first, tries the cached way now and then, and keeps whichever is
+    /// measured to be faster.
     #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse::<TreeMode>)]
     tree_mode: TreeMode,
 

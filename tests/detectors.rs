@@ -10,9 +10,9 @@ use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
 
 /// Tree shapes to try, in every tree mode: leaves of 1, 2 and many lines,
 /// no splitting at all and very deep trees; and 2, 3 and 8 threads with
-/// work split into pieces of a few lines. (Auto mode runs the cached way for
-/// 16 steps, then tries the rebuilt way: the steps below cover both and the
-/// switch.)
+/// work split into pieces of a few lines. (Auto mode rebuilds for its first
+/// 8 steps, then tries the cached way for up to 16: the steps below cover
+/// both and the switches.)
 fn configs() -> Vec<DetectorConfig> {
     let shape = |leaf_size, max_depth, tree_mode| DetectorConfig {
         leaf_size,

@@ -58,7 +58,8 @@ const REBUILD_SHARE: usize = 4;
 /// How the quadtree detector keeps its tree from step to step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum TreeMode {
-    /// Cached, or rebuilt while that is measured to be faster.
+    /// Rebuilt at first, then the cached way tried now and then; whichever
+    /// is measured to be faster is kept.
     Auto,
     /// Fat hulls and their pairs kept from step to step.
     Cached,
@@ -158,6 +159,12 @@ const WARM_UP: u64 = 2;
 /// has spent more than the stint would have (the cached way starts with a
 /// rebuild) gives up unless it is still gaining ground.
 const GAINING: f64 = 0.95;
+/// Auto mode: a trial that runs its course takes over when its time per
+/// step is below this share of the stint's (a margin against noise).
+const TAKES_OVER: f64 = 0.95;
+/// Cached mode on threads: moved lines handed to a thread at a time to
+/// query the tree for their new pairs (each query is a short walk).
+const QUERIES_PER_TASK: usize = 64;
 
 /// Auto mode's bookkeeping: which way is preferred, where the current
 /// stint (the preferred way) or trial (the other way) stands, and the time
@@ -225,7 +232,7 @@ impl Chooser {
                 && recent >= GAINING * s);
             if losing || self.into == TRIAL {
                 if let (false, Some(t), Some(s)) = (losing, trial, stint) {
-                    if t < 0.95 * s {
+                    if t < TAKES_OVER * s {
                         self.prefer_rebuilt = !self.prefer_rebuilt;
                     }
                 }
@@ -1047,7 +1054,7 @@ impl Quadtree {
             let tree = &self.tree;
             let found: Vec<(Vec<(u32, u32)>, tree::WalkCounts)> = self
                 .moved
-                .par_chunks(64)
+                .par_chunks(QUERIES_PER_TASK)
                 .map(|run| {
                     let mut out = Vec::new();
                     let counts = new_pairs(tree, run, &mut Vec::new(), &mut Vec::new(), &mut out);
