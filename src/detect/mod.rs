@@ -151,13 +151,7 @@ impl DetectorKind {
     pub fn build_with(self, config: &DetectorConfig) -> Box<dyn Detector> {
         match self {
             DetectorKind::Brute => Box::new(Brute::default()),
-            DetectorKind::Quadtree => Box::new(Quadtree::new(
-                config.leaf_size,
-                config.max_depth,
-                config.tree_mode,
-                config.threads,
-                config.grain,
-            )),
+            DetectorKind::Quadtree => Box::new(Quadtree::new(config)),
             DetectorKind::Sweep => Box::new(Sweep::new(config)),
         }
     }

@@ -315,13 +315,7 @@ pub struct Quadtree {
 
 impl Default for Quadtree {
     fn default() -> Self {
-        Self::new(
-            DEFAULT_LEAF_SIZE,
-            DEFAULT_MAX_DEPTH,
-            TreeMode::Auto,
-            1,
-            DEFAULT_GRAIN,
-        )
+        Self::new(&super::DetectorConfig::default())
     }
 }
 
@@ -605,18 +599,15 @@ fn union(a: Option<SweptBox>, b: Option<SweptBox>) -> Option<SweptBox> {
 }
 
 impl Quadtree {
-    /// A quadtree whose leaves hold at most `leaf_size` lines (at least 1)
-    /// unless `max_depth` (at most 15, the grid's finest level) stops the
-    /// splitting, kept from step to step as `mode` says. With `threads`
-    /// above 1 it splits its work on the current rayon pool, in pieces of at
-    /// least `grain` lines.
-    pub fn new(
-        leaf_size: usize,
-        max_depth: u32,
-        mode: TreeMode,
-        threads: usize,
-        grain: usize,
-    ) -> Self {
+    /// A quadtree tuned by `config`: its leaves hold at most
+    /// `config.leaf_size` lines (at least 1) unless `config.max_depth` (at
+    /// most 15, the grid's finest level) stops the splitting, kept from step
+    /// to step as `config.tree_mode` says. With `config.threads` above 1 it
+    /// splits its work on the current rayon pool, in pieces of at least
+    /// `config.grain` lines.
+    pub fn new(config: &super::DetectorConfig) -> Self {
+        let (leaf_size, max_depth, mode) = (config.leaf_size, config.max_depth, config.tree_mode);
+        let (threads, grain) = (config.threads, config.grain);
         Self {
             tree: Tree::new(leaf_size, max_depth),
             mode,
