@@ -134,7 +134,16 @@ fn magnitude(line: &Line, dt: f64) -> f64 {
     extent(&corners(line, dt)).1
 }
 
-/// The padded swept hull of one line, `None` when it is not finite.
+/// Lines whose coordinates (now or one step ahead) reach beyond this have
+/// no hull and are treated as wild (tested against every line): every
+/// bound of a hull, the diagonals' too, and of the quadtree's fat hulls
+/// (which reach eight steps ahead) then stays finite. Near `f64::MAX` the
+/// diagonals (`1180 x + 800 y`) overflow to infinities or NaN, which no
+/// overlap test can be trusted with.
+pub const LARGEST: f64 = 1e30;
+
+/// The padded swept hull of one line, `None` when it is not finite or
+/// reaches beyond [`LARGEST`].
 #[inline]
 pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
     // The sum is NaN or infinite if any input is (or, harmlessly, if it
@@ -143,7 +152,7 @@ pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
     let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
     let c = corners(line, dt);
     let ([min_x, max_x, min_y, max_y], magnitude) = extent(&c);
-    if !(sum.is_finite() && magnitude.is_finite()) {
+    if !(sum.is_finite() && magnitude <= LARGEST) {
         return None;
     }
     let u = c.map(|p| p.x * DIAGONAL_X + p.y * DIAGONAL_Y);

@@ -30,8 +30,8 @@ pub(crate) const DIRECTIONS: usize = 4;
 
 /// Lines whose coordinates (now or one step ahead) reach beyond this are
 /// treated as wild (tested against every line), which keeps every packed
-/// value finite.
-pub(crate) const LARGEST: f64 = 1e30;
+/// value finite: the same bound as every detector's.
+pub(crate) use crate::detect::swept::LARGEST;
 
 /// A line's padded swept hull (see [`crate::detect::swept::swept_box`],
 /// whose bounds and padding it repeats) packed; `None` when the line is not
