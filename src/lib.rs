@@ -16,8 +16,8 @@
 //! (new velocities), [`world`] (one step), [`detect`] (interchangeable broad
 //! phases), [`render`] (pictures and the window), [`generate`] (seeded
 //! scenes), [`checkpoint`] (states and resumable checkpoints), [`output`]
-//! (files written whole or not at all) and [`stop`] (clean stops on
-//! signals).
+//! (files written whole or not at all), [`stop`] (clean stops on
+//! signals) and [`team`] (the threads a step's phases are shared among).
 
 pub mod broad_phase;
 pub mod checkpoint;
@@ -33,6 +33,7 @@ pub(crate) mod response;
 pub mod scene;
 #[cfg(feature = "signals")]
 pub mod stop;
+pub mod team;
 pub mod world;
 
 #[cfg(test)]

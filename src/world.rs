@@ -7,7 +7,15 @@ use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_
 use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::scene::Scene;
+use crate::team::{self, Team};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
+
+/// Scenes of fewer lines keep their small phases on one thread even with a
+/// team: handing out a phase costs about a microsecond, and a share of a
+/// few hundred lines takes about as long.
+pub(crate) const TEAM_MIN_LINES: usize = 1024;
 
 /// Cumulative collision counts, as the original program printed them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -92,6 +100,9 @@ pub struct World {
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
+    /// The same threads' team, for scenes too small for the pool's
+    /// hand-offs to pay.
+    team: Option<Arc<Team>>,
     /// A detector every step is checked against, and the first mismatch.
     oracle: Option<Box<dyn Detector>>,
     mismatch: Option<Mismatch>,
@@ -129,6 +140,7 @@ impl World {
             grain: DEFAULT_GRAIN,
             timing: None,
             pool: None,
+            team: None,
             oracle: None,
             mismatch: None,
         }
@@ -161,6 +173,14 @@ impl World {
         } else {
             None
         };
+        // Without a team (threads could not be started) the steps' small
+        // phases just stay on one thread.
+        self.team = if threads > 1 {
+            Team::new(threads).ok().map(Arc::new)
+        } else {
+            None
+        };
+        self.detector.set_team(self.team.clone());
         Ok(())
     }
 
@@ -324,7 +344,18 @@ impl World {
                 .map(advance_and_bounce)
                 .sum()
         } else {
-            advance_and_bounce(&mut self.lines)
+            match &self.team {
+                Some(team) if self.lines.len() >= TEAM_MIN_LINES => {
+                    let shares = team::shares_mut(&mut self.lines, team.threads());
+                    let hits: Vec<AtomicU64> = shares.iter().map(|_| AtomicU64::new(0)).collect();
+                    team.run(&|k| {
+                        let mut share = shares[k].lock().expect("a share of the lines");
+                        hits[k].store(advance_and_bounce(&mut share), Ordering::Relaxed);
+                    });
+                    hits.iter().map(|h| h.load(Ordering::Relaxed)).sum()
+                }
+                _ => advance_and_bounce(&mut self.lines),
+            }
         };
         self.counters.wall += hits;
         self.lap(t2, |t, d| t.advance += d);

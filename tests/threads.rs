@@ -73,3 +73,35 @@ fn the_sweep_gives_the_same_bits_on_any_thread_count() {
         assert!(same_bits(&lines, &other), "sweep on {threads} threads");
     }
 }
+
+/// Scenes of thousands of lines share their phases among the world's team
+/// of threads (rayon's pool is kept for larger ones): the same bits on
+/// any number of threads, over enough steps for events and wall bounces.
+#[test]
+fn the_team_gives_the_same_bits_on_any_thread_count() {
+    for (kind, lines, steps) in [
+        (SceneKind::Uniform, 3000, 200),
+        (SceneKind::Clustered, 5000, 100),
+        (SceneKind::Ring, 1500, 300),
+    ] {
+        let run = |threads| {
+            let scene = generate(kind, lines, 11);
+            let config = DetectorConfig {
+                threads,
+                ..DetectorConfig::default()
+            };
+            let mut world =
+                World::with_config(&scene, DetectorKind::Sweep, &config).expect("a team");
+            world.run(steps);
+            let c = world.counters();
+            (world.lines().to_vec(), (c.wall, c.line))
+        };
+        let (one, counts) = run(1);
+        assert!(counts.1 > 0, "{kind}: {counts:?}");
+        for threads in [2, 3, 8] {
+            let (other, other_counts) = run(threads);
+            assert_eq!(counts, other_counts, "{kind} on {threads} threads");
+            assert!(same_bits(&one, &other), "{kind} on {threads} threads");
+        }
+    }
+}

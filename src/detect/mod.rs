@@ -71,6 +71,11 @@ pub trait Detector: Send {
     /// without phases.
     fn set_timing(&mut self, _on: bool) {}
 
+    /// Gives the detector the team of threads the world steps with (`None`:
+    /// one thread), to share its phases among; ignored by detectors that do
+    /// not share their work that way.
+    fn set_team(&mut self, _team: Option<std::sync::Arc<crate::team::Team>>) {}
+
     /// The time spent in each of the detector's own phases since timing was
     /// turned on, by name, in the order they run; together they make up
     /// nearly all of its time. Empty while timing is off, and for detectors

@@ -29,11 +29,13 @@ use super::swept::{test_pair, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::Line;
 use crate::narrow::Event;
+use crate::team::{self, Team};
 use bands::Bands;
 use hull::{lo, Packed};
 use layout::Layout;
 use order::{Boxes, NO_KEY};
 use plan::Plan;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Steps between two plans (the first step always makes one).
@@ -130,6 +132,8 @@ pub struct Sweep {
     wild: Vec<u32>,
     stats: DetectorStats,
     clock: Option<Clock>,
+    /// The world's team of threads, for scenes too small for rayon's.
+    team: Option<Arc<Team>>,
 }
 
 impl Sweep {
@@ -152,6 +156,7 @@ impl Sweep {
             wild: Vec::new(),
             stats: DetectorStats::default(),
             clock: None,
+            team: None,
         }
     }
 
@@ -180,6 +185,14 @@ impl Sweep {
         self.threads > 1 && work >= 2 * self.grain
     }
 
+    /// The team to share `work` lines' worth of a phase among, when the
+    /// phase is too small for rayon and large enough to share.
+    fn team_for(&self, work: usize) -> Option<&Team> {
+        self.team
+            .as_deref()
+            .filter(|_| !self.parallel(work) && work >= crate::world::TEAM_MIN_LINES)
+    }
+
     /// Makes every line's packed hull and key, in last step's order.
     fn make_hulls(&mut self, lines: &[Line], dt: f64) {
         let along = self.plan.along;
@@ -193,9 +206,28 @@ impl Sweep {
             }
         };
         let (parallel, chunk) = (self.parallel(n), self.grain);
+        let team = self
+            .team_for(n)
+            .is_some()
+            .then(|| self.team.clone())
+            .flatten();
+        let team = team.as_deref().map(|t| (t, t.threads()));
         let b = &mut self.sorted;
         let (ids, hulls, keys) = (&b.ids[..n], &mut b.hulls[..n], &mut b.keys[..n]);
-        if parallel {
+        if let Some((team, threads)) = team {
+            let (hulls, keys) = (
+                team::shares_mut(hulls, threads),
+                team::shares_mut(keys, threads),
+            );
+            team.run(&|k| {
+                let ids = &ids[team::share(n, threads, k)];
+                fill(
+                    ids,
+                    &mut hulls[k].lock().expect("a share"),
+                    &mut keys[k].lock().expect("a share"),
+                );
+            });
+        } else if parallel {
             use rayon::prelude::*;
             ids.par_chunks(chunk)
                 .zip(hulls.par_chunks_mut(chunk))
@@ -321,6 +353,35 @@ impl Sweep {
     }
 }
 
+impl Sweep {
+    /// With one band: sweeps the boxes `share` of the sorted ones (each
+    /// against every box after it) and tests the pairs whose hulls
+    /// overlap.
+    fn sweep_share(
+        &self,
+        lines: &[Line],
+        dt: f64,
+        share: std::ops::Range<usize>,
+        events: &mut Vec<Event>,
+    ) -> PairCounts {
+        let mut counts = PairCounts::default();
+        let b = &self.sorted;
+        let mut pairs = Vec::new();
+        counts.candidates = scan::sweep(&b.keys, &b.hulls, share, self.plan.along, &mut pairs);
+        for &(i, j) in &pairs {
+            let (a, c) = (b.ids[i as usize], b.ids[j as usize]);
+            test_pair(
+                (&lines[a as usize], a),
+                (&lines[c as usize], c),
+                dt,
+                events,
+                &mut counts,
+            );
+        }
+        counts
+    }
+}
+
 impl Default for Sweep {
     fn default() -> Self {
         Self::new(&DetectorConfig::default())
@@ -406,6 +467,22 @@ impl Detector for Sweep {
                 events.extend(found);
                 counts.add(&c);
             }
+        } else if let (Some(team), 1) = (self.team_for(boxed), bands.count) {
+            // One band: each member sweeps its share of the boxes (each
+            // against the boxes after it, wherever they lie).
+            let threads = team.threads();
+            let found: Vec<Mutex<(Vec<Event>, PairCounts)>> =
+                (0..threads).map(|_| Mutex::default()).collect();
+            team.run(&|k| {
+                let mut out = found[k].lock().expect("a member's findings");
+                let (events, counts) = &mut *out;
+                *counts = self.sweep_share(lines, dt, team::share(boxed, threads, k), events);
+            });
+            for part in found {
+                let (mut found, c) = part.into_inner().expect("a member's findings");
+                events.append(&mut found);
+                counts.add(&c);
+            }
         } else {
             counts.add(&self.sweep_bands(lines, dt, boxed, 0..bands.count, events));
         }
@@ -435,6 +512,10 @@ impl Detector for Sweep {
 
     fn set_timing(&mut self, on: bool) {
         self.clock = on.then(Clock::new);
+    }
+
+    fn set_team(&mut self, team: Option<Arc<Team>>) {
+        self.team = team;
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {

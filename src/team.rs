@@ -1,0 +1,319 @@
+//! A small team of threads for the phases of a step: each phase is handed
+//! to every member at once, and the hand-off costs well under a
+//! microsecond while the members are awake.
+//!
+//! A step of a course scene takes about a hundred microseconds in a few
+//! phases; waking a pooled worker through the operating system for each
+//! phase costs a good part of what sharing the phase saves. The members
+//! here wait for work by spinning on an atomic counter for a while, so a
+//! phase handed to them soon after the last one starts at once; a member
+//! that has waited longer than [`SPIN`] parks, and then uses no CPU until
+//! it is woken (between runs, while a window is paused, after the run).
+//!
+//! This is the one module with `unsafe` code: a member runs a job that
+//! borrows from the caller's stack frame, which the type system cannot see
+//! outlive the call. [`Team::run`] does not return before every member has
+//! finished with the job, which is what makes the borrow sound.
+
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// How long an idle member spins before it parks.
+const SPIN: Duration = Duration::from_micros(200);
+
+/// A job: called once with each member's number, `0..threads`.
+type Job<'a> = dyn Fn(usize) + Sync + 'a;
+
+/// What the caller and the members share.
+struct Shared {
+    /// Bumped once for every job; a member runs a job when it sees the
+    /// counter move.
+    epoch: AtomicU64,
+    /// The current job: a pointer to a `&Job` on the stack of the caller
+    /// of [`Team::run`], valid from the bump of `epoch` until `done`
+    /// reaches the number of members.
+    job: AtomicUsize,
+    /// Members finished with the current job.
+    done: AtomicUsize,
+    /// Members parked (or about to park), who must be woken.
+    parked: AtomicUsize,
+    /// Set when the team is dropped.
+    quit: AtomicBool,
+    /// Set when a member's part of the current job panicked.
+    panicked: AtomicBool,
+    /// The members' threads, to wake them.
+    threads: Mutex<Vec<std::thread::Thread>>,
+    /// Set while a job runs: jobs never overlap.
+    busy: AtomicBool,
+}
+
+/// A team of `threads` threads: the caller of [`Team::run`] and
+/// `threads - 1` members of its own, alive as long as the team.
+pub struct Team {
+    shared: Arc<Shared>,
+    members: Vec<JoinHandle<()>>,
+}
+
+impl std::fmt::Debug for Team {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "Team({} threads)", self.threads())
+    }
+}
+
+impl Team {
+    /// A team of `threads` threads in all (at least 1; with 1, jobs run on
+    /// the caller alone).
+    pub fn new(threads: usize) -> std::io::Result<Team> {
+        let shared = Arc::new(Shared {
+            epoch: AtomicU64::new(0),
+            job: AtomicUsize::new(0),
+            done: AtomicUsize::new(0),
+            parked: AtomicUsize::new(0),
+            quit: AtomicBool::new(false),
+            panicked: AtomicBool::new(false),
+            threads: Mutex::new(Vec::new()),
+            busy: AtomicBool::new(false),
+        });
+        let mut members = Vec::new();
+        for k in 1..threads.max(1) {
+            let mine = Arc::clone(&shared);
+            let handle = std::thread::Builder::new()
+                .name(format!("screensaver-team-{k}"))
+                .spawn(move || member(&mine, k))?;
+            shared
+                .threads
+                .lock()
+                .expect("team lock")
+                .push(handle.thread().clone());
+            members.push(handle);
+        }
+        Ok(Team { shared, members })
+    }
+
+    /// Threads in the team, the caller's included.
+    pub fn threads(&self) -> usize {
+        self.members.len() + 1
+    }
+
+    /// Runs `job(k)` for every `k` in `0..threads()` at once, `k = 0` on
+    /// the calling thread, and returns when all have finished. A panic in
+    /// any part is raised here once all have finished.
+    pub fn run(&self, job: &Job<'_>) {
+        let members = self.members.len();
+        if members == 0 {
+            job(0);
+            return;
+        }
+        let s = &*self.shared;
+        let was_busy = s.busy.swap(true, Ordering::Acquire);
+        assert!(!was_busy, "a team runs one job at a time");
+        s.done.store(0, Ordering::Relaxed);
+        s.panicked.store(false, Ordering::Relaxed);
+        let erased: &Job<'_> = job;
+        s.job
+            .store(&erased as *const &Job<'_> as usize, Ordering::Relaxed);
+        // A member that sees the new epoch sees the job too (the store
+        // above comes before this bump). SeqCst, with the load of `parked`
+        // below and a member's announcement and second look at the epoch,
+        // ensures that either the member sees this epoch or this thread
+        // sees the member parked (and wakes it).
+        s.epoch.fetch_add(1, Ordering::SeqCst);
+        if s.parked.load(Ordering::SeqCst) > 0 {
+            for t in s.threads.lock().expect("team lock").iter() {
+                t.unpark();
+            }
+        }
+        let mine = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(0)));
+        // The job (and `erased`, which points to it) must outlive every
+        // member's use of it: wait for all of them before returning.
+        let mut spins = 0u32;
+        while s.done.load(Ordering::Acquire) < members {
+            spins = spins.wrapping_add(1);
+            if spins % 64 == 0 {
+                // A member may be waiting for this very core.
+                std::thread::yield_now();
+            } else {
+                std::hint::spin_loop();
+            }
+        }
+        s.busy.store(false, Ordering::Release);
+        if let Err(panic) = mine {
+            std::panic::resume_unwind(panic);
+        }
+        if s.panicked.load(Ordering::Relaxed) {
+            panic!("a team member's part of a job panicked");
+        }
+    }
+}
+
+impl Drop for Team {
+    fn drop(&mut self) {
+        self.shared.quit.store(true, Ordering::SeqCst);
+        for t in self.shared.threads.lock().expect("team lock").iter() {
+            t.unpark();
+        }
+        for m in self.members.drain(..) {
+            let _ = m.join();
+        }
+    }
+}
+
+/// A member's life: wait for a job, run its part, say so; until the team
+/// is dropped.
+fn member(s: &Shared, k: usize) {
+    let mut seen = 0;
+    loop {
+        let started = Instant::now();
+        let mut spins = 0u32;
+        let epoch = loop {
+            let epoch = s.epoch.load(Ordering::Acquire);
+            if epoch != seen {
+                break epoch;
+            }
+            if s.quit.load(Ordering::SeqCst) {
+                return;
+            }
+            spins += 1;
+            if spins % 64 != 0 {
+                std::hint::spin_loop();
+                continue;
+            }
+            if started.elapsed() < SPIN {
+                // Let whatever else wants this core run (the caller, on a
+                // busy machine), then look again.
+                std::thread::yield_now();
+                continue;
+            }
+            // Park, announcing it first so that the next job wakes us; the
+            // epoch is read again after the announcement, so a job handed
+            // out in between is not missed (SeqCst orders the two).
+            s.parked.fetch_add(1, Ordering::SeqCst);
+            if s.epoch.load(Ordering::SeqCst) == seen && !s.quit.load(Ordering::SeqCst) {
+                std::thread::park_timeout(Duration::from_millis(100));
+            }
+            s.parked.fetch_sub(1, Ordering::SeqCst);
+        };
+        seen = epoch;
+        let at = s.job.load(Ordering::Relaxed) as *const &Job<'static>;
+        debug_assert!(!at.is_null());
+        // SAFETY: `at` was stored by `Team::run` before it bumped `epoch`
+        // (Release), and this thread read the bumped epoch (Acquire), so it
+        // sees that store. It points to `erased`, a `&Job` on the stack of
+        // that call of `run`, which does not return (so `erased` and the
+        // job it refers to stay alive and unmoved) until `done` counts
+        // every member, and this member adds itself to `done` only after
+        // its last use of the job below. `run` calls never overlap (`busy`),
+        // so `job` is not replaced meanwhile. The job is `Sync`, so calling
+        // it from this thread while others call it is allowed. The lifetime
+        // written here (`'static`) is never relied on: the reference does
+        // not escape this iteration.
+        let job: &Job<'static> = unsafe { *at };
+        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k))).is_err() {
+            s.panicked.store(true, Ordering::Relaxed);
+        }
+        s.done.fetch_add(1, Ordering::Release);
+    }
+}
+
+/// Splits `items` into `parts` contiguous shares of nearly equal length
+/// (share `k` as [`share`] gives it), each behind its own lock so that a
+/// job (`Fn`, shared by the members) can write its own: each lock is taken
+/// once, by one member, and never waited for.
+pub fn shares_mut<T>(items: &mut [T], parts: usize) -> Vec<Mutex<&mut [T]>> {
+    let n = items.len();
+    let mut rest = items;
+    (0..parts.max(1))
+        .map(|k| {
+            let (head, tail) = std::mem::take(&mut rest).split_at_mut(share(n, parts, k).len());
+            rest = tail;
+            Mutex::new(head)
+        })
+        .collect()
+}
+
+/// Splits `0..n` into `parts` contiguous ranges of nearly equal length;
+/// part `k`'s range.
+pub fn share(n: usize, parts: usize, k: usize) -> std::ops::Range<usize> {
+    let parts = parts.max(1);
+    (n * k / parts)..(n * (k + 1) / parts)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::sync::atomic::AtomicU64;
+
+    #[test]
+    fn every_member_runs_its_part_of_every_job() {
+        for threads in [1, 2, 3, 8] {
+            let team = Team::new(threads).unwrap();
+            assert_eq!(team.threads(), threads);
+            for round in 0..2000u64 {
+                let seen: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
+                team.run(&|k| {
+                    seen[k].fetch_add(round + 1, Ordering::Relaxed);
+                });
+                for s in &seen {
+                    assert_eq!(s.load(Ordering::Relaxed), round + 1);
+                }
+                if round % 500 == 0 {
+                    // Long enough for the members to park.
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn parts_write_disjoint_shares_of_a_borrowed_buffer() {
+        let team = Team::new(3).unwrap();
+        let mut data = vec![0u64; 10_007];
+        for round in 1..200u64 {
+            let n = data.len();
+            let parts: Vec<Mutex<&mut [u64]>> = {
+                let mut rest: &mut [u64] = &mut data;
+                (0..3)
+                    .map(|k| {
+                        let r = share(n, 3, k);
+                        let (head, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
+                        rest = tail;
+                        Mutex::new(head)
+                    })
+                    .collect()
+            };
+            team.run(&|k| {
+                for x in parts[k].lock().unwrap().iter_mut() {
+                    *x += round;
+                }
+            });
+        }
+        assert!(data.iter().all(|&x| x == (1..200).sum::<u64>()));
+    }
+
+    #[test]
+    fn a_panicking_part_is_raised_once_all_are_done() {
+        let team = Team::new(2).unwrap();
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            team.run(&|k| assert!(k != 1, "member 1 fails"));
+        }));
+        assert!(outcome.is_err());
+        // The team still works.
+        let count = AtomicUsize::new(0);
+        team.run(&|_| {
+            count.fetch_add(1, Ordering::Relaxed);
+        });
+        assert_eq!(count.load(Ordering::Relaxed), 2);
+    }
+
+    #[test]
+    fn shares_cover_the_range_once() {
+        for n in [0, 1, 7, 100] {
+            for parts in 1..5 {
+                let all: Vec<usize> = (0..parts).flat_map(|k| share(n, parts, k)).collect();
+                assert_eq!(all, (0..n).collect::<Vec<_>>());
+            }
+        }
+    }
+}
