@@ -35,6 +35,7 @@ use hull::{lo, Packed};
 use layout::Layout;
 use order::{Boxes, NO_KEY};
 use plan::Plan;
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -51,6 +52,9 @@ const GATHER_FROM: usize = 1 << 16;
 /// Groups of bands per thread in a parallel sweep: more groups than
 /// threads even out bands that meet more pairs than others.
 const SWEEP_GROUPS_PER_THREAD: usize = 4;
+
+/// Boxes a team member sweeps at a time (with one band).
+const TEAM_SWEEP_CHUNK: usize = 256;
 
 /// Steps between two trials of another band count.
 const TRIAL_EVERY: u64 = 16;
@@ -468,15 +472,24 @@ impl Detector for Sweep {
                 counts.add(&c);
             }
         } else if let (Some(team), 1) = (self.team_for(boxed), bands.count) {
-            // One band: each member sweeps its share of the boxes (each
-            // against the boxes after it, wherever they lie).
-            let threads = team.threads();
+            // One band: the boxes are swept a chunk at a time (each box
+            // against the boxes after it, wherever they lie), the members
+            // taking the next chunk as they finish one, since some stretches
+            // of the order meet far more pairs than others; the findings are
+            // put together in chunk order.
+            let chunks = boxed.div_ceil(TEAM_SWEEP_CHUNK);
+            let next = AtomicUsize::new(0);
             let found: Vec<Mutex<(Vec<Event>, PairCounts)>> =
-                (0..threads).map(|_| Mutex::default()).collect();
-            team.run(&|k| {
-                let mut out = found[k].lock().expect("a member's findings");
+                (0..chunks).map(|_| Mutex::default()).collect();
+            team.run(&|_| loop {
+                let c = next.fetch_add(1, Ordering::Relaxed);
+                if c >= chunks {
+                    break;
+                }
+                let mut out = found[c].lock().expect("a chunk's findings");
                 let (events, counts) = &mut *out;
-                *counts = self.sweep_share(lines, dt, team::share(boxed, threads, k), events);
+                let range = c * TEAM_SWEEP_CHUNK..((c + 1) * TEAM_SWEEP_CHUNK).min(boxed);
+                *counts = self.sweep_share(lines, dt, range, events);
             });
             for part in found {
                 let (mut found, c) = part.into_inner().expect("a member's findings");
