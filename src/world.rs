@@ -7,15 +7,9 @@ use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_
 use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::scene::Scene;
-use crate::team::{self, Team};
-use std::sync::atomic::{AtomicU64, Ordering};
+use crate::team::Team;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
-
-/// Scenes of fewer lines keep their small phases on one thread even with a
-/// team: handing out a phase costs about a microsecond, and a share of a
-/// few hundred lines takes about as long.
-pub(crate) const TEAM_MIN_LINES: usize = 1024;
 
 /// Cumulative collision counts, as the original program printed them.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -344,18 +338,7 @@ impl World {
                 .map(advance_and_bounce)
                 .sum()
         } else {
-            match &self.team {
-                Some(team) if self.lines.len() >= TEAM_MIN_LINES => {
-                    let shares = team::shares_mut(&mut self.lines, team.threads());
-                    let hits: Vec<AtomicU64> = shares.iter().map(|_| AtomicU64::new(0)).collect();
-                    team.run(&|k| {
-                        let mut share = shares[k].lock().expect("a share of the lines");
-                        hits[k].store(advance_and_bounce(&mut share), Ordering::Relaxed);
-                    });
-                    hits.iter().map(|h| h.load(Ordering::Relaxed)).sum()
-                }
-                _ => advance_and_bounce(&mut self.lines),
-            }
+            advance_and_bounce(&mut self.lines)
         };
         self.counters.wall += hits;
         self.lap(t2, |t, d| t.advance += d);

@@ -82,7 +82,7 @@ fn the_team_gives_the_same_bits_on_any_thread_count() {
     for (kind, lines, steps) in [
         (SceneKind::Uniform, 3000, 200),
         (SceneKind::Clustered, 5000, 100),
-        (SceneKind::Ring, 1500, 300),
+        (SceneKind::Ring, 4000, 150),
     ] {
         let run = |threads| {
             let scene = generate(kind, lines, 11);

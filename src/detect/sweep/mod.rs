@@ -53,6 +53,12 @@ const GATHER_FROM: usize = 1 << 16;
 /// threads even out bands that meet more pairs than others.
 const SWEEP_GROUPS_PER_THREAD: usize = 4;
 
+/// Scenes of fewer boxes keep the sweep on one thread even with a team:
+/// below this the hand-offs and the lines' travel between the cores' caches
+/// cost more than the shared work saves (`sin_wave`, 1,180 lines, ran
+/// slower on two threads; `koch`, 3,900, faster).
+const TEAM_MIN_BOXES: usize = 2048;
+
 /// Boxes a team member sweeps at a time (with one band).
 const TEAM_SWEEP_CHUNK: usize = 256;
 
@@ -189,12 +195,14 @@ impl Sweep {
         self.threads > 1 && work >= 2 * self.grain
     }
 
-    /// The team to share `work` lines' worth of a phase among, when the
-    /// phase is too small for rayon and large enough to share.
+    /// The team to share `work` boxes' worth of a phase among: with one
+    /// band only (several bands are laid out on one thread, which would
+    /// then read what the other members wrote), when the phase is too
+    /// small for rayon and large enough to share.
     fn team_for(&self, work: usize) -> Option<&Team> {
-        self.team
-            .as_deref()
-            .filter(|_| !self.parallel(work) && work >= crate::world::TEAM_MIN_LINES)
+        self.team.as_deref().filter(|_| {
+            self.plan.bands.count == 1 && !self.parallel(work) && work >= TEAM_MIN_BOXES
+        })
     }
 
     /// Makes every line's packed hull and key, in last step's order.
