@@ -195,9 +195,13 @@ fn member(s: &Shared, k: usize) {
             }
             s.parked.fetch_sub(1, Ordering::SeqCst);
         };
+        // The proof below rests on jobs coming one at a time, each waited
+        // for by `run`: a member never skips one.
+        debug_assert_eq!(epoch, seen + 1, "member {k} missed a job");
         seen = epoch;
         let at = s.job.load(Ordering::Relaxed) as *const &Job<'static>;
         debug_assert!(!at.is_null());
+        debug_assert!(s.busy.load(Ordering::Relaxed), "a job outside `run`");
         // SAFETY: `at` was stored by `Team::run` before it bumped `epoch`
         // (Release), and this thread read the bumped epoch (Acquire), so it
         // sees that store. It points to `erased`, a `&Job` on the stack of
