@@ -109,8 +109,16 @@ impl Fnv {
 
 /// Appends `x` as the shortest decimal that reads back to the same bits,
 /// spelled as the reference spells it: an exponent has a sign and at
-/// least two digits (`1e-05`, `1e+16`).
+/// least two digits (`1e-05`, `1e+16`). NaN is `NaN` or `-NaN` (its
+/// payload is not kept: the simulation only ever makes the two quiet NaNs).
 pub fn push_decimal(out: &mut String, x: f64) {
+    if x.is_nan() {
+        // Rust writes every NaN as `NaN`; the sign is kept (arithmetic on
+        // x86 makes negative ones), so that a state reads back to the same
+        // bits.
+        out.push_str(if x.is_sign_negative() { "-NaN" } else { "NaN" });
+        return;
+    }
     let start = out.len();
     write!(out, "{x:?}").expect("writing to a String");
     let Some(e) = out[start..].find('e') else {
@@ -155,8 +163,8 @@ pub fn write_checkpoint(
     writeln!(out, "{MAGIC}")?;
     writeln!(
         out,
-        "# scene: {} lines, digest {scene_digest:016x}",
-        lines.len()
+        "# scene: {}, digest {scene_digest:016x}",
+        plural(lines.len() as u64, "line")
     )?;
     writeln!(out, "# steps: {steps}")?;
     writeln!(out, "# line-wall collisions: {}", counters.wall)?;
@@ -298,8 +306,11 @@ impl Checkpoint {
             colors.push(color);
         }
         if lines.len() < count {
+            // The line where the next row should be (the text's last line,
+            // if it ends without one).
+            let last = text.iter().filter(|&&b| b == b'\n').count() + 1;
             return Err(fail(
-                5 + lines.len() + 1,
+                (5 + lines.len() + 1).min(last),
                 format!(
                     "the checkpoint declares {} but ends after {}",
                     plural(count as u64, "line"),
@@ -428,6 +439,17 @@ mod tests {
         assert_eq!(spell(2.5e300), "2.5e+300");
         assert_eq!(spell(0.6264977220338983), "0.6264977220338983");
         assert_eq!(spell(f64::NAN), "NaN");
+        assert_eq!(spell(-f64::NAN), "-NaN");
+        assert_eq!(
+            "-NaN".parse::<f64>().unwrap().to_bits(),
+            (-f64::NAN).to_bits()
+        );
+        // What x86 arithmetic makes of an invalid operation.
+        let made = f64::INFINITY - f64::INFINITY;
+        assert_eq!(
+            spell(made).parse::<f64>().unwrap().to_bits(),
+            made.to_bits()
+        );
         assert_eq!(spell(-0.0), "-0.0");
         for x in [1e-5, 1.5e-20, 1e16, 2.5e300, 5e-324, f64::MAX] {
             assert_eq!(spell(x).parse::<f64>().unwrap().to_bits(), x.to_bits());

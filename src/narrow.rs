@@ -88,6 +88,10 @@ pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
     Some(IntersectionKind::L1WithL2)
 }
 
+/// The least margin [`may_intersect`] keeps: far above the rounding errors
+/// of values that underflow, far below any distance that matters.
+const MARGIN_FLOOR: f64 = 1e-300;
+
 /// A cheap, conservative test for [`intersect`]: returns `false` only when
 /// `intersect(l1, l2, dt)` is certainly `None`.
 ///
@@ -107,7 +111,10 @@ pub fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
     let a = nx * l2.p1.x + ny * l2.p1.y - c;
     let b = nx * l2.p2.x + ny * l2.p2.y - c;
     let w = (nx * (l2.v.x - l1.v.x) + ny * (l2.v.y - l1.v.y)) * dt;
-    let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude;
+    // The floor covers values that underflow: below `f64::MIN_POSITIVE`
+    // rounding errors are absolute (up to 2^-1075 a product), not relative,
+    // and the relative margin itself may round to zero.
+    let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude + MARGIN_FLOOR;
     let (lo, hi) = if a < b { (a, b) } else { (b, a) };
     let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
     // Written so that NaN anywhere keeps the pair (a NaN comparison is false).

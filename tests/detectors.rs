@@ -373,3 +373,60 @@ fn lines_whose_diagonals_overflow_are_found_by_every_detector() {
         }
     }
 }
+
+/// Found by the `step` fuzz target: a line of subnormal length, whose
+/// normal's products underflow, so that the exact test's cheap prefilter
+/// rounded its margin to zero and turned down a pair that meets. The
+/// margin now has a floor far above such rounding.
+#[test]
+fn a_line_of_subnormal_length_is_not_culled_by_the_prefilter() {
+    let l = |a: f64, b: f64, c: f64, d: f64, e: f64, f: f64| Line {
+        p1: Vec2::new(a, b),
+        p2: Vec2::new(c, d),
+        v: Vec2::new(e, f),
+    };
+    let lines = vec![
+        l(
+            -3.75397952358398e255,
+            -3.078470096612901e-14,
+            1.025344472419318,
+            0.96875,
+            0.0546875,
+            0.0546875,
+        ),
+        l(
+            0.96875,
+            -3.078470096612901e-14,
+            0.96875,
+            -3.078470096612901e-14,
+            0.0546875,
+            0.0546875,
+        ),
+        l(
+            0.0,
+            -3.078470096612901e-14,
+            0.0,
+            -3.078470096612901e-14,
+            -1.0,
+            0.0,
+        ),
+        l(0.0, 0.0, 0.0, 5e-324, 0.75, 0.0),
+        l(0.671875, 0.0, 0.921875, 0.0, 0.0, 0.0),
+    ];
+    let colors = vec![Color::Red; lines.len()];
+    let mut oracle = World::new(lines.clone(), colors.clone(), DetectorKind::Brute.build());
+    let mut worlds: Vec<(DetectorKind, World)> = DetectorKind::ALL
+        .iter()
+        .map(|&k| (k, World::new(lines.clone(), colors.clone(), k.build())))
+        .collect();
+    let mut events = 0;
+    for step in 1..=4 {
+        oracle.step();
+        events += oracle.last_events().len();
+        for (kind, w) in &mut worlds {
+            w.step();
+            assert_eq!(w.last_events(), oracle.last_events(), "step {step}: {kind}");
+        }
+    }
+    assert!(events > 0);
+}
