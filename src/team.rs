@@ -7,7 +7,7 @@
 //! phase costs a good part of what sharing the phase saves. The members
 //! here wait for work by spinning on an atomic counter for a while, so a
 //! phase handed to them soon after the last one starts at once; a member
-//! that has waited longer than [`SPIN`] parks, and then uses no CPU until
+//! that has waited longer than `SPIN` (200 us) parks, and then uses no CPU until
 //! it is woken (between runs, while a window is paused, after the run).
 //!
 //! This is the one module with `unsafe` code: a member runs a job that

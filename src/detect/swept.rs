@@ -143,7 +143,7 @@ fn magnitude(line: &Line, dt: f64) -> f64 {
 pub const LARGEST: f64 = 1e30;
 
 /// The padded swept hull of one line, `None` when it is not finite or
-/// reaches beyond [`LARGEST`].
+/// reaches beyond `LARGEST` (1e30).
 #[inline]
 pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
     // The sum is NaN or infinite if any input is (or, harmlessly, if it
