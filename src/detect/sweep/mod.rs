@@ -144,6 +144,8 @@ pub struct Sweep {
     clock: Option<Clock>,
     /// The world's team of threads, for scenes too small for rayon's.
     team: Option<Arc<Team>>,
+    /// The team's findings, a chunk of boxes each.
+    chunks: Vec<Mutex<Chunk>>,
 }
 
 impl Sweep {
@@ -167,6 +169,7 @@ impl Sweep {
             stats: DetectorStats::default(),
             clock: None,
             team: None,
+            chunks: Vec::new(),
         }
     }
 
@@ -218,11 +221,11 @@ impl Sweep {
             }
         };
         let (parallel, chunk) = (self.parallel(n), self.grain);
-        let team = self
-            .team_for(n)
-            .is_some()
-            .then(|| self.team.clone())
-            .flatten();
+        // A handle of its own, as the boxes are about to be borrowed mutably.
+        let team = match self.team_for(n) {
+            Some(_) => self.team.clone(),
+            None => None,
+        };
         let team = team.as_deref().map(|t| (t, t.threads()));
         let b = &mut self.sorted;
         let (ids, hulls, keys) = (&b.ids[..n], &mut b.hulls[..n], &mut b.keys[..n]);
@@ -345,53 +348,45 @@ impl Sweep {
         events: &mut Vec<Event>,
     ) -> PairCounts {
         let mut counts = PairCounts::default();
-        counts.candidates = scan::sweep_bands(
+        let candidates = scan::sweep_bands(
             &self.sorted,
             boxed,
             &self.layout,
             &self.plan,
             range,
-            |a, b| {
-                test_pair(
-                    (&lines[a as usize], a),
-                    (&lines[b as usize], b),
-                    dt,
-                    events,
-                    &mut counts,
-                )
-            },
+            tester(lines, dt, events, &mut counts),
         );
+        counts.candidates = candidates;
         counts
     }
 }
 
-impl Sweep {
-    /// With one band: sweeps the boxes `share` of the sorted ones (each
-    /// against every box after it) and tests the pairs whose hulls
-    /// overlap.
-    fn sweep_share(
-        &self,
-        lines: &[Line],
-        dt: f64,
-        share: std::ops::Range<usize>,
-        events: &mut Vec<Event>,
-    ) -> PairCounts {
-        let mut counts = PairCounts::default();
-        let b = &self.sorted;
-        let mut pairs = Vec::new();
-        counts.candidates = scan::sweep(&b.keys, &b.hulls, share, self.plan.along, &mut pairs);
-        for &(i, j) in &pairs {
-            let (a, c) = (b.ids[i as usize], b.ids[j as usize]);
-            test_pair(
-                (&lines[a as usize], a),
-                (&lines[c as usize], c),
-                dt,
-                events,
-                &mut counts,
-            );
-        }
-        counts
+/// What a sweep calls with each pair of ids whose hulls overlap: the exact
+/// test, appending to `events` and counting in `counts`.
+fn tester<'a>(
+    lines: &'a [Line],
+    dt: f64,
+    events: &'a mut Vec<Event>,
+    counts: &'a mut PairCounts,
+) -> impl FnMut(u32, u32) + 'a {
+    move |a, b| {
+        test_pair(
+            (&lines[a as usize], a),
+            (&lines[b as usize], b),
+            dt,
+            events,
+            counts,
+        )
     }
+}
+
+/// One chunk's findings when a team sweeps, kept from step to step so
+/// that its buffers are not allocated anew every step.
+#[derive(Debug, Default)]
+struct Chunk {
+    events: Vec<Event>,
+    counts: PairCounts,
+    pairs: Vec<(u32, u32)>,
 }
 
 impl Default for Sweep {
@@ -462,6 +457,11 @@ impl Detector for Sweep {
         self.lap(Phase::Layout);
 
         let mut counts = PairCounts::default();
+        // A handle of its own: the chunks' buffers are taken from `self`.
+        let team = match (self.team_for(boxed), bands.count) {
+            (Some(_), 1) => self.team.clone(),
+            _ => None,
+        };
         if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
             let groups = self
@@ -479,7 +479,7 @@ impl Detector for Sweep {
                 events.extend(found);
                 counts.add(&c);
             }
-        } else if let (Some(team), 1) = (self.team_for(boxed), bands.count) {
+        } else if let Some(team) = team.as_deref() {
             // One band: the boxes are swept a chunk at a time (each box
             // against the boxes after it, wherever they lie), the members
             // taking the next chunk as they finish one, since some stretches
@@ -487,23 +487,37 @@ impl Detector for Sweep {
             // put together in chunk order.
             let chunks = boxed.div_ceil(TEAM_SWEEP_CHUNK);
             let next = AtomicUsize::new(0);
-            let found: Vec<Mutex<(Vec<Event>, PairCounts)>> =
-                (0..chunks).map(|_| Mutex::default()).collect();
+            let mut found = std::mem::take(&mut self.chunks);
+            found.resize_with(chunks.max(found.len()), Mutex::default);
+            let (sorted, along) = (&self.sorted, self.plan.along);
             team.run(&|_| loop {
                 let c = next.fetch_add(1, Ordering::Relaxed);
                 if c >= chunks {
                     break;
                 }
-                let mut out = found[c].lock().expect("a chunk's findings");
-                let (events, counts) = &mut *out;
+                let mut chunk = found[c].lock().expect("a chunk's findings");
+                let Chunk {
+                    events,
+                    counts,
+                    pairs,
+                } = &mut *chunk;
+                *counts = PairCounts::default();
                 let range = c * TEAM_SWEEP_CHUNK..((c + 1) * TEAM_SWEEP_CHUNK).min(boxed);
-                *counts = self.sweep_share(lines, dt, range, events);
+                let candidates = scan::sweep_sorted(
+                    sorted,
+                    range,
+                    along,
+                    pairs,
+                    tester(lines, dt, events, counts),
+                );
+                counts.candidates = candidates;
             });
-            for part in found {
-                let (mut found, c) = part.into_inner().expect("a member's findings");
-                events.append(&mut found);
-                counts.add(&c);
+            for chunk in &mut found[..chunks] {
+                let chunk = chunk.get_mut().expect("a chunk's findings");
+                events.append(&mut chunk.events);
+                counts.add(&chunk.counts);
             }
+            self.chunks = found;
         } else {
             counts.add(&self.sweep_bands(lines, dt, boxed, 0..bands.count, events));
         }

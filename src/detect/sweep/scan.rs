@@ -26,17 +26,7 @@ pub(crate) fn sweep_bands(
     // else live in registers); they are handed on afterwards.
     let mut pairs = Vec::new();
     if cut.count == 1 {
-        let candidates = sweep(
-            &sorted.keys,
-            &sorted.hulls,
-            0..boxed,
-            plan.along,
-            &mut pairs,
-        );
-        for &(i, j) in &pairs {
-            found(sorted.ids[i as usize], sorted.ids[j as usize]);
-        }
-        return candidates;
+        return sweep_sorted(sorted, 0..boxed, plan.along, &mut pairs, found);
     }
     let mut candidates = 0;
     for band in bands {
@@ -49,6 +39,25 @@ pub(crate) fn sweep_bands(
                 found(layout.ids[i] & !HOME, layout.ids[j] & !HOME);
             }
         }
+    }
+    candidates
+}
+
+/// With one band: sweeps the boxes `range` of `sorted` (each against the
+/// boxes after it, wherever they lie) along direction `along`, noting the
+/// overlapping pairs in `pairs` (cleared first) and then calling
+/// `found(a, b)` with their ids. Returns the candidates met.
+pub(crate) fn sweep_sorted(
+    sorted: &Boxes,
+    range: std::ops::Range<usize>,
+    along: usize,
+    pairs: &mut Vec<(u32, u32)>,
+    mut found: impl FnMut(u32, u32),
+) -> u64 {
+    pairs.clear();
+    let candidates = sweep(&sorted.keys, &sorted.hulls, range, along, pairs);
+    for &(i, j) in pairs.iter() {
+        found(sorted.ids[i as usize], sorted.ids[j as usize]);
     }
     candidates
 }
