@@ -94,9 +94,6 @@ pub struct World {
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
-    /// The same threads' team, for scenes too small for the pool's
-    /// hand-offs to pay.
-    team: Option<Arc<Team>>,
     /// A detector every step is checked against, and the first mismatch.
     oracle: Option<Box<dyn Detector>>,
     mismatch: Option<Mismatch>,
@@ -134,7 +131,6 @@ impl World {
             grain: DEFAULT_GRAIN,
             timing: None,
             pool: None,
-            team: None,
             oracle: None,
             mismatch: None,
         }
@@ -167,14 +163,13 @@ impl World {
         } else {
             None
         };
-        // Without a team (threads could not be started) the steps' small
-        // phases just stay on one thread.
-        self.team = if threads > 1 {
-            Team::new(threads).ok().map(Arc::new)
-        } else {
-            None
-        };
-        self.detector.set_team(self.team.clone());
+        // The same number of threads as a team, for the detector's phases
+        // too small for the pool's hand-offs to pay; without one (threads
+        // could not be started) those phases stay on one thread.
+        let team = (threads > 1)
+            .then(|| Team::new(threads).ok().map(Arc::new))
+            .flatten();
+        self.detector.set_team(team);
         Ok(())
     }
 
