@@ -24,6 +24,7 @@
 //! its spelling), so that a checkpoint is never resumed on another scene.
 
 use crate::line::{Color, Line};
+use crate::plural;
 use crate::scene::Scene;
 use crate::world::Counters;
 use crate::Vec2;
@@ -325,15 +326,6 @@ impl Checkpoint {
             lines,
             colors,
         })
-    }
-}
-
-/// `n` things, in the singular for one.
-pub(crate) fn plural(n: u64, thing: &str) -> String {
-    if n == 1 {
-        format!("1 {thing}")
-    } else {
-        format!("{n} {thing}s")
     }
 }
 

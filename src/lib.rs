@@ -56,6 +56,15 @@ pub(crate) fn parse_named<T: Copy>(
     })
 }
 
+/// `n` things, in the singular for one.
+pub(crate) fn plural(n: u64, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
 pub use detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
 pub use line::{Color, Line};

@@ -50,7 +50,7 @@ pub enum ParseErrorKind {
         found: String,
     },
     /// The file ends before the declared number of rows.
-    #[error("the file declares {} but ends after {found}", crate::checkpoint::plural(*declared, "line"))]
+    #[error("the file declares {} but ends after {found}", crate::plural(*declared, "line"))]
     TooFewRows {
         /// The declared count.
         declared: u64,
@@ -58,7 +58,7 @@ pub enum ParseErrorKind {
         found: u64,
     },
     /// Something follows the last declared row.
-    #[error("the file declares {} but has more rows (or trailing text `{found}`)", crate::checkpoint::plural(*declared, "line"))]
+    #[error("the file declares {} but has more rows (or trailing text `{found}`)", crate::plural(*declared, "line"))]
     TooManyRows {
         /// The declared count.
         declared: u64,
