@@ -5,9 +5,10 @@ use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::checkpoint::{self, Checkpoint};
 use screensaver::detect::{Brute, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
-use screensaver::generate::{default_scene, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
+use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::output;
-use screensaver::render::{window, Recorder, Size, Target};
+use screensaver::render::live::{DrawStats, Scenes};
+use screensaver::render::{embedded, window, Recorder, Size, Target};
 use screensaver::stop::Signal;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
@@ -22,6 +23,12 @@ use std::time::{Duration, Instant};
 /// prints the line-wall and line-line collision counts. Like the original
 /// program, N frames run N + 1 simulation steps. `screensaver gen` writes
 /// generated scenes of any size.
+///
+/// As a screensaver (`-g`, `--fullscreen`, `--root`, `--window-id`, or
+/// under XScreenSaver, which names its window in XSCREENSAVER_WINDOW),
+/// FRAMES may be left out: the run goes on until the window is closed or
+/// the program is signalled, and without INPUT it shows generated scenes,
+/// a new one every --cycle seconds or as soon as one has died out.
 #[derive(Debug, Parser)]
 #[command(
     version,
@@ -34,12 +41,33 @@ struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
 
-    /// Number of frames to run (the simulation runs FRAMES + 1 steps).
-    #[arg(required = true, value_parser = parse_frames)]
-    frames: Option<u64>,
+    /// Number of frames to run (the simulation runs FRAMES + 1 steps);
+    /// optional as a screensaver (see above).
+    #[arg(value_name = "FRAMES")]
+    frames: Option<String>,
 
-    /// Scene file to run; without it, a built-in scene of 1000 lines.
+    /// Scene file to run; without it, a generated scene (by default the
+    /// built-in one: 1000 uniform lines, seed 6172).
     input: Option<PathBuf>,
+
+    /// Without INPUT: lines in the generated scene.
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=100_000_000))]
+    lines: Option<usize>,
+
+    /// Without INPUT: the generated scene's arrangement (uniform,
+    /// clustered, ring or grid); endless runs take turns through all four
+    /// unless one is given.
+    #[arg(long, value_parser = parse::<SceneKind>)]
+    kind: Option<SceneKind>,
+
+    /// Without INPUT: the seed of the generated scene (endless runs: of the
+    /// first, each next one adding 1; by default taken from the clock).
+    #[arg(long, value_name = "S")]
+    seed: Option<u64>,
+
+    /// Endless runs without INPUT: seconds each generated scene is shown.
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_seconds)]
+    cycle: f64,
 
     /// Collision detector: `quadtree` (the design write-up's tree), `sweep`
     /// (sort and sweep; fastest on the course scenes) or `brute` (all
@@ -87,9 +115,23 @@ struct Cli {
     json: bool,
 
     /// Show the run in a window (keys: Space pause, Right step, +/- speed,
-    /// Q or Esc quit).
+    /// H heads-up display, Q or Esc quit).
     #[arg(short = 'g', long, conflicts_with_all = ["render", "verify"])]
     graphics: bool,
+
+    /// Show the run in a window filling the screen (the box stretched over
+    /// it); the keys of -g.
+    #[arg(long, conflicts_with_all = ["render", "verify", "root", "window_id"])]
+    fullscreen: bool,
+
+    /// Draw on the root window (the desktop), filling it.
+    #[arg(long, conflicts_with_all = ["render", "verify", "graphics", "window_id"])]
+    root: bool,
+
+    /// Draw into the existing X window ID (hex 0x... or decimal), filling
+    /// it and following its size.
+    #[arg(long, value_name = "ID", value_parser = embedded::parse_window_id, conflicts_with_all = ["render", "verify", "graphics"])]
+    window_id: Option<u32>,
 
     /// Window: most frames drawn per second; GIFs: frames shown per second.
     #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=1000))]
@@ -110,7 +152,7 @@ struct Cli {
     render_every: Option<u64>,
 
     /// With --render: picture size.
-    #[arg(long, value_name = "WxH", default_value = "1180x800", value_parser = parse::<Size>)]
+    #[arg(long, value_name = "WxH", default_value = "1180x800", requires = "render", value_parser = parse::<Size>)]
     size: Size,
 
     /// Write the final state to FILE, in the reference's state format.
@@ -178,6 +220,14 @@ fn parse_frames(s: &str) -> Result<u64, String> {
     })
 }
 
+/// A positive number of seconds.
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && x <= 1e9 => Ok(x),
+        _ => Err(format!("`{s}` is not a number of seconds above 0")),
+    }
+}
+
 /// A count of one or more.
 fn at_least_one_u64(s: &str) -> Result<u64, String> {
     match s.parse::<u64>() {
@@ -207,6 +257,9 @@ enum Failure {
     Error(String),
     /// Standard output was closed (`| head`): a normal end.
     ClosedPipe,
+    /// The command line does not make sense: reported as clap reports
+    /// its own usage errors (status 2).
+    Usage(clap::error::ErrorKind, String),
 }
 
 impl From<String> for Failure {
@@ -239,6 +292,10 @@ fn main() -> ExitCode {
             eprintln!("screensaver: error: {message}");
             ExitCode::FAILURE
         }
+        Err(Failure::Usage(kind, message)) => {
+            use clap::CommandFactory;
+            Cli::command().error(kind, message).exit()
+        }
     }
 }
 
@@ -265,21 +322,114 @@ fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
     }
 }
 
+/// Where a live run shows itself.
+enum Display {
+    /// Our own window (`-g`), filling the screen if asked.
+    Window { fullscreen: bool },
+    /// A window another program owns (`--root`, `--window-id`,
+    /// `XSCREENSAVER_WINDOW`).
+    Embedded(embedded::Target),
+}
+
+/// The display a run asked for, if any: `--window-id` before `--root`
+/// before XScreenSaver's variable before `-g` and `--fullscreen`.
+fn display(cli: &Cli) -> Result<Option<Display>, String> {
+    if let Some(id) = cli.window_id {
+        return Ok(Some(Display::Embedded(embedded::Target::Id(id))));
+    }
+    if cli.root {
+        return Ok(Some(Display::Embedded(embedded::Target::Root)));
+    }
+    if !cli.graphics && !cli.fullscreen {
+        if let Some(id) = embedded::screensaver_window() {
+            return Ok(Some(Display::Embedded(embedded::Target::Id(id?))));
+        }
+    }
+    Ok((cli.graphics || cli.fullscreen).then_some(Display::Window {
+        fullscreen: cli.fullscreen,
+    }))
+}
+
+/// FRAMES and INPUT as given: FRAMES may be left out of a live run, and
+/// then a lone positional argument that is not a number is the input.
+fn positionals(cli: &Cli, live: bool) -> Result<(Option<u64>, Option<PathBuf>), Failure> {
+    use clap::error::ErrorKind;
+    match (&cli.frames, &cli.input) {
+        (None, _) if live => Ok((None, None)),
+        (None, _) => Err(Failure::Usage(
+            ErrorKind::MissingRequiredArgument,
+            "FRAMES is required (it may be left out only with -g, --fullscreen, \
+             --root, --window-id or under XScreenSaver)"
+                .into(),
+        )),
+        (Some(first), None) if live && first.parse::<u64>().is_err() => {
+            Ok((None, Some(PathBuf::from(first))))
+        }
+        (Some(first), input) => {
+            let frames = parse_frames(first)
+                .map_err(|e| Failure::Usage(ErrorKind::ValueValidation, format!("FRAMES: {e}")))?;
+            Ok((Some(frames), input.clone()))
+        }
+    }
+}
+
+/// The seed of the first generated scene: `--seed`, or the clock's for an
+/// endless run (so that each run shows other scenes), or the built-in
+/// scene's.
+fn first_seed(cli: &Cli, endless: bool) -> u64 {
+    match cli.seed {
+        Some(seed) => seed,
+        None if endless => std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(DEFAULT_SEED, |d| d.as_secs()),
+        None => DEFAULT_SEED,
+    }
+}
+
 fn run(cli: &Cli) -> Result<Ended, Failure> {
-    let frames = cli
-        .frames
-        .expect("clap requires FRAMES without a subcommand");
-    if cli.graphics {
+    let display = display(cli)?;
+    if display.is_some() {
         window::check_display()?;
     }
-    let (scene, input_name) = match &cli.input {
-        Some(path) => (
-            Scene::load(path).map_err(|e| e.to_string())?,
-            path.display().to_string(),
-        ),
+    let (frames, input) = positionals(cli, display.is_some())?;
+    let endless = frames.is_none();
+    if endless && (cli.state_out.is_some() || cli.checkpoint.is_some() || cli.resume.is_some()) {
+        return Err(Failure::Usage(
+            clap::error::ErrorKind::ArgumentConflict,
+            "--state-out, --checkpoint and --resume need FRAMES: an endless run has no end to write"
+                .into(),
+        ));
+    }
+    let lines = cli.lines.unwrap_or(DEFAULT_LINES);
+    let seed = first_seed(cli, endless);
+    let kind_of = |k: u64| {
+        cli.kind
+            .unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
+    };
+    let (scene, input_name) = match &input {
+        Some(path) => {
+            if cli.lines.is_some() || cli.kind.is_some() || cli.seed.is_some() {
+                return Err(Failure::Usage(
+                    clap::error::ErrorKind::ArgumentConflict,
+                    "--lines, --kind and --seed choose a generated scene; they cannot go with INPUT"
+                        .into(),
+                ));
+            }
+            (
+                Scene::load(path).map_err(|e| e.to_string())?,
+                path.display().to_string(),
+            )
+        }
         None => (
-            default_scene(),
-            format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})"),
+            generate(kind_of(0), lines, seed),
+            if cli.lines.is_none() && cli.kind.is_none() && cli.seed.is_none() && !endless {
+                format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})")
+            } else {
+                format!(
+                    "(none: generated {} scene, {lines} lines, seed {seed})",
+                    kind_of(0)
+                )
+            },
         ),
     };
     let digest = checkpoint::scene_digest(&scene);
@@ -292,7 +442,8 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         grain: cli.grain,
     };
-    let steps = frames.saturating_add(1);
+    // An endless run has no last step.
+    let steps = frames.map_or(u64::MAX, |f| f.saturating_add(1));
     let threads_error = |e| format!("cannot start {} threads: {e}", config.threads);
     let mut world = match &cli.resume {
         Some(path) => {
@@ -318,10 +469,8 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     };
     let mut stdout = std::io::stdout().lock();
     if !cli.json {
-        let header = format!(
-            "Number of frames = {}\nInput file path is: {}\n",
-            frames, input_name
-        );
+        let frames = frames.map_or("endless".to_string(), |f| f.to_string());
+        let header = format!("Number of frames = {frames}\nInput file path is: {input_name}\n");
         write_out(&mut stdout, &header)?;
     }
 
@@ -332,17 +481,56 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     });
     let first_step = world.steps();
     let to_run = steps.saturating_sub(first_step);
-    let elapsed = if cli.graphics {
-        let options = window::Options {
-            steps: to_run,
-            fps: cli.fps,
-            hold: cli.hold,
-        };
-        let outcome = window::run(world, options)?;
-        world = outcome.world;
-        outcome.elapsed
-    } else {
-        simulate(&mut world, to_run, cli.verify, recorder, saver.as_ref())?
+    let mut drawn = None;
+    let elapsed = match display {
+        Some(display) => {
+            let scenes = if endless && input.is_none() {
+                let (detector, kind, timing, config) = (cli.detector, cli.kind, cli.stats, config);
+                let make = move |k: u64| {
+                    let kind = kind.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()]);
+                    let scene = generate(kind, lines, seed.wrapping_add(k));
+                    let mut world = World::with_config(&scene, detector, &config)
+                        .expect("threads started once start again");
+                    world.set_timing(timing);
+                    world
+                };
+                drop(world);
+                Scenes::Generated {
+                    next: Box::new(make),
+                    cycle: Duration::from_secs_f64(cli.cycle),
+                }
+            } else {
+                Scenes::One {
+                    world: Box::new(world),
+                    steps: frames.map(|_| to_run),
+                }
+            };
+            let (outcome, stats) = match display {
+                Display::Window { fullscreen } => window::run(
+                    scenes,
+                    window::Options {
+                        fps: cli.fps,
+                        hold: cli.hold,
+                        fullscreen,
+                    },
+                ),
+                Display::Embedded(target) => {
+                    embedded::run(target, scenes, embedded::Options { fps: cli.fps })
+                }
+            }?;
+            if outcome.scenes > 1 {
+                eprintln!(
+                    "screensaver: showed {} scenes (seeds {} to {}); the counts are the last one's",
+                    outcome.scenes,
+                    seed,
+                    seed.wrapping_add(outcome.scenes - 1)
+                );
+            }
+            world = outcome.world;
+            drawn = Some(stats);
+            outcome.elapsed
+        }
+        None => simulate(&mut world, to_run, cli.verify, recorder, saver.as_ref())?,
     };
     let stopped = screensaver::stop::requested();
     let counts = world.counters();
@@ -354,11 +542,15 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         output::write_with(path, |out| world.write_state(out)).map_err(|e| e.to_string())?;
     }
     if let Some(signal) = stopped {
+        let of = if endless {
+            String::new()
+        } else {
+            format!(" of {steps}")
+        };
         eprintln!(
-            "screensaver: stopped by {} after step {} of {}",
+            "screensaver: stopped by {} after step {}{of}",
             signal.name(),
             world.steps(),
-            steps
         );
     }
     if cli.verify && world.mismatch().is_none() {
@@ -371,7 +563,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     let report = if cli.json {
         let mut value = serde_json::json!({
             "frames": frames,
-            "steps": steps,
+            "steps": frames.map(|_| steps),
             "steps_run": world.steps(),
             "interrupted": stopped.is_some(),
             "input": cli.input.as_ref().map(|p| p.display().to_string()),
@@ -386,7 +578,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             value["verified_steps"] = serde_json::json!(world.steps() - first_step);
         }
         if cli.stats {
-            value["stats"] = stats_json(&world, &config, cli.detector);
+            value["stats"] = stats_json(&world, &config, cli.detector, drawn);
         }
         format!("{value}\n")
     } else {
@@ -397,7 +589,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             counts.line
         );
         if cli.stats {
-            text.push_str(&stats_text(&world, &config, cli.detector));
+            text.push_str(&stats_text(&world, &config, cli.detector, drawn));
         }
         text
     };
@@ -471,10 +663,15 @@ impl Saver<'_> {
     }
 }
 
-fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> serde_json::Value {
+fn stats_json(
+    world: &World,
+    config: &DetectorConfig,
+    kind: DetectorKind,
+    drawn: Option<DrawStats>,
+) -> serde_json::Value {
     let s = world.detector_stats();
     let t = world.phase_times().unwrap_or_default();
-    serde_json::json!({
+    let mut value = serde_json::json!({
         "detector": kind.name(),
         "leaf_size": config.leaf_size,
         "max_depth": config.max_depth,
@@ -499,10 +696,21 @@ fn stats_json(world: &World, config: &DetectorConfig, kind: DetectorKind) -> ser
             "resolve": t.resolve.as_secs_f64(),
             "move_and_walls": t.advance.as_secs_f64(),
         },
-    })
+    });
+    if let Some(d) = drawn {
+        value["frames_drawn"] = serde_json::json!(d.frames);
+        value["drawn_fps"] = serde_json::json!(d.fps());
+        value["draw_seconds_per_frame"] = serde_json::json!(d.seconds_per_frame());
+    }
+    value
 }
 
-fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> String {
+fn stats_text(
+    world: &World,
+    config: &DetectorConfig,
+    kind: DetectorKind,
+    drawn: Option<DrawStats>,
+) -> String {
     let s = world.detector_stats();
     let t = world.phase_times().unwrap_or_default();
     let steps = world.steps().max(1) as f64;
@@ -554,6 +762,14 @@ fn stats_text(world: &World, config: &DetectorConfig, kind: DetectorKind) -> Str
     }
     out += &phase("resolve", t.resolve);
     out += &phase("move and walls", t.advance);
+    if let Some(d) = drawn {
+        out += &format!(
+            "frames drawn: {}, {:.1} frames/s, {:.3} ms a frame to draw\n",
+            d.frames,
+            d.fps(),
+            d.seconds_per_frame() * 1e3
+        );
+    }
     out += "---- END STATS ----\n";
     out
 }

@@ -8,6 +8,13 @@
 //! shape, centred, with black bars if the size has another shape.
 
 #[cfg(feature = "window")]
+pub mod embedded;
+#[cfg(feature = "window")]
+pub mod hud;
+#[cfg(feature = "window")]
+pub mod live;
+pub mod raster;
+#[cfg(feature = "window")]
 pub mod window;
 
 use crate::line::{Color, Line, BOX_MAX, BOX_MIN, WINDOW_HEIGHT, WINDOW_WIDTH};
@@ -55,51 +62,72 @@ impl std::str::FromStr for Size {
     }
 }
 
-/// Maps box coordinates into a frame: the box fills the largest centred
-/// rectangle of the window's shape, `y` down.
+/// Maps box coordinates into a frame, `y` down: either the box filling the
+/// largest centred rectangle of the window's shape ([`View::new`]), or
+/// stretched over the whole frame ([`View::filling`], for screens).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct View {
-    scale: f64,
+    scale_x: f64,
+    scale_y: f64,
     left: f64,
     top: f64,
 }
 
 impl View {
-    /// The view of the box in a frame of `size`.
+    /// The view of the box in a frame of `size`, keeping the window's
+    /// 1180:800 shape (black bars fill the rest).
     pub fn new(size: Size) -> View {
         let (w, h) = (f64::from(size.width), f64::from(size.height));
         let scale = (w / WINDOW_WIDTH).min(h / WINDOW_HEIGHT);
         View {
-            scale,
+            scale_x: scale,
+            scale_y: scale,
             left: (w - WINDOW_WIDTH * scale) / 2.0,
             top: (h - WINDOW_HEIGHT * scale) / 2.0,
+        }
+    }
+
+    /// The view of the box stretched over the whole frame of `size`: the
+    /// box's width maps to the frame's width and its height to the
+    /// frame's height, whatever their shape.
+    pub fn filling(size: Size) -> View {
+        View {
+            scale_x: f64::from(size.width) / WINDOW_WIDTH,
+            scale_y: f64::from(size.height) / WINDOW_HEIGHT,
+            left: 0.0,
+            top: 0.0,
         }
     }
 
     /// Where a box-coordinate point lands in the frame, in pixels.
     pub fn point(&self, x: f64, y: f64) -> (f64, f64) {
         let span = BOX_MAX - BOX_MIN;
-        let px = self.left + (x - BOX_MIN) / span * WINDOW_WIDTH * self.scale;
-        let py = self.top + (y - BOX_MIN) / span * WINDOW_HEIGHT * self.scale;
+        let px = self.left + (x - BOX_MIN) / span * WINDOW_WIDTH * self.scale_x;
+        let py = self.top + (y - BOX_MIN) / span * WINDOW_HEIGHT * self.scale_y;
         (px, py)
     }
 
     /// The stroke width of lines: 1.5 pixels at the window's size, never
     /// under one pixel.
     pub fn stroke_width(&self) -> f32 {
-        (1.5 * self.scale).max(1.0) as f32
+        (1.5 * self.scale_x.min(self.scale_y)).max(1.0) as f32
     }
 }
 
-/// Draws `lines` (coloured by `colors`) into `pixmap`, over black. Lines
-/// whose coordinates are not finite are skipped.
+/// Draws `lines` (coloured by `colors`) into `pixmap`, over black, the box
+/// filling the window's shape. Lines whose coordinates are not finite are
+/// skipped.
 pub fn draw(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap) {
     let size = Size {
         width: pixmap.width(),
         height: pixmap.height(),
     };
+    draw_in_view(lines, colors, pixmap, &View::new(size));
+}
+
+/// [`draw`] as `view` maps the box.
+pub fn draw_in_view(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap, view: &View) {
     pixmap.fill(tiny_skia::Color::BLACK);
-    let view = View::new(size);
     let stroke = Stroke {
         width: view.stroke_width(),
         line_cap: LineCap::Round,

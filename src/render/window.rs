@@ -1,24 +1,26 @@
-//! The live window (`-g`): the simulation runs on its own thread as fast as
-//! it may, and the window shows its latest state at the display's pace.
+//! The live window (`-g`, or `--fullscreen`): the simulation runs on its
+//! own thread (see [`super::live`]) as fast as it may, and the window shows
+//! its latest state at the display's pace, redrawing only when there is a
+//! new state, a new size or an exposure.
 //!
 //! Keys: Space pauses and resumes, Right arrow takes one step while paused,
-//! `+` and `-` speed up and slow down, Q or Esc quits. The title shows the
-//! step, both counters and the steps per second.
+//! `+` and `-` speed up and slow down, H shows or hides the heads-up
+//! display, Q or Esc quits. The title shows the step, both counters and
+//! the steps per second.
 
-use super::{draw, Size};
-use crate::line::{Color, Line};
-use crate::World;
+use super::live::{DrawStats, FrameClock, Outcome, Run, Scenes, Snapshot};
+use super::raster::{Canvas, Painter};
+use super::{hud, Size, View};
 use std::num::NonZeroU32;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::atomic::Ordering;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
-use tiny_skia::Pixmap;
 use winit::application::ApplicationHandler;
-use winit::dpi::LogicalSize;
+use winit::dpi::{LogicalSize, PhysicalPosition};
 use winit::event::{ElementState, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
-use winit::window::{Window, WindowId};
+use winit::window::{Fullscreen, Window, WindowId};
 
 /// What a key does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -31,6 +33,8 @@ pub enum Action {
     Faster,
     /// Run half as fast.
     Slower,
+    /// Show or hide the heads-up display.
+    ToggleHud,
     /// Close the window and end the run.
     Quit,
 }
@@ -45,6 +49,7 @@ pub fn action_for(key: &Key) -> Option<Action> {
             "+" | "=" => Some(Action::Faster),
             "-" | "_" => Some(Action::Slower),
             "q" | "Q" => Some(Action::Quit),
+            "h" | "H" => Some(Action::ToggleHud),
             _ => None,
         },
         _ => None,
@@ -54,12 +59,12 @@ pub fn action_for(key: &Key) -> Option<Action> {
 /// How the window was asked to behave.
 #[derive(Clone, Copy, Debug)]
 pub struct Options {
-    /// Steps to run.
-    pub steps: u64,
     /// Most frames drawn per second.
     pub fps: u32,
     /// Keep the window open after the last step, until it is closed.
     pub hold: bool,
+    /// Fill the screen, the box stretched over it.
+    pub fullscreen: bool,
 }
 
 /// The simulation's speed limit: unlimited, or a number of steps per second.
@@ -76,37 +81,6 @@ fn change_rate(limit: u64, measured: f64, action: Action) -> u64 {
     }
 }
 
-/// What the two threads share.
-struct Shared {
-    paused: AtomicBool,
-    steps_requested: AtomicU64,
-    /// Steps per second allowed; 0 for no limit.
-    limit: AtomicU64,
-    quit: AtomicBool,
-    finished: AtomicBool,
-    /// The latest state, for the window to take.
-    latest: Mutex<Option<Snapshot>>,
-    /// Whether the window has taken the latest state (so a new one is wanted).
-    taken: AtomicBool,
-}
-
-struct Snapshot {
-    lines: Vec<Line>,
-    step: u64,
-    wall: u64,
-    line: u64,
-    rate: f64,
-}
-
-/// The outcome of a windowed run: the world after the steps it ran, and how
-/// long the simulation loop took.
-pub struct Outcome {
-    /// The world, back from the simulation thread.
-    pub world: World,
-    /// The time the simulation loop ran (pauses included).
-    pub elapsed: Duration,
-}
-
 /// Fails, with a message that says what to do, when there is plainly no
 /// display to open a window on.
 pub fn check_display() -> Result<(), String> {
@@ -120,137 +94,72 @@ pub fn check_display() -> Result<(), String> {
     }
 }
 
-/// Opens the window and runs the world in it. Fails with a message when no
-/// window can be opened (no display).
-pub fn run(world: World, options: Options) -> Result<Outcome, String> {
+/// The message for a display that cannot be reached: the display's name
+/// and what to check, not the windowing library's own words.
+fn unreachable_display() -> String {
+    let name = std::env::var("DISPLAY").unwrap_or_default();
+    format!(
+        "cannot open a window: cannot connect to the X display `{name}` \
+         (is an X server running there, and may this user connect to it?)"
+    )
+}
+
+/// Opens the window and runs the scenes in it until the run ends, the
+/// window is closed or a signal stops it. Fails with a message when no
+/// window can be opened.
+pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), String> {
     check_display()?;
-    let event_loop = EventLoop::new().map_err(|e| format!("cannot open a window: {e}"))?;
-    let colors = world.colors().to_vec();
-    let shared = Arc::new(Shared {
-        paused: AtomicBool::new(false),
-        steps_requested: AtomicU64::new(0),
-        limit: AtomicU64::new(0),
-        quit: AtomicBool::new(false),
-        finished: AtomicBool::new(false),
-        latest: Mutex::new(None),
-        taken: AtomicBool::new(true),
-    });
-    let simulation = {
-        let shared = Arc::clone(&shared);
-        std::thread::spawn(move || simulate(world, options.steps, &shared))
-    };
+    let event_loop = EventLoop::new().map_err(|_| unreachable_display())?;
+    let run = Run::start(scenes);
     let mut app = App {
-        shared: Arc::clone(&shared),
-        colors,
+        run: &run,
         options,
         window: None,
         surface: None,
-        pixmap: None,
-        lines: Vec::new(),
+        painter: Painter::new(),
+        state: None,
         title: String::new(),
+        hud: false,
+        clock: FrameClock::default(),
         next_frame: Instant::now(),
-        rate: 0.0,
         error: None,
     };
     let looped = event_loop.run_app(&mut app);
-    shared.quit.store(true, Ordering::Relaxed);
-    let outcome = simulation
-        .join()
-        .map_err(|_| "the simulation thread panicked".to_string())?;
+    let (error, stats) = (app.error.take(), app.clock.stats());
+    let outcome = run.finish()?;
     looped.map_err(|e| format!("the window failed: {e}"))?;
-    match app.error {
+    match error {
         Some(e) => Err(e),
-        None => Ok(outcome),
+        None => Ok((outcome, stats)),
     }
 }
 
-/// The simulation thread: steps until done or told to quit, obeying pause,
-/// single steps and the speed limit, and leaves a snapshot whenever the
-/// window has taken the last one.
-fn simulate(mut world: World, steps: u64, shared: &Shared) -> Outcome {
-    let start = Instant::now();
-    let (mut window_start, mut window_steps) = (Instant::now(), 0u64);
-    let mut rate = 0.0;
-    let publish = |world: &World, rate: f64, force: bool| {
-        if force || shared.taken.swap(false, Ordering::AcqRel) {
-            let c = world.counters();
-            let snapshot = Snapshot {
-                lines: world.lines().to_vec(),
-                step: world.steps(),
-                wall: c.wall,
-                line: c.line,
-                rate,
-            };
-            *shared
-                .latest
-                .lock()
-                .expect("no panics while holding the lock") = Some(snapshot);
-        }
-    };
-    publish(&world, 0.0, true);
-    while world.steps() < steps && !shared.quit.load(Ordering::Relaxed) {
-        let paused = shared.paused.load(Ordering::Relaxed);
-        if paused && shared.steps_requested.load(Ordering::Relaxed) == 0 {
-            std::thread::sleep(Duration::from_millis(5));
-            continue;
-        }
-        if paused {
-            shared.steps_requested.fetch_sub(1, Ordering::Relaxed);
-        }
-        let step_start = Instant::now();
-        world.step();
-        window_steps += 1;
-        if window_start.elapsed() >= Duration::from_millis(250) {
-            rate = window_steps as f64 / window_start.elapsed().as_secs_f64();
-            (window_start, window_steps) = (Instant::now(), 0);
-        }
-        publish(&world, rate, paused);
-        let limit = shared.limit.load(Ordering::Relaxed);
-        if limit > 0 {
-            let budget = Duration::from_secs_f64(1.0 / limit as f64);
-            if let Some(rest) = budget.checked_sub(step_start.elapsed()) {
-                std::thread::sleep(rest);
-            }
-        }
-    }
-    let elapsed = start.elapsed();
-    publish(&world, rate, true);
-    shared.finished.store(true, Ordering::Release);
-    Outcome { world, elapsed }
-}
-
-struct App {
-    shared: Arc<Shared>,
-    colors: Vec<Color>,
+struct App<'a> {
+    run: &'a Run,
     options: Options,
     window: Option<Arc<Window>>,
     surface: Option<softbuffer::Surface<Arc<Window>, Arc<Window>>>,
-    pixmap: Option<Pixmap>,
-    lines: Vec<Line>,
+    painter: Painter,
+    /// The state on show.
+    state: Option<Snapshot>,
     title: String,
+    /// Whether the heads-up display is on.
+    hud: bool,
+    clock: FrameClock,
     next_frame: Instant,
-    rate: f64,
     error: Option<String>,
 }
 
-impl App {
+impl App<'_> {
     fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
         self.error = Some(message);
         event_loop.exit();
     }
 
-    /// Takes the latest snapshot, if there is a new one.
+    /// Takes the latest state, if there is a new one.
     fn take_snapshot(&mut self) {
-        let snapshot = self
-            .shared
-            .latest
-            .lock()
-            .expect("no panics while holding the lock")
-            .take();
-        if let Some(s) = snapshot {
-            self.lines = s.lines;
-            self.rate = s.rate;
-            let paused = if self.shared.paused.load(Ordering::Relaxed) {
+        if let Some(s) = self.run.shared.take() {
+            let paused = if self.run.shared.paused.load(Ordering::Relaxed) {
                 "  [paused]"
             } else {
                 ""
@@ -259,13 +168,16 @@ impl App {
                 "screensaver - step {} - {} line-wall, {} line-line - {:.0} steps/s{paused}",
                 s.step, s.wall, s.line, s.rate
             );
-            self.shared.taken.store(true, Ordering::Release);
+            self.state = Some(s);
         }
     }
 
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
+        let started = Instant::now();
         self.take_snapshot();
-        let (Some(window), Some(surface)) = (&self.window, &mut self.surface) else {
+        let (Some(window), Some(surface), Some(state)) =
+            (&self.window, &mut self.surface, &self.state)
+        else {
             return;
         };
         window.set_title(&self.title);
@@ -277,17 +189,6 @@ impl App {
             let message = format!("cannot draw: {e}");
             return self.fail(event_loop, message);
         }
-        let fits = self
-            .pixmap
-            .as_ref()
-            .is_some_and(|p| p.width() == w.get() && p.height() == h.get());
-        if !fits {
-            self.pixmap = Pixmap::new(w.get(), h.get());
-        }
-        let Some(pixmap) = &mut self.pixmap else {
-            return;
-        };
-        draw(&self.lines, &self.colors, pixmap);
         let mut buffer = match surface.buffer_mut() {
             Ok(buffer) => buffer,
             Err(e) => {
@@ -295,21 +196,35 @@ impl App {
                 return self.fail(event_loop, message);
             }
         };
-        for (out, p) in buffer.iter_mut().zip(pixmap.pixels()) {
-            *out = (u32::from(p.red()) << 16) | (u32::from(p.green()) << 8) | u32::from(p.blue());
+        let frame = Size {
+            width: w.get(),
+            height: h.get(),
+        };
+        let view = if self.options.fullscreen {
+            View::filling(frame)
+        } else {
+            View::new(frame)
+        };
+        let (w, h) = (w.get() as usize, h.get() as usize);
+        let mut canvas = Canvas::new(&mut buffer, w, h);
+        self.painter
+            .paint(&state.lines, &state.colors, &view, &mut canvas);
+        if self.hud {
+            hud::draw(&mut canvas, &hud::lines(state, self.clock.recent_fps()));
         }
         if let Err(e) = buffer.present() {
             let message = format!("cannot draw: {e}");
-            self.fail(event_loop, message);
+            return self.fail(event_loop, message);
         }
+        self.clock.drawn(started);
     }
 
     fn act(&mut self, action: Action, event_loop: &ActiveEventLoop) {
-        let shared = &self.shared;
+        let shared = &self.run.shared;
         match action {
             Action::TogglePause => {
                 shared.paused.fetch_xor(true, Ordering::Relaxed);
-                shared.taken.store(true, Ordering::Release);
+                shared.want_news();
             }
             Action::Step => {
                 if shared.paused.load(Ordering::Relaxed) {
@@ -317,23 +232,44 @@ impl App {
                 }
             }
             Action::Faster | Action::Slower => {
-                let limit = change_rate(shared.limit.load(Ordering::Relaxed), self.rate, action);
+                let rate = self.state.as_ref().map_or(0.0, |s| s.rate);
+                let limit = change_rate(shared.limit.load(Ordering::Relaxed), rate, action);
                 shared.limit.store(limit, Ordering::Relaxed);
+            }
+            Action::ToggleHud => {
+                self.hud = !self.hud;
+                if let Some(window) = &self.window {
+                    window.request_redraw();
+                }
             }
             Action::Quit => event_loop.exit(),
         }
     }
 }
 
-impl ApplicationHandler for App {
+impl ApplicationHandler for App<'_> {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.window.is_some() {
             return;
         }
-        let attributes = Window::default_attributes()
+        let mut attributes = Window::default_attributes()
             .with_title("screensaver")
             .with_inner_size(LogicalSize::new(Size::WINDOW.width, Size::WINDOW.height))
             .with_resizable(true);
+        if self.options.fullscreen {
+            // Fullscreen asks the window manager; the size and place are
+            // set as well, for displays without one.
+            let monitor = event_loop
+                .primary_monitor()
+                .or_else(|| event_loop.available_monitors().next());
+            if let Some(monitor) = &monitor {
+                attributes = attributes
+                    .with_inner_size(monitor.size())
+                    .with_position(PhysicalPosition::new(0, 0))
+                    .with_decorations(false);
+            }
+            attributes = attributes.with_fullscreen(Some(Fullscreen::Borderless(monitor)));
+        }
         let window = match event_loop.create_window(attributes) {
             Ok(window) => Arc::new(window),
             Err(e) => return self.fail(event_loop, format!("cannot open a window: {e}")),
@@ -365,20 +301,31 @@ impl ApplicationHandler for App {
             event_loop.exit();
             return;
         }
-        let finished = self.shared.finished.load(Ordering::Acquire);
-        if finished && !self.options.hold && self.shared.latest.lock().map_or(true, |l| l.is_none())
-        {
+        let shared = &self.run.shared;
+        let news = shared.has_news();
+        if shared.finished.load(Ordering::Acquire) && !self.options.hold && !news {
             // The last state has been drawn.
             event_loop.exit();
             return;
         }
         let now = Instant::now();
         if now >= self.next_frame {
-            if let Some(window) = &self.window {
-                window.request_redraw();
+            if news {
+                if let Some(window) = &self.window {
+                    window.request_redraw();
+                }
             }
-            self.next_frame =
-                now + Duration::from_secs_f64(1.0 / f64::from(self.options.fps.max(1)));
+            // With nothing running (paused, or held after the end) the
+            // window wakes only a few times a second, to see whether a
+            // signal or a single step came.
+            let idle =
+                shared.finished.load(Ordering::Acquire) || shared.paused.load(Ordering::Relaxed);
+            let period = if idle {
+                Duration::from_millis(100)
+            } else {
+                Duration::from_secs_f64(1.0 / f64::from(self.options.fps.max(1)))
+            };
+            self.next_frame = now + period;
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_frame));
     }
@@ -415,6 +362,10 @@ mod tests {
         assert_eq!(
             action_for(&Key::Character("-".into())),
             Some(Action::Slower)
+        );
+        assert_eq!(
+            action_for(&Key::Character("h".into())),
+            Some(Action::ToggleHud)
         );
         assert_eq!(action_for(&Key::Character("x".into())), None);
         assert_eq!(action_for(&Key::Named(NamedKey::ArrowLeft)), None);

@@ -3,6 +3,8 @@
 
 #![allow(dead_code)]
 
+pub mod x11;
+
 use screensaver::{Counters, DetectorConfig, DetectorKind, Line, Scene, World};
 use std::path::{Path, PathBuf};
 

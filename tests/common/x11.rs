@@ -1,0 +1,125 @@
+//! A virtual X server for the window tests, and what they look at on it:
+//! the screen's pixels and the window tree. Tests skip (with a message)
+//! where `Xvfb` or `xwd` is missing; CI installs both.
+
+#![allow(dead_code)]
+
+use std::io::{BufRead, BufReader};
+use std::process::{Child, Command, Stdio};
+
+pub fn found(program: &str) -> bool {
+    std::env::var_os("PATH")
+        .map(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
+        .unwrap_or(false)
+}
+
+/// A virtual X server on its own display, stopped when dropped.
+pub struct Xvfb {
+    child: Child,
+    /// The display's name, `:N`.
+    pub display: String,
+}
+
+impl Xvfb {
+    /// A server with a 1280 x 900 screen.
+    pub fn start() -> Option<Xvfb> {
+        Self::with_screen("1280x900x24")
+    }
+
+    /// A server with a screen of `screen` (`WxHxDEPTH`).
+    pub fn with_screen(screen: &str) -> Option<Xvfb> {
+        if !found("Xvfb") || !found("xwd") {
+            eprintln!(
+                "window test: skipped: Xvfb or xwd not found (apt-get install xvfb x11-apps)"
+            );
+            return None;
+        }
+        // Xvfb picks a display no other server holds (a server killed
+        // earlier leaves its lock and socket behind) and writes its number
+        // once it accepts connections.
+        let mut child = Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                screen,
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("starting Xvfb");
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().expect("Xvfb's stdout"))
+            .read_line(&mut line)
+            .expect("reading Xvfb's display number");
+        let number: u32 = line.trim().parse().expect("Xvfb did not start");
+        Some(Xvfb {
+            child,
+            display: format!(":{number}"),
+        })
+    }
+}
+
+impl Drop for Xvfb {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// The root window's pixels as RGB, from `xwd`'s output (32-bit ZPixmap).
+pub fn screenshot(display: &str) -> Vec<[u8; 3]> {
+    let out = Command::new("xwd")
+        .args(["-root", "-silent", "-display", display])
+        .output()
+        .expect("running xwd");
+    assert!(out.status.success(), "xwd failed");
+    let d = out.stdout;
+    let field = |k: usize| u32::from_be_bytes(d[4 * k..4 * k + 4].try_into().unwrap()) as usize;
+    let (header, width, height) = (field(0), field(4), field(5));
+    let (byte_order, bits_per_pixel, bytes_per_line, ncolors) =
+        (field(7), field(11), field(12), field(19));
+    assert_eq!(bits_per_pixel, 32, "expected a 24-bit screen");
+    let start = header + 12 * ncolors;
+    let mut pixels = Vec::with_capacity(width * height);
+    for y in 0..height {
+        for x in 0..width {
+            let p = &d[start + y * bytes_per_line + 4 * x..][..4];
+            let v = if byte_order == 0 {
+                u32::from_le_bytes(p.try_into().unwrap())
+            } else {
+                u32::from_be_bytes(p.try_into().unwrap())
+            };
+            pixels.push([(v >> 16) as u8, (v >> 8) as u8, v as u8]);
+        }
+    }
+    pixels
+}
+
+/// Pixels that are plainly the red lines' colour, and plainly the gray
+/// lines' (anti-aliased edges blend the colours with black: judged by
+/// hue).
+pub fn red_and_gray(pixels: &[[u8; 3]]) -> (usize, usize) {
+    let [r, g, b] = [0, 1, 2];
+    let red = pixels
+        .iter()
+        .filter(|p| p[r] >= 60 && p[r] > 3 * p[g] && p[g].abs_diff(p[b]) <= 4)
+        .count();
+    let gray = pixels
+        .iter()
+        .filter(|p| p[r] >= 60 && p[r].abs_diff(p[g]) <= 4 && p[g].abs_diff(p[b]) <= 4)
+        .count();
+    (red, gray)
+}
+
+/// Sends `signal` (`-TERM`, `-INT`) to a child.
+pub fn signal(child: &Child, signal: &str) {
+    let sent = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .expect("running kill");
+    assert!(sent.success());
+}
