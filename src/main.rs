@@ -322,6 +322,9 @@ fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
     }
 }
 
+/// Most frames a GIF gets unless `--render-every` says otherwise.
+const GIF_FRAMES: u64 = 300;
+
 /// Where a live run shows itself.
 enum Display {
     /// Our own window (`-g`), filling the screen if asked.
@@ -462,7 +465,21 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         Some(path) => {
             let target =
                 Target::for_path(path, cli.render_every.is_some()).map_err(|e| e.to_string())?;
-            let every = cli.render_every.unwrap_or(1);
+            let every = match (cli.render_every, &target) {
+                (Some(every), _) => every,
+                // A GIF of every step of a long run is slow to write and
+                // huge (2,000 frames at full size: 101 MB).
+                (None, Target::Gif(_)) if steps > GIF_FRAMES => {
+                    let every = steps.div_ceil(GIF_FRAMES);
+                    eprintln!(
+                        "screensaver: --render: a GIF frame every {every} steps ({} frames); \
+                         --render-every 1 for every step",
+                        steps / every + 1
+                    );
+                    every
+                }
+                (None, _) => 1,
+            };
             Some(Recorder::new(target, cli.size, every, cli.fps).map_err(|e| e.to_string())?)
         }
         None => None,
@@ -481,7 +498,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     });
     let first_step = world.steps();
     let to_run = steps.saturating_sub(first_step);
-    let mut drawn = None;
+    let drawn;
     let elapsed = match display {
         Some(display) => {
             let scenes = if endless && input.is_none() {
@@ -530,7 +547,12 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             drawn = Some(stats);
             outcome.elapsed
         }
-        None => simulate(&mut world, to_run, cli.verify, recorder, saver.as_ref())?,
+        None => {
+            let (elapsed, pictures) =
+                simulate(&mut world, to_run, cli.verify, recorder, saver.as_ref())?;
+            drawn = pictures;
+            elapsed
+        }
     };
     let stopped = screensaver::stop::requested();
     let counts = world.counters();
@@ -763,10 +785,15 @@ fn stats_text(
     out += &phase("resolve", t.resolve);
     out += &phase("move and walls", t.advance);
     if let Some(d) = drawn {
+        // Pictures written to files have no rate of their own.
+        let rate = if d.span.is_zero() {
+            String::new()
+        } else {
+            format!(", {:.1} frames/s", d.fps())
+        };
         out += &format!(
-            "frames drawn: {}, {:.1} frames/s, {:.3} ms a frame to draw\n",
+            "frames drawn: {}{rate}, {:.3} ms a frame to draw\n",
             d.frames,
-            d.fps(),
             d.seconds_per_frame() * 1e3
         );
     }
@@ -774,7 +801,9 @@ fn stats_text(
     out
 }
 
-/// Runs `steps` steps and returns the time the loop took. A progress bar
+/// Runs `steps` steps and returns the time the simulation took (the loop,
+/// less the time spent writing pictures and checkpoints), and with a
+/// recorder, the frames it wrote and the time they took. A progress bar
 /// appears on stderr once a run has taken a second, if stderr is a terminal.
 /// With `verify`, every step is checked against the all-pairs detector.
 /// With a recorder, frames are written as the run goes.
@@ -784,12 +813,16 @@ fn simulate(
     verify: bool,
     mut recorder: Option<Recorder>,
     saver: Option<&Saver>,
-) -> Result<Duration, String> {
+) -> Result<(Duration, Option<DrawStats>), String> {
     if verify {
         world.set_oracle(Box::new(Brute::default()));
     }
+    // Time spent writing pictures, and checkpoints.
+    let (mut drawing, mut saving) = (Duration::ZERO, Duration::ZERO);
     if let Some(recorder) = &mut recorder {
+        let started = Instant::now();
         recorder.start(world).map_err(|e| e.to_string())?;
+        drawing += started.elapsed();
     }
     let mut render_error = None;
     let mut save_error = None;
@@ -803,13 +836,19 @@ fn simulate(
             return ControlFlow::Break(());
         }
         if let Some(recorder) = &mut recorder {
-            if let Err(e) = recorder.after_step(world) {
+            let started = Instant::now();
+            let written = recorder.after_step(world);
+            drawing += started.elapsed();
+            if let Err(e) = written {
                 render_error = Some(e.to_string());
                 return ControlFlow::Break(());
             }
         }
         if let Some(saver) = saver.filter(|s| s.due(world)) {
-            if let Err(e) = saver.save(world) {
+            let started = Instant::now();
+            let saved = saver.save(world);
+            saving += started.elapsed();
+            if let Err(e) = saved {
                 save_error = Some(e);
                 return ControlFlow::Break(());
             }
@@ -828,7 +867,7 @@ fn simulate(
         }
         ControlFlow::Continue(())
     });
-    let elapsed = start.elapsed();
+    let elapsed = start.elapsed().saturating_sub(drawing + saving);
     if let Some(bar) = bar {
         if stopped.is_some() {
             bar.abandon();
@@ -842,10 +881,20 @@ fn simulate(
     if let Some(mismatch) = world.mismatch() {
         return Err(format!("--verify: {mismatch}"));
     }
-    if let Some(recorder) = recorder {
-        recorder.finish(world).map_err(|e| e.to_string())?;
-    }
-    Ok(elapsed)
+    let pictures = match recorder {
+        Some(recorder) => {
+            let started = Instant::now();
+            let frames = recorder.finish(world).map_err(|e| e.to_string())?;
+            drawing += started.elapsed();
+            Some(DrawStats {
+                frames,
+                drawing,
+                span: Duration::ZERO,
+            })
+        }
+        None => None,
+    };
+    Ok((elapsed, pictures))
 }
 
 fn progress_bar(steps: u64, done: u64) -> ProgressBar {

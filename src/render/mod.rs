@@ -107,6 +107,19 @@ impl View {
         (px, py)
     }
 
+    /// The map as `(a_x, b_x), (a_y, b_y)`: a point `(x, y)` lands at
+    /// `(a_x x + b_x, a_y y + b_y)`, as [`View::point`] has it (to a
+    /// rounding), with a multiplication instead of a division.
+    pub fn affine(&self) -> ((f64, f64), (f64, f64)) {
+        let span = BOX_MAX - BOX_MIN;
+        let ax = WINDOW_WIDTH * self.scale_x / span;
+        let ay = WINDOW_HEIGHT * self.scale_y / span;
+        (
+            (ax, self.left - BOX_MIN * ax),
+            (ay, self.top - BOX_MIN * ay),
+        )
+    }
+
     /// The stroke width of lines: 1.5 pixels at the window's size, never
     /// under one pixel.
     pub fn stroke_width(&self) -> f32 {
@@ -377,6 +390,8 @@ pub struct Recorder {
     gif: Option<GifWriter>,
     /// Steps at which the last frame was written.
     last_written: Option<u64>,
+    /// Frames written so far.
+    written: u64,
 }
 
 impl Recorder {
@@ -396,6 +411,7 @@ impl Recorder {
             every: every.max(1),
             gif,
             last_written: None,
+            written: 0,
         })
     }
 
@@ -413,20 +429,22 @@ impl Recorder {
     }
 
     /// Writes the last frame (unless just written) and closes the output.
-    pub fn finish(mut self, world: &World) -> Result<(), RenderError> {
+    /// Returns the frames written in all.
+    pub fn finish(mut self, world: &World) -> Result<u64, RenderError> {
         match &self.target {
-            Target::Png(path) => save_png(&frame(world, self.size), path),
-            Target::Svg(path) => save_svg(world, self.size, path),
+            Target::Png(path) => save_png(&frame(world, self.size), path)?,
+            Target::Svg(path) => save_svg(world, self.size, path)?,
             Target::PngSequence(_) | Target::Gif(_) => {
                 if self.last_written != Some(world.steps()) {
                     self.write_frame(world)?;
                 }
-                match self.gif.take() {
-                    Some(gif) => gif.finish(),
-                    None => Ok(()),
+                if let Some(gif) = self.gif.take() {
+                    gif.finish()?;
                 }
+                return Ok(self.written);
             }
         }
+        Ok(1)
     }
 
     fn write_frame(&mut self, world: &World) -> Result<(), RenderError> {
@@ -447,6 +465,7 @@ impl Recorder {
             Target::Png(_) | Target::Svg(_) => return Ok(()),
         }
         self.last_written = Some(world.steps());
+        self.written += 1;
         Ok(())
     }
 }

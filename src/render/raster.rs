@@ -124,22 +124,29 @@ impl Painter {
 }
 
 /// Draws `lines` over black into `canvas`, one pixel wide and
-/// anti-aliased, gray lines first and red ones over them. Lines whose
-/// coordinates are not finite are skipped.
+/// anti-aliased, in one pass in the order given (so where lines cross, the
+/// later one shows); a line shorter than a pixel both ways is a dot, the
+/// pixel under its middle. Lines whose coordinates are not finite are
+/// skipped.
 pub fn draw_thin(lines: &[Line], colors: &[Color], view: &View, canvas: &mut Canvas) {
     canvas.fill(0);
-    for (color, rgb) in [(Color::Gray, GRAY), (Color::Red, RED)] {
-        let rgb = pixel(rgb);
-        for (line, _) in lines.iter().zip(colors).filter(|(_, c)| **c == color) {
-            let (x1, y1) = view.point(line.p1.x, line.p1.y);
-            let (x2, y2) = view.point(line.p2.x, line.p2.y);
-            if [x1, y1, x2, y2]
-                .iter()
-                .all(|v| v.is_finite() && v.abs() < 1e7)
-            {
-                // Pixel centres lie at whole numbers here, at halves in the view.
-                wu_line(canvas, (x1 - 0.5, y1 - 0.5), (x2 - 0.5, y2 - 0.5), rgb);
-            }
+    let (red, gray) = (pixel(RED), pixel(GRAY));
+    // Pixel centres lie at whole numbers here, at halves in the view.
+    let ((ax, bx), (ay, by)) = view.affine();
+    let (bx, by) = (bx - 0.5, by - 0.5);
+    for (line, color) in lines.iter().zip(colors) {
+        let rgb = if *color == Color::Red { red } else { gray };
+        let (x1, y1) = (ax * line.p1.x + bx, ay * line.p1.y + by);
+        let (x2, y2) = (ax * line.p2.x + bx, ay * line.p2.y + by);
+        if !(x1.abs() < 1e7 && y1.abs() < 1e7 && x2.abs() < 1e7 && y2.abs() < 1e7) {
+            // Far away, infinite or NaN.
+            continue;
+        }
+        if (x2 - x1).abs() < 1.0 && (y2 - y1).abs() < 1.0 {
+            let (x, y) = ((x1 + x2) * 0.5, (y1 + y2) * 0.5);
+            canvas.blend(x.round() as isize, y.round() as isize, rgb, 256);
+        } else {
+            wu_line(canvas, (x1, y1), (x2, y2), rgb);
         }
     }
 }
