@@ -472,7 +472,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
                 (None, Target::Gif(_)) if steps > GIF_FRAMES => {
                     let every = steps.div_ceil(GIF_FRAMES);
                     eprintln!(
-                        "screensaver: --render: a GIF frame every {every} steps ({} frames); \
+                        "screensaver: --render: a GIF frame every {every} steps (about {} frames); \
                          --render-every 1 for every step",
                         steps / every + 1
                     );
