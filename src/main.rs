@@ -124,6 +124,11 @@ struct Cli {
     #[arg(long, conflicts_with_all = ["render", "verify", "root", "window_id"])]
     fullscreen: bool,
 
+    /// Show the heads-up display (step, counters, steps and frames per
+    /// second) from the start; H toggles it in the window.
+    #[arg(long, conflicts_with_all = ["render", "verify"])]
+    hud: bool,
+
     /// Draw on the root window (the desktop), filling it.
     #[arg(long, conflicts_with_all = ["render", "verify", "graphics", "window_id"])]
     root: bool,
@@ -529,11 +534,17 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
                         fps: cli.fps,
                         hold: cli.hold,
                         fullscreen,
+                        hud: cli.hud,
                     },
                 ),
-                Display::Embedded(target) => {
-                    embedded::run(target, scenes, embedded::Options { fps: cli.fps })
-                }
+                Display::Embedded(target) => embedded::run(
+                    target,
+                    scenes,
+                    embedded::Options {
+                        fps: cli.fps,
+                        hud: cli.hud,
+                    },
+                ),
             }?;
             if outcome.scenes > 1 {
                 eprintln!(

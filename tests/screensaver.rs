@@ -90,13 +90,25 @@ fn wait_for_lines(
 fn root_draws_both_colours_over_the_whole_screen() {
     let Some(x) = Xvfb::start() else { return };
     let scene = still_scene();
-    let child = start(&x.display, &["--root", scene.to_str().unwrap()], &[]);
+    let child = start(
+        &x.display,
+        &["--root", "--hud", scene.to_str().unwrap()],
+        &[],
+    );
     // The lines run from 5% to 95% of the box's height, so they reach
     // both the top and the bottom tenth of the 900-pixel screen.
     let (red, gray) = wait_for_lines(&x.display, 1280, |_, y| y < 90);
     assert!(red >= 100 && gray >= 100, "top: red {red}, gray {gray}");
     let (red, gray) = wait_for_lines(&x.display, 1280, |_, y| y >= 810);
     assert!(red >= 100 && gray >= 100, "bottom: red {red}, gray {gray}");
+    // The heads-up display's white text in the top left corner (the
+    // scene has no white of its own).
+    let text = screenshot(&x.display)
+        .iter()
+        .enumerate()
+        .filter(|(k, p)| k % 1280 < 300 && k / 1280 < 60 && **p == [255, 255, 255])
+        .count();
+    assert!(text >= 100, "{text} white pixels in the heads-up display");
     let out = terminate(child);
     assert!(String::from_utf8_lossy(&out.stdout).contains("Number of frames = endless"));
 }

@@ -10,7 +10,7 @@
 
 use super::live::{DrawStats, FrameClock, Outcome, Run, Scenes};
 use super::raster::{Canvas, Painter};
-use super::{Size, View};
+use super::{hud, Size, View};
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 use x11rb::connection::Connection;
@@ -59,6 +59,8 @@ pub fn screensaver_window() -> Option<Result<u32, String>> {
 pub struct Options {
     /// Most frames drawn per second.
     pub fps: u32,
+    /// Show the heads-up display.
+    pub hud: bool,
 }
 
 /// Runs `scenes` drawn into the window `target` until the run ends, the
@@ -171,6 +173,9 @@ pub fn run(
                 });
                 let mut canvas = Canvas::new(&mut pixels, w, h);
                 painter.paint(&snapshot.lines, &snapshot.colors, &view, &mut canvas);
+                if options.hud {
+                    hud::draw(&mut canvas, &hud::lines(snapshot, clock.recent_fps()));
+                }
                 let alpha = if depth == 32 { 0xff00_0000 } else { 0 };
                 bytes.clear();
                 bytes.extend(pixels.iter().flat_map(|&p| {

@@ -65,6 +65,8 @@ pub struct Options {
     pub hold: bool,
     /// Fill the screen, the box stretched over it.
     pub fullscreen: bool,
+    /// Show the heads-up display from the start.
+    pub hud: bool,
 }
 
 /// The simulation's speed limit: unlimited, or a number of steps per second.
@@ -120,7 +122,7 @@ pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), Str
         frame: Vec::new(),
         state: None,
         title: String::new(),
-        hud: false,
+        hud: options.hud,
         clock: FrameClock::default(),
         next_frame: Instant::now(),
         error: None,
