@@ -6,7 +6,6 @@
 //! steps, so the state is a typical mid-run one.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use screensaver::detect::TreeMode;
 use screensaver::generate::default_scene;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::path::PathBuf;
@@ -29,28 +28,13 @@ fn scenes() -> Vec<(String, Scene)> {
     scenes
 }
 
-/// The detectors measured: the all-pairs oracle and both ways of keeping
-/// the quadtree (auto mode switches between them by timing, which would
-/// make the benchmark measure itself).
+/// The detectors measured: the all-pairs oracle, the sweep and the
+/// quadtree.
 fn detectors() -> Vec<(&'static str, DetectorKind, DetectorConfig)> {
-    let with = |tree_mode| DetectorConfig {
-        tree_mode,
-        ..DetectorConfig::default()
-    };
-    vec![
-        ("brute", DetectorKind::Brute, DetectorConfig::default()),
-        ("sweep", DetectorKind::Sweep, DetectorConfig::default()),
-        (
-            "quadtree-cached",
-            DetectorKind::Quadtree,
-            with(TreeMode::Cached),
-        ),
-        (
-            "quadtree-rebuilt",
-            DetectorKind::Quadtree,
-            with(TreeMode::Rebuilt),
-        ),
-    ]
+    DetectorKind::ALL
+        .iter()
+        .map(|&k| (k.name(), k, DetectorConfig::default()))
+        .collect()
 }
 
 fn one_step(c: &mut Criterion) {

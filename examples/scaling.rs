@@ -7,12 +7,14 @@
 //! ```
 //!
 //! Each configuration runs the same scene (`gen --lines N --seed 7`) for
-//! two warm-up steps, then for about half a second (3 to 50 steps) in one
-//! timed run. The all-pairs detector stops at 10^4 lines. Text in the plot uses
-//! DejaVu Sans from Debian's `fonts-dejavu-core`.
+//! two warm-up steps, then for about a second (at least 10 steps) in one
+//! timed run. The all-pairs detector stops at 10^4 lines. The ceiling is
+//! what two threads could do at most: two copies of the one-thread sweep
+//! run at once (nothing shared, nothing to wait for), their steps added up
+//! (as `examples/ceiling.rs` measures it on one scene). Text in the plot
+//! uses DejaVu Sans from Debian's `fonts-dejavu-core`.
 
 use plotters::prelude::*;
-use screensaver::detect::TreeMode;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorConfig, DetectorKind, World};
 use std::time::{Duration, Instant};
@@ -24,6 +26,9 @@ struct Series {
     kind: DetectorKind,
     config: DetectorConfig,
     max_lines: usize,
+    /// Copies run at once, each on one thread (1: the configuration as
+    /// it is).
+    copies: usize,
     points: Vec<(usize, f64)>,
 }
 
@@ -33,6 +38,7 @@ fn series(max_lines: usize) -> Vec<Series> {
         kind: DetectorKind::Brute,
         config: DetectorConfig::default(),
         max_lines: max_lines.min(10_000),
+        copies: 1,
         points: Vec::new(),
     }];
     for threads in [1, 2] {
@@ -47,44 +53,61 @@ fn series(max_lines: usize) -> Vec<Series> {
                 ..DetectorConfig::default()
             },
             max_lines,
+            copies: 1,
             points: Vec::new(),
         });
     }
-    for mode in [TreeMode::Auto, TreeMode::Cached, TreeMode::Rebuilt] {
-        for threads in [1, 2] {
-            all.push(Series {
-                name: format!(
-                    "quadtree {mode}, {threads} thread{}",
-                    if threads > 1 { "s" } else { "" }
-                ),
-                kind: DetectorKind::Quadtree,
-                config: DetectorConfig {
-                    tree_mode: mode,
-                    threads,
-                    ..DetectorConfig::default()
-                },
-                max_lines,
-                points: Vec::new(),
-            });
-        }
+    all.push(Series {
+        name: "sweep, ceiling of 2 threads".into(),
+        kind: DetectorKind::Sweep,
+        config: DetectorConfig {
+            threads: 1,
+            ..DetectorConfig::default()
+        },
+        max_lines,
+        copies: 2,
+        points: Vec::new(),
+    });
+    for threads in [1, 2] {
+        all.push(Series {
+            name: format!(
+                "quadtree, {threads} thread{}",
+                if threads > 1 { "s" } else { "" }
+            ),
+            kind: DetectorKind::Quadtree,
+            config: DetectorConfig {
+                threads,
+                ..DetectorConfig::default()
+            },
+            max_lines,
+            copies: 1,
+            points: Vec::new(),
+        });
     }
     all
 }
 
-/// Steps per second of `kind` with `config` on `lines` lines.
-fn measure(lines: usize, kind: DetectorKind, config: &DetectorConfig) -> f64 {
+/// Steps per second of `kind` with `config` on `lines` lines, summed over
+/// `copies` worlds run at once, each on a thread of its own.
+fn measure(lines: usize, kind: DetectorKind, config: &DetectorConfig, copies: usize) -> f64 {
     let scene = generate(SceneKind::Uniform, lines, 7);
-    let mut world = World::with_config(&scene, kind, config).expect("a thread pool");
+    let mut worlds: Vec<World> = (0..copies)
+        .map(|_| World::with_config(&scene, kind, config).expect("a thread pool"))
+        .collect();
     // Warm up, and learn roughly how long a step takes; then time one run
-    // of half a second's worth (3 to 50 steps) inside the thread pool.
+    // of a second's worth (at least 10 steps) inside the thread pool.
     let start = Instant::now();
-    world.run(2);
+    worlds[0].run(2);
     let per_step = start.elapsed() / 2;
-    let steps = (Duration::from_millis(500).as_secs_f64() / per_step.as_secs_f64().max(1e-9))
-        .clamp(3.0, 50.0) as u64;
+    let steps = (Duration::from_secs(1).as_secs_f64() / per_step.as_secs_f64().max(1e-9))
+        .clamp(10.0, 1e6) as u64;
     let start = Instant::now();
-    world.run(steps);
-    steps as f64 / start.elapsed().as_secs_f64()
+    std::thread::scope(|scope| {
+        for world in &mut worlds {
+            scope.spawn(move || world.run(steps));
+        }
+    });
+    (copies as u64 * steps) as f64 / start.elapsed().as_secs_f64()
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -105,7 +128,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut all = series(max_lines);
     for &n in &sizes {
         for s in all.iter_mut().filter(|s| n <= s.max_lines) {
-            let rate = measure(n, s.kind, &s.config);
+            let rate = measure(n, s.kind, &s.config, s.copies);
             eprintln!("{n:>9} lines  {:<28} {rate:>12.1} steps/s", s.name);
             s.points.push((n, rate));
         }

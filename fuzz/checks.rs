@@ -4,7 +4,7 @@
 //! which is what libFuzzer reports as a crash.
 
 use screensaver::checkpoint::Checkpoint;
-use screensaver::detect::{Detector, TreeMode};
+use screensaver::detect::Detector;
 use screensaver::line::{BOX_MAX, BOX_MIN};
 use screensaver::{Color, Counters, DetectorConfig, DetectorKind, Line, Scene, Vec2, World};
 
@@ -237,27 +237,24 @@ fn decode_lines(bytes: &[u8]) -> Vec<Line> {
 }
 
 /// The detectors compared with the all-pairs one: every kind as the command
-/// line builds it, and the quadtree in each way of keeping its tree with
-/// tiny leaves, very deep or no splitting at all.
+/// line builds it, and the quadtree with tiny leaves, very deep or no
+/// splitting at all.
 fn contenders() -> Vec<(String, Box<dyn Detector>)> {
     let mut all: Vec<(String, Box<dyn Detector>)> = DetectorKind::ALL
         .iter()
         .filter(|&&k| k != DetectorKind::Brute)
         .map(|&k| (k.name().to_string(), k.build()))
         .collect();
-    for tree_mode in [TreeMode::Cached, TreeMode::Rebuilt] {
-        for (leaf_size, max_depth) in [(1, 12), (2, 40), (4, 0)] {
-            let config = DetectorConfig {
-                leaf_size,
-                max_depth,
-                tree_mode,
-                ..DetectorConfig::default()
-            };
-            all.push((
-                format!("quadtree {config:?}"),
-                DetectorKind::Quadtree.build_with(&config),
-            ));
-        }
+    for (leaf_size, max_depth) in [(1, 12), (2, 40), (4, 0)] {
+        let config = DetectorConfig {
+            leaf_size,
+            max_depth,
+            ..DetectorConfig::default()
+        };
+        all.push((
+            format!("quadtree {config:?}"),
+            DetectorKind::Quadtree.build_with(&config),
+        ));
     }
     all
 }

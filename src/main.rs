@@ -4,7 +4,7 @@
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::checkpoint::{self, Checkpoint};
-use screensaver::detect::{Brute, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::output;
 use screensaver::render::live::{DrawStats, Scenes};
@@ -82,13 +82,6 @@ struct Cli {
     /// Quadtree: deepest level a node may split at.
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH)]
     max_depth: u32,
-
-    /// Quadtree: `cached` keeps fat hulls and the pairs they give from step
-    /// to step; `rebuilt` rebuilds the tree every step; `auto` rebuilds at
-    /// first, tries the cached way now and then, and keeps whichever is
-    /// measured to be faster.
-    #[arg(long, value_name = "MODE", default_value = "auto", value_parser = parse::<TreeMode>)]
-    tree_mode: TreeMode,
 
     /// Threads to run on (default: all cores). Results are the same for any
     /// number; 1 runs everything on one thread with no pool.
@@ -444,7 +437,6 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     let config = DetectorConfig {
         leaf_size: cli.leaf_size,
         max_depth: cli.max_depth,
-        tree_mode: cli.tree_mode,
         threads: cli
             .threads
             .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
@@ -709,15 +701,11 @@ fn stats_json(
         "leaf_size": config.leaf_size,
         "max_depth": config.max_depth,
         "threads": config.threads,
-        "tree_mode": config.tree_mode.name(),
         "candidate_pairs": s.candidate_pairs,
         "exact_tests": s.exact_tests,
         "events": s.events,
         "tree_nodes": s.nodes,
         "tree_depth": s.max_depth,
-        "refits": s.refits,
-        "rebuilds": s.rebuilds,
-        "rebuilt_steps": s.rebuilt_steps,
         "seconds": {
             "detect": t.detect.as_secs_f64(),
             "detect_phases": world
@@ -759,8 +747,8 @@ fn stats_text(
     };
     let tuning = match kind {
         DetectorKind::Quadtree => format!(
-            " (tree mode {}, leaf size {}, max depth {})",
-            config.tree_mode, config.leaf_size, config.max_depth
+            " (leaf size {}, max depth {})",
+            config.leaf_size, config.max_depth
         ),
         DetectorKind::Sweep => format!(" ({})", world.detector().describe()),
         DetectorKind::Brute => String::new(),
@@ -778,9 +766,6 @@ fn stats_text(
         ("exact tests", s.exact_tests),
         ("events", s.events),
         ("tree nodes", s.nodes),
-        ("refits", s.refits),
-        ("rebuilds", s.rebuilds),
-        ("rebuilt steps", s.rebuilt_steps),
     ] {
         out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
     }

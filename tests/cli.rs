@@ -197,63 +197,42 @@ fn graphics_without_a_display_is_a_clear_error() {
 
 #[test]
 fn stats_count_the_work_and_time_every_phase() {
-    // Cached then rebuilt, so that every phase of the quadtree runs.
-    for mode in ["cached", "rebuilt"] {
-        let out = screensaver(&[
-            "50",
-            "--stats",
-            "--detector",
-            "quadtree",
-            "--tree-mode",
-            mode,
-        ]);
-        assert!(out.status.success(), "{}", text(&out.stderr));
-        let stdout = text(&out.stdout);
-        let stats = stdout
-            .split("---- STATS ----\n")
-            .nth(1)
-            .and_then(|s| s.split("---- END STATS ----").next())
-            .unwrap_or_else(|| panic!("no stats block: {stdout}"));
-        assert!(stats.contains("lines: 1000, steps: 51"), "{stats}");
-        let phases: Vec<&str> = stats
-            .lines()
-            .skip_while(|l| *l != "time per phase:")
-            .skip(1)
-            .map(|l| l.trim_start().split("  ").next().unwrap().trim_end())
-            .collect();
-        let own: &[&str] = if mode == "cached" {
-            &["fill", "cache upkeep", "cache rebuild", "cached tests"]
-        } else {
-            &["fill", "sort", "walk and test", "reorder"]
-        };
-        let expected: Vec<&str> = ["detect"]
-            .iter()
-            .chain(own)
-            .chain(&["resolve", "move and walls"])
-            .copied()
-            .collect();
-        assert_eq!(phases, expected, "{stats}");
-    }
+    let out = screensaver(&["50", "--stats", "--detector", "quadtree"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let stats = stdout
+        .split("---- STATS ----\n")
+        .nth(1)
+        .and_then(|s| s.split("---- END STATS ----").next())
+        .unwrap_or_else(|| panic!("no stats block: {stdout}"));
+    assert!(stats.contains("lines: 1000, steps: 51"), "{stats}");
+    let phases: Vec<&str> = stats
+        .lines()
+        .skip_while(|l| *l != "time per phase:")
+        .skip(1)
+        .map(|l| l.trim_start().split("  ").next().unwrap().trim_end())
+        .collect();
+    let expected = [
+        "detect",
+        "fill",
+        "sort",
+        "walk and test",
+        "reorder",
+        "resolve",
+        "move and walls",
+    ];
+    assert_eq!(phases, expected, "{stats}");
 }
 
 #[test]
 fn json_stats_split_detection_into_the_detectors_phases() {
-    let out = screensaver(&[
-        "50",
-        "--stats",
-        "--json",
-        "--detector",
-        "quadtree",
-        "--tree-mode",
-        "rebuilt",
-    ]);
+    let out = screensaver(&["50", "--stats", "--json", "--detector", "quadtree"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let seconds = &v["stats"]["seconds"];
     let detect = seconds["detect"].as_f64().unwrap();
     let phases = seconds["detect_phases"].as_object().unwrap();
     assert!(phases["walk and test"].as_f64().unwrap() > 0.0, "{seconds}");
-    assert_eq!(phases["cache rebuild"].as_f64(), Some(0.0));
     // The phases are laps within detection.
     let sum: f64 = phases.values().map(|p| p.as_f64().unwrap()).sum();
     assert!(sum > 0.0 && sum <= detect, "{sum} against {detect}");

@@ -10,7 +10,6 @@
 mod common;
 
 use common::{check_scene, check_scene_with};
-use screensaver::detect::TreeMode;
 use screensaver::DetectorConfig;
 use screensaver::DetectorKind::{Brute, Quadtree, Sweep};
 
@@ -74,32 +73,18 @@ fn quadtree_every_scene_to_the_end() {
     }
 }
 
-#[test]
-fn quadtree_rebuilt_every_step_every_scene_to_the_end() {
-    let config = DetectorConfig {
-        tree_mode: TreeMode::Rebuilt,
-        ..DetectorConfig::default()
-    };
-    for scene in SCENES {
-        check_scene_with(scene, Quadtree, &config, None);
-    }
-}
-
 /// Results must not depend on the number of threads. A grain of a few
 /// lines makes even these small scenes split their work.
 #[test]
 fn quadtree_on_2_3_and_8_threads_every_scene_to_step_1001() {
     for threads in [2, 3, 8] {
-        for tree_mode in [TreeMode::Cached, TreeMode::Rebuilt] {
-            let config = DetectorConfig {
-                threads,
-                grain: 8,
-                tree_mode,
-                ..DetectorConfig::default()
-            };
-            for scene in SCENES {
-                check_scene_with(scene, Quadtree, &config, Some(1001));
-            }
+        let config = DetectorConfig {
+            threads,
+            grain: 8,
+            ..DetectorConfig::default()
+        };
+        for scene in SCENES {
+            check_scene_with(scene, Quadtree, &config, Some(1001));
         }
     }
 }
@@ -110,19 +95,16 @@ fn quadtree_odd_shapes_every_scene_to_step_1001() {
         DetectorConfig {
             leaf_size: 1,
             max_depth: 16,
-            tree_mode: TreeMode::Cached,
             ..DetectorConfig::default()
         },
         DetectorConfig {
             leaf_size: 64,
             max_depth: 3,
-            tree_mode: TreeMode::Cached,
             ..DetectorConfig::default()
         },
         DetectorConfig {
             leaf_size: 2,
             max_depth: 8,
-            tree_mode: TreeMode::Rebuilt,
             ..DetectorConfig::default()
         },
     ] {

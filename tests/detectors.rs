@@ -5,47 +5,34 @@
 
 use proptest::prelude::*;
 use screensaver::detect::Brute;
-use screensaver::detect::TreeMode;
 use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
 
-/// Tree shapes to try, in every tree mode: leaves of 1, 2 and many lines,
-/// no splitting at all and very deep trees; and 2, 3 and 8 threads with
-/// work split into pieces of a few lines. (Auto mode rebuilds for its first
-/// 8 steps, then tries the cached way for up to 16: the steps below cover
-/// both and the switches.)
+/// Tree shapes to try: leaves of 1, 2 and many lines, no splitting at
+/// all and very deep trees; and 2, 3 and 8 threads with work split into
+/// pieces of a few lines.
 fn configs() -> Vec<DetectorConfig> {
-    let shape = |leaf_size, max_depth, tree_mode| DetectorConfig {
+    let shape = |leaf_size, max_depth| DetectorConfig {
         leaf_size,
         max_depth,
-        tree_mode,
         ..DetectorConfig::default()
     };
-    let threads = |threads, grain, tree_mode| DetectorConfig {
+    let threads = |threads, grain| DetectorConfig {
         threads,
         grain,
-        tree_mode,
         leaf_size: 2,
         ..DetectorConfig::default()
     };
-    let mut all = Vec::new();
-    for mode in [TreeMode::Auto, TreeMode::Cached, TreeMode::Rebuilt] {
-        all.extend([
-            shape(1, 12, mode),
-            shape(2, 40, mode),
-            shape(1000, 12, mode),
-            shape(16, 0, mode),
-            shape(3, 2, mode),
-            shape(16, 12, mode),
-        ]);
-    }
-    for mode in [TreeMode::Cached, TreeMode::Rebuilt] {
-        all.extend([
-            threads(2, 1, mode),
-            threads(3, 2, mode),
-            threads(8, 4, mode),
-        ]);
-    }
-    all
+    vec![
+        shape(1, 12),
+        shape(2, 40),
+        shape(1000, 12),
+        shape(16, 0),
+        shape(3, 2),
+        shape(16, 12),
+        threads(2, 1),
+        threads(3, 2),
+        threads(8, 4),
+    ]
 }
 
 const STEPS: usize = 25;
@@ -229,9 +216,9 @@ fn thousands_of_lines_agree_with_the_oracle() {
 }
 
 /// Found by the `step` fuzz target: lines whose coordinates near 1e306 make
-/// the diagonals of their hulls overflow (to infinities and NaN). The
-/// cached quadtree kept a stale pair list for two of them and missed their
-/// event at the third step; such lines are now wild for every detector.
+/// the diagonals of their hulls overflow (to infinities and NaN). A
+/// detector that kept pairs from step to step missed their event at the
+/// third step; such lines are now wild for every detector.
 #[test]
 fn lines_whose_diagonals_overflow_are_found_by_every_detector() {
     let l = |a: f64, b: f64, c: f64, d: f64, e: f64, f: f64| Line {

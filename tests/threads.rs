@@ -1,21 +1,14 @@
 //! Results are bit-identical for any number of threads, on a scene large
-//! enough that every parallel path (filling, tree walks, cached pairs,
-//! moving, walls) splits its work with the default grain.
+//! enough that every parallel path (filling, tree walks, moving, walls)
+//! splits its work with the default grain.
 
-use screensaver::detect::TreeMode;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorConfig, DetectorKind, Line, World};
 
-fn run(
-    threads: usize,
-    tree_mode: TreeMode,
-    kind: SceneKind,
-    steps: u64,
-) -> (Vec<Line>, (u64, u64)) {
+fn run(threads: usize, kind: SceneKind, steps: u64) -> (Vec<Line>, (u64, u64)) {
     let scene = generate(kind, 100_000, 7);
     let config = DetectorConfig {
         threads,
-        tree_mode,
         ..DetectorConfig::default()
     };
     let mut world =
@@ -32,22 +25,13 @@ fn same_bits(a: &[Line], b: &[Line]) -> bool {
 
 #[test]
 fn any_thread_count_gives_the_same_bits() {
-    for (kind, tree_mode) in [
-        (SceneKind::Uniform, TreeMode::Cached),
-        (SceneKind::Clustered, TreeMode::Rebuilt),
-    ] {
-        let (lines, counts) = run(1, tree_mode, kind, 6);
+    for kind in [SceneKind::Uniform, SceneKind::Clustered] {
+        let (lines, counts) = run(1, kind, 6);
         assert!(counts.1 > 0, "the scene should have collisions");
         for threads in [2, 3, 8] {
-            let (other, other_counts) = run(threads, tree_mode, kind, 6);
-            assert_eq!(
-                counts, other_counts,
-                "{kind} {tree_mode} on {threads} threads"
-            );
-            assert!(
-                same_bits(&lines, &other),
-                "{kind} {tree_mode} on {threads} threads"
-            );
+            let (other, other_counts) = run(threads, kind, 6);
+            assert_eq!(counts, other_counts, "{kind} on {threads} threads");
+            assert!(same_bits(&lines, &other), "{kind} on {threads} threads");
         }
     }
 }

@@ -13,7 +13,7 @@ pub(crate) mod sweep;
 pub(crate) mod swept;
 
 pub use brute::Brute;
-pub use quadtree::{Quadtree, TreeMode, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+pub use quadtree::{Quadtree, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 pub use sweep::Sweep;
 pub use swept::{swept_box, SweptBox};
 
@@ -36,14 +36,6 @@ pub struct DetectorStats {
     pub nodes: u64,
     /// Deepest tree level reached (zero for detectors without a tree).
     pub max_depth: u32,
-    /// Lines that left their fat hulls and were moved in the tree (cached
-    /// quadtree only).
-    pub refits: u64,
-    /// Times the tree and its cached pairs were rebuilt from scratch (cached
-    /// quadtree only).
-    pub rebuilds: u64,
-    /// Steps run with the tree rebuilt over the swept hulls (quadtree only).
-    pub rebuilt_steps: u64,
 }
 
 /// A broad phase: finds every colliding pair of lines for one step.
@@ -104,8 +96,6 @@ pub struct DetectorConfig {
     pub leaf_size: usize,
     /// Deepest level a tree node may split at.
     pub max_depth: u32,
-    /// Quadtree: how the tree is kept from step to step.
-    pub tree_mode: TreeMode,
     /// Threads to split the work over, on the rayon pool the step runs in
     /// (see [`World::set_threads`](crate::World::set_threads)); 1 keeps
     /// everything on the calling thread. Results never depend on it.
@@ -120,7 +110,6 @@ impl Default for DetectorConfig {
         Self {
             leaf_size: DEFAULT_LEAF_SIZE,
             max_depth: DEFAULT_MAX_DEPTH,
-            tree_mode: TreeMode::Auto,
             threads: 1,
             grain: DEFAULT_GRAIN,
         }

@@ -38,13 +38,6 @@ const CELL_MAX: u16 = (1 << GRID_LEVELS) - 1;
 
 const LEVEL_BITS: u32 = 5;
 const LEVEL_MASK: u64 = (1 << LEVEL_BITS) - 1;
-/// Steps, as a power of two, across a node that a misfit's *spot* (where
-/// it lies along the centre line it straddles) is measured in.
-const SPOT_BITS: u32 = 8;
-/// Key bits below the level: which centre line, then the spot.
-const SUB_BITS: u32 = SPOT_BITS + 1;
-const SPOT_MASK: u64 = (1 << SPOT_BITS) - 1;
-
 /// A line's swept hull in finest-level grid cells (inclusive), along the
 /// axes and the diagonals, with its id. Lowest cells come first, then
 /// highest, each four in the order `x`, `y`, `u`, `w`, so that each group
@@ -143,7 +136,7 @@ pub struct Entry {
 impl Entry {
     #[inline]
     fn level(&self) -> u32 {
-        ((self.key >> SUB_BITS) & LEVEL_MASK) as u32
+        (self.key & LEVEL_MASK) as u32
     }
 }
 
@@ -269,44 +262,16 @@ impl Grid {
     }
 }
 
-/// The sort key of a line: its node's cell (Morton order), its level, and
-/// (with `spots`) its spot in the node (see `spot`).
+/// The sort key of a line: its node's cell (Morton order), then its
+/// level.
 #[inline]
-pub fn key(c: &Cells, max_depth: u32, spots: bool) -> u64 {
+pub fn key(c: &Cells, max_depth: u32) -> u64 {
     let differ = u32::from((c.x0 ^ c.x1) | (c.y0 ^ c.y1));
     let fits = GRID_LEVELS - (u32::BITS - differ.leading_zeros());
     let level = fits.min(max_depth);
     let keep = !((1u32 << (GRID_LEVELS - level)) - 1) as u16;
     let morton = spread(c.x0 & keep) | (spread(c.y0 & keep) << 1);
-    let node = (u64::from(morton) << LEVEL_BITS) | u64::from(level);
-    let spot = if spots { spot(c, level) } else { 0 };
-    (node << SUB_BITS) | u64::from(spot)
-}
-
-/// Where a line lies among its node's misfits, which sort by it: those
-/// straddling the node's vertical centre line first, by their lowest `y`,
-/// then the others, by their lowest `x`, each measured in `2^SPOT_BITS`
-/// steps across the node. Misfits lie spread along the line they
-/// straddle, so a query ([`Tree::query`]) finds the ones near its probe by
-/// binary search instead of reading them all. Spots change as lines move,
-/// which puts more of them out of last step's order: they pay where the
-/// tree is queried and keys change seldom (the cached way's fat hulls).
-#[inline]
-fn spot(c: &Cells, level: u32) -> u32 {
-    let side_bits = GRID_LEVELS - level;
-    if side_bits == 0 {
-        return 0;
-    }
-    let across_x = (c.x0 ^ c.x1) >> (side_bits - 1) & 1 == 1;
-    let (group, along) = if across_x { (0, c.y0) } else { (1, c.x0) };
-    (group << SPOT_BITS) | step_in_node(along, side_bits)
-}
-
-/// The step of coordinate `v` across a node of side `2^side_bits` cells.
-#[inline]
-fn step_in_node(v: u16, side_bits: u32) -> u32 {
-    let within = u32::from(v) & ((1 << side_bits) - 1);
-    within >> side_bits.saturating_sub(SPOT_BITS)
+    (u64::from(morton) << LEVEL_BITS) | u64::from(level)
 }
 
 /// Sorts entries by key by insertion, fast when they are nearly sorted
@@ -431,11 +396,6 @@ pub struct Tree {
     max_depth: u32,
     /// The lines' entries; [`Tree::sort`] puts them in key order.
     pub entries: Vec<Entry>,
-    /// Whether keys carry spots (see [`Tree::set_spots`]).
-    spots: bool,
-    /// The largest extent of any entry's cells along `x` and along `y`
-    /// (kept up to date by [`Tree::sort`] while spots are on).
-    extent: (u16, u16),
     /// Whether each entry's key may differ from that of the entry at its
     /// place when the entries were last sorted (see [`Tree::refill`]).
     changed: Vec<bool>,
@@ -458,11 +418,6 @@ pub struct Refill<'a> {
 }
 
 impl<'a> Refill<'a> {
-    /// How many entries the run holds.
-    pub fn len(&self) -> usize {
-        self.entries.len()
-    }
-
     /// Sets the run's `k`-th entry.
     #[inline]
     pub fn set(&mut self, k: usize, entry: Entry) {
@@ -496,10 +451,6 @@ struct Walk<'t> {
     parallel_min: usize,
     /// Runs up to this long are split by scanning (see [`SCAN_MAX`]).
     scan_max: usize,
-    /// For queries: whether the keys carry spots, and the entries' largest
-    /// extents along `x` and `y`.
-    spots: bool,
-    extent: (u16, u16),
 }
 
 impl Tree {
@@ -510,8 +461,6 @@ impl Tree {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
             entries: Vec::new(),
-            spots: false,
-            extent: (u16::MAX, u16::MAX),
             changed: Vec::new(),
             runs: Vec::new(),
             movers: Vec::new(),
@@ -523,42 +472,6 @@ impl Tree {
     /// The depth limit in force.
     pub fn max_depth(&self) -> u32 {
         self.max_depth
-    }
-
-    /// Sets whether the entries' keys carry spots (see [`key`]), which
-    /// queries then use to skip misfits. Entries must be remade to match
-    /// before a query.
-    pub fn set_spots(&mut self, spots: bool) {
-        if spots != self.spots {
-            // Unknown until the next sort: no misfit may be skipped.
-            self.extent = (u16::MAX, u16::MAX);
-        }
-        self.spots = spots;
-    }
-
-    /// Sets the entries to `make(0)`, ..., `make(n - 1)` (in chunks of
-    /// `chunk` on the current rayon pool, if given) and sorts them. Where an
-    /// entry's key is the one already at its place (as it is for most lines
-    /// when the entries are made in last step's tree order), the sort keeps
-    /// it in place.
-    pub fn refill(&mut self, n: usize, chunk: Option<usize>, make: impl Fn(usize) -> Entry + Sync) {
-        let fill = |first: usize, mut run: Refill<'_>| {
-            for k in 0..run.len() {
-                run.set(k, make(first + k));
-            }
-        };
-        match chunk {
-            Some(chunk) => {
-                use rayon::prelude::*;
-                self.refill_in_place(n)
-                    .chunks(chunk)
-                    .into_par_iter()
-                    .enumerate()
-                    .for_each(|(c, run)| fill(c * chunk, run));
-            }
-            None => fill(0, self.refill_in_place(n)),
-        }
-        self.sort(chunk.is_some());
     }
 
     /// The `n` entries, to be set one by one in place (all of them) before
@@ -573,65 +486,6 @@ impl Tree {
             changed: &mut self.changed,
             old,
         }
-    }
-
-    /// Replaces the sorted entries of the lines `replaced` marks (by id)
-    /// with `fresh`, keeping the entries sorted: the others keep their
-    /// order, and `fresh`, sorted on its own, is merged in from the back.
-    /// Two passes over the entries, for a few replacements; [`Tree::refit`]
-    /// splits its work among threads.
-    pub fn replace(&mut self, replaced: &[bool], fresh: impl IntoIterator<Item = Entry>) {
-        let movers = &mut self.movers;
-        movers.clear();
-        movers.extend(fresh);
-        movers.sort_unstable_by_key(|e| e.key);
-        self.entries.retain(|e| !replaced[e.cells.id as usize]);
-        let kept = self.entries.len();
-        self.entries.resize(kept + movers.len(), Entry::default());
-        // From the back: each place is filled by the larger of the last
-        // kept entry and the last mover not yet placed.
-        let (mut i, mut j) = (kept, movers.len());
-        for k in (0..self.entries.len()).rev() {
-            if j == 0 {
-                break;
-            }
-            if i > 0 && self.entries[i - 1].key > movers[j - 1].key {
-                self.entries[k] = self.entries[i - 1];
-                i -= 1;
-            } else {
-                self.entries[k] = movers[j - 1];
-                j -= 1;
-            }
-        }
-        // The flags no longer match the entries' places.
-        self.changed.clear();
-        if self.spots {
-            // Only growing it keeps it an upper bound, which is all that
-            // queries need.
-            for e in movers.iter() {
-                let c = &e.cells;
-                self.extent.0 = self.extent.0.max(c.x1.saturating_sub(c.x0));
-                self.extent.1 = self.extent.1.max(c.y1.saturating_sub(c.y0));
-            }
-        }
-    }
-
-    /// Applies `update` to every sorted entry (in parallel, if `parallel`),
-    /// which says whether it changed the key, and sorts them again.
-    pub fn refit(&mut self, parallel: bool, update: impl Fn(&mut Entry) -> bool + Sync) {
-        self.changed.resize(self.entries.len(), false);
-        if parallel {
-            use rayon::prelude::*;
-            self.entries
-                .par_iter_mut()
-                .zip(self.changed.par_iter_mut())
-                .for_each(|(e, c)| *c = update(e));
-        } else {
-            for (e, c) in self.entries.iter_mut().zip(&mut self.changed) {
-                *c = update(e);
-            }
-        }
-        self.sort(parallel);
     }
 
     /// Puts the entries in key order. Most lines keep their key from one
@@ -649,16 +503,6 @@ impl Tree {
         } else {
             self.entries.windows(2).filter(|w| descent(w)).count()
         };
-        if self.spots {
-            // Only queries read the extents, and only spots make use of them.
-            self.extent = self.entries.iter().fold((0, 0), |(x, y), e| {
-                let c = &e.cells;
-                (
-                    x.max(c.x1.saturating_sub(c.x0)),
-                    y.max(c.y1.saturating_sub(c.y0)),
-                )
-            });
-        }
         if descents == 0 {
             return;
         }
@@ -811,68 +655,11 @@ impl Tree {
                 0
             },
             scan_max: SCAN_MAX,
-            spots: false,
-            extent: (0, 0),
         };
         self.scratch.active.clear();
         self.scratch.counts = WalkCounts::default();
         walk.visit(&mut self.scratch, collector, 0, n, 0, Self::root(), 0);
         self.counts.add(&self.scratch.counts);
-    }
-
-    /// Calls `sink(id)` for every line whose cells overlap `probe`'s
-    /// (entries must be sorted). The probe's own line is reported too if it
-    /// is in the tree. Returns what the query did (queries take `&self`, so
-    /// that many can run at once; add the counts to [`Tree::counts`]).
-    #[cfg(test)]
-    pub fn query(&self, probe: &Cells, mut sink: impl FnMut(u32)) -> WalkCounts {
-        self.query_many(std::slice::from_ref(probe), &mut Vec::new(), |_, id| {
-            sink(id)
-        })
-    }
-
-    /// Calls `sink(p, id)` for every probe `probes[p]` and every line
-    /// whose cells overlap it, as [`Tree::query`] would for each probe, but
-    /// in one walk: a node's misfits and children are found once for all
-    /// the probes that reach it. `reaching` is the walk's buffer.
-    pub fn query_many(
-        &self,
-        probes: &[Cells],
-        reaching: &mut Vec<u32>,
-        mut sink: impl FnMut(usize, u32),
-    ) -> WalkCounts {
-        let mut counts = WalkCounts::default();
-        let n = self.entries.len();
-        if n > 0 && !probes.is_empty() {
-            let walk = Walk {
-                entries: &self.entries,
-                leaf_size: self.leaf_size,
-                max_depth: self.max_depth,
-                parallel_min: 0,
-                scan_max: 0,
-                spots: self.spots,
-                extent: self.extent,
-            };
-            reaching.clear();
-            reaching.extend(0..probes.len() as u32);
-            walk.query_node(
-                &mut counts,
-                probes,
-                reaching,
-                0,
-                &mut sink,
-                0,
-                n,
-                0,
-                Self::root(),
-            );
-        }
-        counts
-    }
-
-    /// Adds a query's counts to the tree's.
-    pub fn count(&mut self, counts: &WalkCounts) {
-        self.counts.add(counts);
     }
 }
 
@@ -993,7 +780,7 @@ impl Walk<'_> {
     /// node's lines past its misfits), as five boundaries.
     fn child_runs(&self, mid: usize, hi: usize, level: u32) -> [usize; 5] {
         // The two key bits below the node's level choose the quadrant.
-        let shift = SUB_BITS + LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
+        let shift = LEVEL_BITS + 2 * (GRID_LEVELS - level - 1);
         let run = &self.entries[mid..hi];
         if run.len() <= self.scan_max {
             let mut count = [0; 4];
@@ -1007,129 +794,6 @@ impl Walk<'_> {
         let split = |c: u64| mid + run.partition_point(|e| (e.key >> shift) & 3 < c);
         [mid, split(1), split(2), split(3), hi]
     }
-
-    /// Reports the entries of `run` whose cells overlap `probe`.
-    fn query_run(
-        &self,
-        counts: &mut WalkCounts,
-        probe: &Cells,
-        sink: &mut impl FnMut(u32),
-        run: &[Entry],
-    ) {
-        counts.candidates += run.len() as u64;
-        for e in run {
-            if probe.overlaps(&e.cells) {
-                sink(e.cells.id);
-            }
-        }
-    }
-
-    /// Queries the node at `level` covering `block`, whose subtree is
-    /// `entries[lo..hi]`, for the probes `reaching[from..]` (indices into
-    /// `probes`), which all reach the block. The node's misfits and
-    /// children are found once for all of them.
-    #[allow(clippy::too_many_arguments)]
-    fn query_node(
-        &self,
-        counts: &mut WalkCounts,
-        probes: &[Cells],
-        reaching: &mut Vec<u32>,
-        from: usize,
-        sink: &mut impl FnMut(usize, u32),
-        lo: usize,
-        hi: usize,
-        level: u32,
-        block: Block,
-    ) {
-        counts.nodes += 1;
-        let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
-        let end = if leaf {
-            hi
-        } else {
-            lo + self.misfits_end(lo, hi, level)
-        };
-        let own = &self.entries[lo..end];
-        // With spots, a node's misfits are those across its vertical centre
-        // line by lowest y, then the others by lowest x: each probe reads
-        // only the spots it can reach.
-        let by_spot = self.spots && !leaf;
-        let (ys, xs) = if by_spot {
-            own.split_at(own.partition_point(|e| (e.key >> SPOT_BITS) & 1 == 0))
-        } else {
-            (own, &own[own.len()..])
-        };
-        let ((extent_x, extent_y), side_bits) = (self.extent, GRID_LEVELS - level);
-        for &p in &reaching[from..] {
-            let probe = &probes[p as usize];
-            let mut report = |id| sink(p as usize, id);
-            if by_spot {
-                let ys = near_spots(ys, (probe.y0, probe.y1), extent_y, block.y0, side_bits);
-                let xs = near_spots(xs, (probe.x0, probe.x1), extent_x, block.x0, side_bits);
-                self.query_run(counts, probe, &mut report, ys);
-                self.query_run(counts, probe, &mut report, xs);
-            } else {
-                self.query_run(counts, probe, &mut report, own);
-            }
-        }
-        if leaf {
-            return;
-        }
-        let bounds = self.child_runs(end, hi, level);
-        for c in 0..4 {
-            if bounds[c] == bounds[c + 1] {
-                continue;
-            }
-            let child = block.child(c);
-            let start = reaching.len();
-            for k in from..start {
-                let p = reaching[k];
-                if probes[p as usize].overlaps_block(&child) {
-                    reaching.push(p);
-                }
-            }
-            if reaching.len() > start {
-                self.query_node(
-                    counts,
-                    probes,
-                    reaching,
-                    start,
-                    sink,
-                    bounds[c],
-                    bounds[c + 1],
-                    level + 1,
-                    child,
-                );
-            }
-            reaching.truncate(start);
-        }
-    }
-}
-
-/// The entries of `run` (misfits of a node of side `2^side_bits` cells from
-/// `start`, sorted by spot along one direction) whose lowest coordinate on
-/// that direction lies within `extent` below `span`, or in it: those whose
-/// cells can reach `span` there.
-fn near_spots(
-    run: &[Entry],
-    span: (u16, u16),
-    extent: u16,
-    start: u32,
-    side_bits: u32,
-) -> &[Entry] {
-    let last = start + (1 << side_bits) - 1;
-    let from = u32::from(span.0)
-        .saturating_sub(u32::from(extent))
-        .clamp(start, last);
-    let to = u32::from(span.1).clamp(start, last);
-    // Both within the node, so within u16.
-    let (a, b) = (
-        step_in_node(from as u16, side_bits),
-        step_in_node(to as u16, side_bits),
-    );
-    let spot = |e: &Entry| (e.key & SPOT_MASK) as u32;
-    let i = run.partition_point(|e| spot(e) < a);
-    let j = run.partition_point(|e| spot(e) <= b);
-    &run[i..j.max(i)]
 }
 
 /// The pairs a node owes: every pair within `own` (its misfits, or a leaf's
@@ -1316,21 +980,21 @@ mod tests {
     #[test]
     fn a_box_lives_at_the_deepest_quadrant_holding_it() {
         // One cell: the finest level, capped by max_depth.
-        let level = |k: u64| (k >> SUB_BITS) & LEVEL_MASK;
-        assert_eq!(level(key(&cells(5, 9, 5, 9), 15, true)), 15);
-        assert_eq!(level(key(&cells(5, 9, 5, 9), 12, true)), 12);
+        let level = |k: u64| k & LEVEL_MASK;
+        assert_eq!(level(key(&cells(5, 9, 5, 9), 15)), 15);
+        assert_eq!(level(key(&cells(5, 9, 5, 9), 12)), 12);
         // Straddling the root's middle in x: a root misfit.
-        assert_eq!(level(key(&cells(16383, 10, 16384, 10), 15, true)), 0);
+        assert_eq!(level(key(&cells(16383, 10, 16384, 10), 15)), 0);
         // Within the left half but straddling its middle: level 1.
-        assert_eq!(level(key(&cells(8191, 10, 8192, 10), 15, true)), 1);
+        assert_eq!(level(key(&cells(8191, 10, 8192, 10), 15)), 1);
     }
 
     #[test]
     fn a_node_sorts_before_its_subtree_and_after_its_ancestors() {
-        let root_misfit = key(&cells(0, 0, 20000, 10), 15, true);
-        let node = key(&cells(0, 0, 10000, 10), 15, true);
-        let deep = key(&cells(0, 0, 1, 1), 15, true);
-        let sibling = key(&cells(20000, 0, 20001, 1), 15, true);
+        let root_misfit = key(&cells(0, 0, 20000, 10), 15);
+        let node = key(&cells(0, 0, 10000, 10), 15);
+        let deep = key(&cells(0, 0, 1, 1), 15);
+        let sibling = key(&cells(20000, 0, 20001, 1), 15);
         assert!(root_misfit < node && node < deep && deep < sibling);
     }
 
@@ -1472,6 +1136,34 @@ mod tests {
         }
     }
 
+    /// Sets the tree's entries to `make(0..n)` in place (in runs of
+    /// `chunk` on the current rayon pool, if given), as the detector does,
+    /// and sorts them.
+    fn refill(
+        tree: &mut Tree,
+        n: usize,
+        chunk: Option<usize>,
+        make: impl Fn(usize) -> Entry + Sync,
+    ) {
+        let fill = |first: usize, mut run: Refill<'_>| {
+            for k in 0..run.entries.len() {
+                run.set(k, make(first + k));
+            }
+        };
+        match chunk {
+            Some(chunk) => {
+                use rayon::prelude::*;
+                tree.refill_in_place(n)
+                    .chunks(chunk)
+                    .into_par_iter()
+                    .enumerate()
+                    .for_each(|(c, run)| fill(c * chunk, run));
+            }
+            None => fill(0, tree.refill_in_place(n)),
+        }
+        tree.sort(chunk.is_some());
+    }
+
     proptest::proptest! {
         /// Sorted keys, some of them changed (a few far, most a little),
         /// refilled on one thread or several: the entries come out sorted
@@ -1490,7 +1182,7 @@ mod tests {
                 cells: Cells { id: id as u32, ..Cells::default() },
             };
             let mut tree = Tree::new(4, 12);
-            tree.refill(keys.len(), None, |i| mk(keys[i], i));
+            refill(&mut tree, keys.len(), None, |i| mk(keys[i], i));
             for &(at, key) in &changes {
                 if at < keys.len() {
                     keys[at] = key;
@@ -1501,7 +1193,7 @@ mod tests {
             let n = keys.len();
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let chunk = (threads > 1).then_some(64);
-            pool.install(|| tree.refill(n, chunk, |i| mk(keys[i], i)));
+            pool.install(|| refill(&mut tree, n, chunk, |i| mk(keys[i], i)));
             let got: Vec<u64> = tree.entries.iter().map(|e| e.key).collect();
             let mut expected = keys.clone();
             expected.sort_unstable();
@@ -1511,112 +1203,6 @@ mod tests {
             proptest::prop_assert!(ids.iter().enumerate().all(|(i, &id)| id as usize == i));
             for e in &tree.entries {
                 proptest::prop_assert_eq!(e.key, keys[e.cells.id as usize]);
-            }
-        }
-    }
-
-    proptest::proptest! {
-        /// Replacing some lines' entries in sorted entries keeps them sorted
-        /// and leaves exactly the others' and the new ones; with spots, the
-        /// extents stay at least the largest cells'.
-        #[test]
-        fn replacing_keeps_entries_sorted(
-            base in proptest::collection::vec((0u64..400, 0u16..50), 0..2000),
-            replaced in proptest::collection::vec((0usize..2000, 0u64..400, 0u16..200), 0..100),
-        ) {
-            let mk = |(key, side): (u64, u16), id: usize| Entry {
-                key,
-                cells: Cells { id: id as u32, x1: side, y1: side / 2, ..Cells::default() },
-            };
-            let n = base.len();
-            let mut tree = Tree::new(4, 12);
-            tree.set_spots(true);
-            tree.refill(n, None, |i| mk(base[i], i));
-            let mut is_replaced = vec![false; n];
-            let mut expected: Vec<(u64, u32)> = Vec::new();
-            let mut fresh = Vec::new();
-            for &(at, key, side) in &replaced {
-                if at < n && !is_replaced[at] {
-                    is_replaced[at] = true;
-                    fresh.push(mk((key, side), at));
-                }
-            }
-            for (i, &(key, _)) in base.iter().enumerate() {
-                if !is_replaced[i] {
-                    expected.push((key, i as u32));
-                }
-            }
-            expected.extend(fresh.iter().map(|e| (e.key, e.cells.id)));
-            tree.replace(&is_replaced, fresh.iter().copied());
-            proptest::prop_assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
-            let mut got: Vec<(u64, u32)> =
-                tree.entries.iter().map(|e| (e.key, e.cells.id)).collect();
-            got.sort_unstable();
-            expected.sort_unstable();
-            proptest::prop_assert_eq!(got, expected);
-            for e in &tree.entries {
-                proptest::prop_assert!(tree.extent.0 >= e.cells.x1 && tree.extent.1 >= e.cells.y1);
-            }
-        }
-    }
-
-    proptest::proptest! {
-        /// A query finds exactly the entries whose cells overlap the probe,
-        /// with spots or without, for boxes large and small; so do many
-        /// queries in one walk.
-        #[test]
-        fn queries_find_every_overlap(
-            boxes in proptest::collection::vec(
-                (0u16..30000, 0u16..30000, 0u16..2500, 0u16..2500),
-                1..400,
-            ),
-            probes in proptest::collection::vec(
-                (0u16..30000, 0u16..30000, 0u16..4500, 0u16..4500),
-                1..40,
-            ),
-            // Down to a few hundred cells across, where spots are single
-            // cells and every off-by-one shows.
-            scale in proptest::sample::select(vec![1u16, 30, 300]),
-            leaf_size in 1usize..8,
-            spots: bool,
-        ) {
-            let make = |&(x, y, w, h): &(u16, u16, u16, u16), id: usize| {
-                let (x, y, w, h) = (x / scale, y / scale, w / scale, h / scale);
-                Cells {
-                    id: id as u32,
-                    ..cells(x, y, (x + w).min(CELL_MAX), (y + h).min(CELL_MAX))
-                }
-            };
-            let mut tree = Tree::new(leaf_size, 16);
-            tree.set_spots(spots);
-            tree.entries = boxes
-                .iter()
-                .enumerate()
-                .map(|(id, b)| {
-                    let cells = make(b, id);
-                    Entry { key: key(&cells, 16, spots), cells }
-                })
-                .collect();
-            tree.sort(false);
-            let probes: Vec<Cells> = probes.iter().map(|p| make(p, usize::MAX >> 33)).collect();
-            // All the probes in one walk, as the cached way asks.
-            let mut all: Vec<Vec<u32>> = vec![Vec::new(); probes.len()];
-            tree.query_many(&probes, &mut Vec::new(), |p, id| all[p].push(id));
-            for (probe, mut together) in probes.iter().zip(all) {
-                let mut found = Vec::new();
-                tree.query(probe, |id| found.push(id));
-                found.sort_unstable();
-                let expected: Vec<u32> = tree
-                    .entries
-                    .iter()
-                    .filter(|e| probe.overlaps(&e.cells))
-                    .map(|e| e.cells.id)
-                    .collect::<std::collections::BTreeSet<_>>()
-                    .into_iter()
-                    .collect();
-                proptest::prop_assert_eq!(&found, &expected);
-                together.sort_unstable();
-                proptest::prop_assert_eq!(together, expected);
             }
         }
     }
