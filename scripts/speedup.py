@@ -53,7 +53,7 @@ def main():
     ap.add_argument("--config", action="append", default=[])
     a = ap.parse_args()
     works = a.work or ["mit:400", "koch:20"]
-    configs = a.config or ["brute=--detector brute", "quadtree=--detector quadtree"]
+    configs = a.config or ["brute=--detector brute", "quadtree=--detector quadtree", "sweep=--detector sweep"]
     configs = [(c.split("=", 1)[0], shlex.split(c.split("=", 1)[1] if "=" in c else "")) for c in configs]
 
     rows = []

@@ -880,7 +880,9 @@ fn simulate(
     let pictures = match recorder {
         Some(recorder) => {
             let started = Instant::now();
-            let frames = recorder.finish(world).map_err(|e| e.to_string())?;
+            let frames = recorder
+                .finish(world, stopped.is_some())
+                .map_err(|e| e.to_string())?;
             drawing += started.elapsed();
             Some(DrawStats {
                 frames,

@@ -129,6 +129,29 @@ fn sequences_number_every_kth_frame() {
         assert!(frame.is_file(), "{}", frame.display());
     }
     assert!(!dir.join("run-000001.png").exists());
+    // 12 frames run 13 steps: every fifth, and not the last step besides.
+    let dir = temp_dir("seq-end");
+    let out = dir.join("run.png");
+    screensaver(&[
+        "12",
+        scene(&dir).to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+        "--render-every",
+        "5",
+        "--size",
+        "118x80",
+    ]);
+    let mut written: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|name| name.starts_with("run-"))
+        .collect();
+    written.sort();
+    assert_eq!(
+        written,
+        ["run-000000.png", "run-000005.png", "run-000010.png"]
+    );
 }
 
 #[test]

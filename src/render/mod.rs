@@ -428,14 +428,17 @@ impl Recorder {
         Ok(())
     }
 
-    /// Writes the last frame (unless just written) and closes the output.
+    /// Closes the output: a PNG or SVG gets its one frame, the world as it
+    /// ends; a sequence or GIF, which has a frame every `every` steps,
+    /// also gets the step a run `stopped` early at (so that an interrupted
+    /// run's last state is pictured), unless that frame was just written.
     /// Returns the frames written in all.
-    pub fn finish(mut self, world: &World) -> Result<u64, RenderError> {
+    pub fn finish(mut self, world: &World, stopped: bool) -> Result<u64, RenderError> {
         match &self.target {
             Target::Png(path) => save_png(&frame(world, self.size), path)?,
             Target::Svg(path) => save_svg(world, self.size, path)?,
             Target::PngSequence(_) | Target::Gif(_) => {
-                if self.last_written != Some(world.steps()) {
+                if stopped && self.last_written != Some(world.steps()) {
                     self.write_frame(world)?;
                 }
                 if let Some(gif) = self.gif.take() {
