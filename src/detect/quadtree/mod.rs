@@ -11,15 +11,20 @@
 //! from step to step and a chooser between the two, were dropped once the
 //! sweep outran both everywhere: `docs/DESIGN.md`, "Tried and dropped".)
 
-pub mod tree;
+mod entries;
+mod grid;
+mod tree;
+mod walk;
 
 use super::clock::PhaseClock;
 use super::swept::{swept_box, test_pair, test_wild, PairCounts, SweptBox};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
+use entries::{Entry, Refill};
+use grid::{Cells, Grid};
 use std::time::{Duration, Instant};
-use tree::{Cells, Entry, Grid, Refill, Tree};
+use tree::Tree;
 
 /// Default for the largest number of lines a leaf holds before it splits.
 pub const DEFAULT_LEAF_SIZE: usize = 16;
@@ -157,7 +162,7 @@ impl<'a> EventCollector<'a> {
     }
 }
 
-impl tree::Collector for EventCollector<'_> {
+impl walk::Collector for EventCollector<'_> {
     #[inline]
     fn pair(&mut self, a: u32, b: u32) {
         self.pending.push((a, b));
@@ -227,7 +232,7 @@ fn entry(grid: &Grid, hull: Option<SweptBox>, s: u32, max_depth: u32) -> Entry {
         Some(hull) => {
             let cells = grid.cells(&hull, s);
             Entry {
-                key: tree::key(&cells, max_depth),
+                key: grid::key(&cells, max_depth),
                 cells,
             }
         }
@@ -426,7 +431,7 @@ impl Detector for Quadtree {
     fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
         let before = events.len();
         let mut counts = PairCounts::default();
-        self.tree.counts = tree::WalkCounts::default();
+        self.tree.counts = walk::WalkCounts::default();
         if let Some(clock) = &mut self.clock {
             clock.start(Instant::now());
         }
