@@ -149,10 +149,10 @@ impl World {
         Ok(world)
     }
 
-    /// Runs steps on a pool of `threads` threads (1: on the calling thread,
-    /// with no pool). Detectors split their work over the pool when their
-    /// own configuration asks for more than one thread. Results are the
-    /// same for any number of threads.
+    /// Runs steps on `threads` threads (1: on the calling thread, with no
+    /// pool): the world's own phases and the detector's
+    /// ([`Detector::set_threads`]) alike. Results are the same for any
+    /// number of threads.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
         self.pool = if threads > 1 {
             Some(
@@ -169,7 +169,7 @@ impl World {
         let team = (threads > 1)
             .then(|| Team::new(threads).ok().map(Arc::new))
             .flatten();
-        self.detector.set_team(team);
+        self.detector.set_threads(threads, team);
         Ok(())
     }
 

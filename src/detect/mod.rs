@@ -63,10 +63,13 @@ pub trait Detector: Send {
     /// without phases.
     fn set_timing(&mut self, _on: bool) {}
 
-    /// Gives the detector the team of threads the world steps with (`None`:
-    /// one thread), to share its phases among; ignored by detectors that do
-    /// not share their work that way.
-    fn set_team(&mut self, _team: Option<std::sync::Arc<crate::team::Team>>) {}
+    /// Tells the detector the threads the world steps with
+    /// ([`World::set_threads`](crate::World::set_threads) calls it): how
+    /// many the step's rayon pool has, to split large phases over, and the
+    /// team of as many threads (`None`: one thread), for phases too small
+    /// for the pool's hand-offs. Detectors that do not split their work
+    /// ignore it.
+    fn set_threads(&mut self, _threads: usize, _team: Option<std::sync::Arc<crate::team::Team>>) {}
 
     /// The time spent in each of the detector's own phases since timing was
     /// turned on, by name, in the order they run; together they make up
@@ -96,9 +99,11 @@ pub struct DetectorConfig {
     pub leaf_size: usize,
     /// Deepest level a tree node may split at.
     pub max_depth: u32,
-    /// Threads to split the work over, on the rayon pool the step runs in
-    /// (see [`World::set_threads`](crate::World::set_threads)); 1 keeps
-    /// everything on the calling thread. Results never depend on it.
+    /// Threads the worlds made with this configuration
+    /// ([`World::with_config`](crate::World::with_config)) start with; 1
+    /// keeps everything on the calling thread. A world's
+    /// [`World::set_threads`](crate::World::set_threads) changes them, for
+    /// the detector too. Results never depend on it.
     pub threads: usize,
     /// The smallest piece of work handed to a thread, in lines (tree walks
     /// split subtrees of a sixteenth of this and up). Speed only.

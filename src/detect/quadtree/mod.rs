@@ -455,6 +455,10 @@ impl Detector for Quadtree {
         self.clock = on.then(Clock::new);
     }
 
+    fn set_threads(&mut self, threads: usize, _team: Option<std::sync::Arc<crate::team::Team>>) {
+        self.threads = threads.max(1);
+    }
+
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
         Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name))
     }

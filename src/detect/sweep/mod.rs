@@ -549,7 +549,8 @@ impl Detector for Sweep {
         self.clock = on.then(Clock::new);
     }
 
-    fn set_team(&mut self, team: Option<Arc<Team>>) {
+    fn set_threads(&mut self, threads: usize, team: Option<Arc<Team>>) {
+        self.threads = threads.max(1);
         self.team = team;
     }
 
