@@ -1,7 +1,7 @@
 //! The screensaver modes under a virtual X server: drawing on the root
 //! window, into a window another program owns (as XScreenSaver hands one
-//! over), full screen, endless runs of generated scenes, and SIGTERM
-//! ending each with the results. Skipped (with a message) where `Xvfb`,
+//! over) and following its size, full screen, endless runs of generated
+//! scenes, and SIGTERM ending each with the results. Skipped (with a message) where `Xvfb`,
 //! `xwd`, `xlogo` or `xwininfo` is missing; CI installs them.
 
 mod common;
@@ -176,9 +176,32 @@ fn xscreensaver_window_is_drawn_into_not_replaced() {
     assert_eq!(changed, 0, "pixels changed outside xlogo's window");
     // The same window, with no window of ours put inside it.
     assert_eq!(children(), tree);
+    // Grown to 700 x 450, the window is filled again: lines reach into the
+    // part it gained on the right.
+    resize(&x.display, &id, 700, 450);
+    let gained = |x: usize, y: usize| (520..800).contains(&x) && (150..600).contains(&y);
+    let (red, gray) = wait_for_lines(&x.display, 1280, gained);
+    assert!(
+        red >= 500 && gray >= 500,
+        "in the part the window gained: red {red}, gray {gray}"
+    );
     terminate(child);
     let _ = xlogo.kill();
     let _ = xlogo.wait();
+}
+
+/// Resizes another client's window, as a window manager or the user would.
+fn resize(display: &str, id: &str, width: u32, height: u32) {
+    use x11rb::connection::Connection;
+    use x11rb::protocol::xproto::{ConfigureWindowAux, ConnectionExt};
+    let window = screensaver::render::embedded::parse_window_id(id).expect("a window id");
+    let (conn, _) = x11rb::connect(Some(display)).expect("connecting to the X server");
+    conn.configure_window(
+        window,
+        &ConfigureWindowAux::new().width(width).height(height),
+    )
+    .expect("resizing the window");
+    conn.flush().expect("flushing");
 }
 
 #[test]
