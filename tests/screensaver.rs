@@ -1,8 +1,9 @@
 //! The screensaver modes under a virtual X server: drawing on the root
 //! window, into a window another program owns (as XScreenSaver hands one
 //! over) and following its size, full screen, endless runs of generated
-//! scenes, and SIGTERM ending each with the results. Skipped (with a message) where `Xvfb`,
-//! `xwd`, `xlogo` or `xwininfo` is missing; CI installs them.
+//! scenes, and SIGTERM ending each with the results. Skipped (with a
+//! message) where `Xvfb`, `xwd`, `xlogo` or `xwininfo` is missing; CI
+//! installs them.
 
 mod common;
 
