@@ -508,8 +508,8 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
                     world.set_timing(timing);
                     world
                 };
-                drop(world);
                 Scenes::Generated {
+                    first: Box::new(world),
                     next: Box::new(make),
                     cycle: Duration::from_secs_f64(cli.cycle),
                 }

@@ -19,10 +19,12 @@ pub enum Scenes {
         /// Steps to run.
         steps: Option<u64>,
     },
-    /// Generated scenes without end: `next(k)` makes the `k`-th (from 0),
-    /// and a new one starts after `cycle`, or as soon as the scene on show
-    /// has died out (see [`died_out`]).
+    /// Generated scenes without end: `first`, then `next(k)` for the
+    /// `k`-th (from 1); a new one starts after `cycle`, or as soon as the
+    /// scene on show has died out (see [`died_out`]).
     Generated {
+        /// The first scene.
+        first: Box<World>,
         /// Makes the `k`-th scene.
         next: Box<dyn FnMut(u64) -> World + Send>,
         /// How long each scene is shown.
@@ -155,7 +157,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
     let start = Instant::now();
     let (mut world, steps, mut next, cycle) = match scenes {
         Scenes::One { world, steps } => (*world, steps, None, None),
-        Scenes::Generated { mut next, cycle } => (next(0), None, Some(next), Some(cycle)),
+        Scenes::Generated { first, next, cycle } => (*first, None, Some(next), Some(cycle)),
     };
     let mut scene = 0;
     let mut colors = Arc::new(world.colors().to_vec());
@@ -341,10 +343,12 @@ mod tests {
     fn dead_generated_scenes_are_replaced() {
         let made = Arc::new(AtomicU64::new(0));
         let counter = Arc::clone(&made);
+        let still = || world(vec![line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0))]);
         let run = Run::start(Scenes::Generated {
+            first: Box::new(still()),
             next: Box::new(move |_| {
                 counter.fetch_add(1, Ordering::Relaxed);
-                world(vec![line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0))])
+                still()
             }),
             cycle: Duration::from_secs(3600),
         });
