@@ -32,57 +32,53 @@ struct Series {
     points: Vec<(usize, f64)>,
 }
 
-fn series(max_lines: usize) -> Vec<Series> {
-    let mut all = vec![Series {
-        name: "brute, 1 thread".into(),
-        kind: DetectorKind::Brute,
-        config: DetectorConfig::default(),
-        max_lines: max_lines.min(10_000),
-        copies: 1,
-        points: Vec::new(),
-    }];
-    for threads in [1, 2] {
-        all.push(Series {
-            name: format!(
-                "sweep, {threads} thread{}",
-                if threads > 1 { "s" } else { "" }
-            ),
-            kind: DetectorKind::Sweep,
-            config: DetectorConfig {
-                threads,
-                ..DetectorConfig::default()
-            },
-            max_lines,
-            copies: 1,
-            points: Vec::new(),
-        });
-    }
-    all.push(Series {
-        name: "sweep, ceiling of 2 threads".into(),
-        kind: DetectorKind::Sweep,
+/// A series of `kind` on `threads` threads, `copies` worlds at once.
+fn one(
+    name: String,
+    kind: DetectorKind,
+    threads: usize,
+    max_lines: usize,
+    copies: usize,
+) -> Series {
+    Series {
+        name,
+        kind,
         config: DetectorConfig {
-            threads: 1,
+            threads,
             ..DetectorConfig::default()
         },
         max_lines,
-        copies: 2,
+        copies,
         points: Vec::new(),
-    });
-    for threads in [1, 2] {
-        all.push(Series {
-            name: format!(
-                "quadtree, {threads} thread{}",
-                if threads > 1 { "s" } else { "" }
-            ),
-            kind: DetectorKind::Quadtree,
-            config: DetectorConfig {
+    }
+}
+
+fn series(max_lines: usize) -> Vec<Series> {
+    let threads_name = |kind: DetectorKind, threads: usize| {
+        let s = if threads > 1 { "s" } else { "" };
+        format!("{}, {threads} thread{s}", kind.name())
+    };
+    let mut all = vec![one(
+        threads_name(DetectorKind::Brute, 1),
+        DetectorKind::Brute,
+        1,
+        max_lines.min(10_000),
+        1,
+    )];
+    for kind in [DetectorKind::Sweep, DetectorKind::Quadtree] {
+        for threads in [1, 2] {
+            all.push(one(
+                threads_name(kind, threads),
+                kind,
                 threads,
-                ..DetectorConfig::default()
-            },
-            max_lines,
-            copies: 1,
-            points: Vec::new(),
-        });
+                max_lines,
+                1,
+            ));
+        }
+        if kind == DetectorKind::Sweep {
+            let name = "sweep, ceiling of 2 threads".to_string();
+            all.push(one(name, kind, 1, max_lines, 2));
+        }
     }
     all
 }
