@@ -8,7 +8,7 @@ use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_D
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::output;
 use screensaver::render::live::{DrawStats, Scenes};
-use screensaver::render::{embedded, window, Recorder, Size, Target};
+use screensaver::render::{self, embedded, window, Frames, Recorder, Size, Target};
 use screensaver::stop::Signal;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
@@ -320,6 +320,14 @@ fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
     }
 }
 
+/// The frames `--render` pictures: every K-th with `--render-every`.
+fn frames_of(cli: &Cli) -> Frames {
+    match cli.render_every {
+        Some(_) => Frames::Every,
+        None => Frames::Last,
+    }
+}
+
 /// Most frames a GIF gets unless `--render-every` says otherwise.
 const GIF_FRAMES: u64 = 300;
 
@@ -460,8 +468,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
 
     let recorder = match &cli.render {
         Some(path) => {
-            let target =
-                Target::for_path(path, cli.render_every.is_some()).map_err(|e| e.to_string())?;
+            let target = Target::for_path(path, frames_of(cli)).map_err(|e| e.to_string())?;
             let every = match (cli.render_every, &target) {
                 (Some(every), _) => every,
                 // A GIF of every step of a long run is slow to write and
@@ -657,7 +664,7 @@ fn check_outputs(cli: &Cli) -> Result<(), String> {
     paths.extend(cli.state_out.iter().cloned());
     paths.extend(cli.checkpoint.iter().cloned());
     if let Some(path) = &cli.render {
-        Target::for_path(path, cli.render_every.is_some()).map_err(|e| e.to_string())?;
+        Target::for_path(path, frames_of(cli)).map_err(|e| e.to_string())?;
         paths.push(path.clone());
     }
     for path in paths {
@@ -881,7 +888,13 @@ fn simulate(
         Some(recorder) => {
             let started = Instant::now();
             let frames = recorder
-                .finish(world, stopped.is_some())
+                .finish(
+                    world,
+                    match stopped {
+                        Some(_) => render::Ended::Early,
+                        None => render::Ended::Complete,
+                    },
+                )
                 .map_err(|e| e.to_string())?;
             drawing += started.elapsed();
             Some(DrawStats {

@@ -205,9 +205,28 @@ pub enum RenderError {
     },
 }
 
+/// How a recorded run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ended {
+    /// Every step ran.
+    Complete,
+    /// Stopped before its last step (a signal, an error).
+    Early,
+}
+
+/// Which frames a run's pictures hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Frames {
+    /// The last one only (a `.png` is one picture).
+    Last,
+    /// A frame every so many steps (a `.png` becomes a numbered sequence).
+    Every,
+}
+
 impl Target {
-    /// The target for `path`; `sequence` asks for numbered PNGs.
-    pub fn for_path(path: &Path, sequence: bool) -> Result<Target, RenderError> {
+    /// The target for `path`, holding `frames`.
+    pub fn for_path(path: &Path, frames: Frames) -> Result<Target, RenderError> {
+        let sequence = frames == Frames::Every;
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -430,15 +449,15 @@ impl Recorder {
 
     /// Closes the output: a PNG or SVG gets its one frame, the world as it
     /// ends; a sequence or GIF, which has a frame every `every` steps,
-    /// also gets the step a run `stopped` early at (so that an interrupted
+    /// also gets the step a run [`Ended::Early`] at (so that an interrupted
     /// run's last state is pictured), unless that frame was just written.
     /// Returns the frames written in all.
-    pub fn finish(mut self, world: &World, stopped: bool) -> Result<u64, RenderError> {
+    pub fn finish(mut self, world: &World, ended: Ended) -> Result<u64, RenderError> {
         match &self.target {
             Target::Png(path) => save_png(&frame(world, self.size), path)?,
             Target::Svg(path) => save_svg(world, self.size, path)?,
             Target::PngSequence(_) | Target::Gif(_) => {
-                if stopped && self.last_written != Some(world.steps()) {
+                if ended == Ended::Early && self.last_written != Some(world.steps()) {
                     self.write_frame(world)?;
                 }
                 if let Some(gif) = self.gif.take() {
@@ -520,22 +539,22 @@ mod tests {
     #[test]
     fn targets_follow_the_extension() {
         assert_eq!(
-            Target::for_path(Path::new("a.PNG"), false).unwrap(),
+            Target::for_path(Path::new("a.PNG"), Frames::Last).unwrap(),
             Target::Png("a.PNG".into())
         );
         assert!(matches!(
-            Target::for_path(Path::new("a.png"), true).unwrap(),
+            Target::for_path(Path::new("a.png"), Frames::Every).unwrap(),
             Target::PngSequence(_)
         ));
         assert!(matches!(
-            Target::for_path(Path::new("a.gif"), false).unwrap(),
+            Target::for_path(Path::new("a.gif"), Frames::Last).unwrap(),
             Target::Gif(_)
         ));
         assert!(matches!(
-            Target::for_path(Path::new("a.svg"), false).unwrap(),
+            Target::for_path(Path::new("a.svg"), Frames::Last).unwrap(),
             Target::Svg(_)
         ));
-        let e = Target::for_path(Path::new("a.jpg"), false).unwrap_err();
+        let e = Target::for_path(Path::new("a.jpg"), Frames::Last).unwrap_err();
         assert!(e.to_string().contains("a.jpg: unknown picture type"));
         assert_eq!(
             sequence_name(Path::new("out/run.png"), 42),

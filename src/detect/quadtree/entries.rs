@@ -7,6 +7,16 @@
 use super::grid::{Cells, LEVEL_MASK};
 use super::tree::Tree;
 
+/// Where a sort runs: on the calling thread, or split over the current
+/// rayon pool.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Threads {
+    /// On the calling thread.
+    One,
+    /// Split over the current rayon pool.
+    Pool,
+}
+
 /// A line in the tree: its key and its cells.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Entry {
@@ -124,7 +134,8 @@ impl Tree {
     /// of place are taken out, sorted on their own and merged back, in time
     /// close to linear; only a scramble gets a full sort (on all threads,
     /// if `parallel`).
-    pub fn sort(&mut self, parallel: bool) {
+    pub fn sort(&mut self, threads: Threads) {
+        let parallel = threads == Threads::Pool;
         let n = self.entries.len();
         let descent = |w: &[Entry]| w[1].key < w[0].key;
         let descents = if parallel {
@@ -140,7 +151,7 @@ impl Tree {
             return;
         }
         if descents <= n / 8 {
-            self.merge_out_of_place(parallel);
+            self.merge_out_of_place(threads);
             return;
         }
         if parallel {
@@ -159,7 +170,8 @@ impl Tree {
     /// entries that is below the previous run's last, so that the kept
     /// entries of all runs, in turn, are in order. The entries moved aside
     /// are sorted and merged with the kept ones, each run's part on its own.
-    fn merge_out_of_place(&mut self, parallel: bool) {
+    fn merge_out_of_place(&mut self, threads: Threads) {
+        let parallel = threads == Threads::Pool;
         let n = self.entries.len();
         let tasks = if parallel {
             4 * rayon::current_num_threads()
@@ -279,13 +291,13 @@ mod tests {
         expected.sort_unstable();
         let mut tree = Tree::new(4, 12);
         tree.entries = (0..1000u64).map(jumped).collect();
-        tree.sort(false);
+        tree.sort(Threads::One);
         assert_eq!(
             tree.entries.iter().map(|e| e.key).collect::<Vec<_>>(),
             expected
         );
         tree.entries = (0..1000u64).map(jumped).collect();
-        tree.sort(true);
+        tree.sort(Threads::Pool);
         assert_eq!(
             tree.entries.iter().map(|e| e.key).collect::<Vec<_>>(),
             expected
@@ -294,7 +306,7 @@ mod tests {
         assert!(!sort_nearly_sorted(&mut reversed));
         let mut tree = Tree::new(4, 12);
         tree.entries = reversed;
-        tree.sort(false);
+        tree.sort(Threads::One);
         assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
     }
 
@@ -323,7 +335,11 @@ mod tests {
             }
             None => fill(0, tree.refill_in_place(n)),
         }
-        tree.sort(chunk.is_some());
+        tree.sort(if chunk.is_some() {
+            Threads::Pool
+        } else {
+            Threads::One
+        });
     }
 
     proptest::proptest! {

@@ -21,7 +21,7 @@ use super::swept::{swept_box, test_pair, test_wild, PairCounts, SweptBox};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
-use entries::{Entry, Refill};
+use entries::{Entry, Refill, Threads};
 use grid::{Cells, Grid};
 use std::time::{Duration, Instant};
 use tree::Tree;
@@ -408,7 +408,10 @@ impl Quadtree {
             self.lap(Phase::Fill);
         }
         let n = self.slots.len();
-        self.tree.sort(self.parallel_chunk(n).is_some());
+        self.tree.sort(match self.parallel_chunk(n) {
+            Some(_) => Threads::Pool,
+            None => Threads::One,
+        });
         self.tree.entries.truncate(n - self.unboxed.len());
         self.lap(Phase::Sort);
         let mut collector =
