@@ -123,6 +123,7 @@ fn xscreensaver_window_is_drawn_into_not_replaced() {
     }
     let mut xlogo = Command::new("xlogo")
         .args(["-display", &x.display, "-geometry", "400x300+100+150"])
+        .stderr(Stdio::piped())
         .spawn()
         .expect("running xlogo");
     // xlogo's window, once it is mapped.
@@ -141,9 +142,17 @@ fn xscreensaver_window_is_drawn_into_not_replaced() {
         {
             break id.to_string();
         }
+        if let Ok(Some(status)) = xlogo.try_wait() {
+            let mut stderr = String::new();
+            if let Some(mut pipe) = xlogo.stderr.take() {
+                use std::io::Read;
+                let _ = pipe.read_to_string(&mut stderr);
+            }
+            panic!("xlogo ended before its window appeared: {status}: {stderr}");
+        }
         assert!(
-            started.elapsed() < Duration::from_secs(10),
-            "no xlogo window"
+            started.elapsed() < Duration::from_secs(30),
+            "no xlogo window after 30 s"
         );
         std::thread::sleep(Duration::from_millis(100));
     };
@@ -192,17 +201,26 @@ fn xscreensaver_window_is_drawn_into_not_replaced() {
 }
 
 /// Resizes another client's window, as a window manager or the user would.
-fn resize(display: &str, id: &str, width: u32, height: u32) {
-    use x11rb::connection::Connection;
+fn resize(display: &str, id: &str, width: u16, height: u16) {
     use x11rb::protocol::xproto::{ConfigureWindowAux, ConnectionExt};
     let window = screensaver::render::embedded::parse_window_id(id).expect("a window id");
     let (conn, _) = x11rb::connect(Some(display)).expect("connecting to the X server");
     conn.configure_window(
         window,
-        &ConfigureWindowAux::new().width(width).height(height),
+        &ConfigureWindowAux::new()
+            .width(u32::from(width))
+            .height(u32::from(height)),
     )
     .expect("resizing the window");
-    conn.flush().expect("flushing");
+    // A round trip, so that the server has carried the resize out before
+    // this connection closes (a request still unread when a client hangs
+    // up may be dropped with it).
+    let geometry = conn
+        .get_geometry(window)
+        .expect("asking for the window's size")
+        .reply()
+        .expect("the window's size");
+    assert_eq!((geometry.width, geometry.height), (width, height));
 }
 
 #[test]
@@ -265,9 +283,17 @@ fn fullscreen_fills_the_screen() {
         return;
     }
     let scene = still_scene();
-    let child = start(&x.display, &["--fullscreen", scene.to_str().unwrap()], &[]);
+    let mut child = start(&x.display, &["--fullscreen", scene.to_str().unwrap()], &[]);
     let started = Instant::now();
     loop {
+        if let Ok(Some(_)) = child.try_wait() {
+            let out = child.wait_with_output().expect("its output");
+            panic!(
+                "screensaver ended before its window appeared: {:?}: {}",
+                out.status,
+                String::from_utf8_lossy(&out.stderr)
+            );
+        }
         let out = Command::new("xwininfo")
             .args(["-display", &x.display, "-root", "-tree"])
             .output()

@@ -6,6 +6,7 @@
 
 use std::io::{BufRead, BufReader};
 use std::process::{Child, Command, Stdio};
+use std::sync::{Mutex, MutexGuard};
 
 pub fn found(program: &str) -> bool {
     std::env::var_os("PATH")
@@ -18,7 +19,15 @@ pub struct Xvfb {
     child: Child,
     /// The display's name, `:N`.
     pub display: String,
+    /// This test's turn: one X test at a time within a test binary, so
+    /// that servers, clients and screenshots do not crowd two cores (with
+    /// all of them at once, a window took over 10 s to appear). Released
+    /// after the server is stopped.
+    _turn: MutexGuard<'static, ()>,
 }
+
+/// Whose turn it is to run a server.
+static TURN: Mutex<()> = Mutex::new(());
 
 impl Xvfb {
     /// A server with a 1280 x 900 screen.
@@ -34,38 +43,79 @@ impl Xvfb {
             );
             return None;
         }
-        // Xvfb picks a display no other server holds (a server killed
-        // earlier leaves its lock and socket behind) and writes its number
-        // once it accepts connections.
-        let mut child = Command::new("Xvfb")
-            .args([
-                "-displayfd",
-                "1",
-                "-screen",
-                "0",
-                screen,
-                "-nolisten",
-                "tcp",
-            ])
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .expect("starting Xvfb");
-        let mut line = String::new();
-        BufReader::new(child.stdout.take().expect("Xvfb's stdout"))
-            .read_line(&mut line)
-            .expect("reading Xvfb's display number");
-        let number: u32 = line.trim().parse().expect("Xvfb did not start");
+        // A test that failed while holding the turn leaves it poisoned:
+        // the turn is still free to take.
+        let turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+        // Xvfb picks a display no other server holds and writes its
+        // number once it accepts connections. A display whose socket an
+        // earlier server left behind can still refuse clients: each server
+        // is checked with a real client, and one that fails is kept
+        // running while the next starts (so that it picks another number).
+        let mut failed = Vec::new();
+        let found = (0..5).find_map(|_| {
+            let (mut child, display) = start_server(screen);
+            if answers(&display) {
+                Some((child, display))
+            } else {
+                let _ = child.kill();
+                failed.push(child);
+                None
+            }
+        });
+        for mut child in failed {
+            let _ = child.wait();
+        }
+        let (child, display) = found.expect("no Xvfb server answered in five tries");
         Some(Xvfb {
             child,
-            display: format!(":{number}"),
+            display,
+            _turn: turn,
         })
     }
 }
 
+/// Starts a server and returns it with its display's name.
+fn start_server(screen: &str) -> (Child, String) {
+    let mut child = Command::new("Xvfb")
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            screen,
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("starting Xvfb");
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().expect("Xvfb's stdout"))
+        .read_line(&mut line)
+        .expect("reading Xvfb's display number");
+    let number: u32 = line.trim().parse().expect("Xvfb did not start");
+    (child, format!(":{number}"))
+}
+
+/// Whether a client (`xwd`, with the X library every test client uses)
+/// can talk to `display`.
+fn answers(display: &str) -> bool {
+    Command::new("xwd")
+        .args(["-root", "-silent", "-display", display])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
 impl Drop for Xvfb {
     fn drop(&mut self) {
-        let _ = self.child.kill();
+        // SIGTERM lets the server remove its socket and lock, which a
+        // SIGKILL leaves behind for the next server to trip over.
+        let _ = Command::new("kill")
+            .args(["-TERM", &self.child.id().to_string()])
+            .status();
         let _ = self.child.wait();
     }
 }
