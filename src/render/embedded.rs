@@ -159,7 +159,9 @@ pub fn run(
         }
         let finished = run.shared.finished.load(Ordering::Acquire);
         if let Some(snapshot) = run.shared.take() {
-            state = Some(snapshot);
+            if let Some(old) = state.replace(snapshot) {
+                run.shared.recycle(old);
+            }
             stale = true;
         }
         if stale {

@@ -78,6 +78,10 @@ pub struct Shared {
     /// Whether the display has taken the latest state (so a new one is
     /// wanted).
     taken: AtomicBool,
+    /// Lines of a state the display is done with, for the next snapshot to
+    /// fill (a million lines are 48 MB: fresh memory each time costs its
+    /// page faults, and freeing it the display's time).
+    spare: Mutex<Vec<Line>>,
 }
 
 impl Shared {
@@ -92,6 +96,12 @@ impl Shared {
             self.taken.store(true, Ordering::Release);
         }
         snapshot
+    }
+
+    /// Hands back a state the display no longer shows, so that its memory
+    /// serves the next snapshot.
+    pub fn recycle(&self, old: Snapshot) {
+        *self.spare.lock().expect("no panics while holding the lock") = old.lines;
     }
 
     /// True when a state is waiting to be taken.
@@ -133,6 +143,7 @@ impl Run {
             finished: AtomicBool::new(false),
             latest: Mutex::new(None),
             taken: AtomicBool::new(true),
+            spare: Mutex::new(Vec::new()),
         });
         let thread = {
             let shared = Arc::clone(&shared);
@@ -168,8 +179,16 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
     let publish = |world: &World, colors: &Arc<Vec<Color>>, scene, rate, force: bool| {
         if force || shared.taken.swap(false, Ordering::AcqRel) {
             let c = world.counters();
+            let mut lines = std::mem::take(
+                &mut *shared
+                    .spare
+                    .lock()
+                    .expect("no panics while holding the lock"),
+            );
+            lines.clear();
+            lines.extend_from_slice(world.lines());
             let snapshot = Snapshot {
-                lines: world.lines().to_vec(),
+                lines,
                 colors: Arc::clone(colors),
                 step: world.steps(),
                 wall: c.wall,

@@ -173,7 +173,9 @@ impl App<'_> {
                 "screensaver - step {} - {} line-wall, {} line-line - {:.0} steps/s{paused}",
                 s.step, s.wall, s.line, s.rate
             );
-            self.state = Some(s);
+            if let Some(old) = self.state.replace(s) {
+                self.run.shared.recycle(old);
+            }
         }
     }
 
