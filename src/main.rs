@@ -382,6 +382,12 @@ fn positionals(cli: &Cli, live: bool) -> Result<(Option<u64>, Option<PathBuf>), 
     }
 }
 
+/// The arrangement of the `k`-th generated scene (from 0): `--kind`, or
+/// each kind in turn.
+fn scene_kind(chosen: Option<SceneKind>, k: u64) -> SceneKind {
+    chosen.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
+}
+
 /// The seed of the first generated scene: `--seed`, or the clock's for an
 /// endless run (so that each run shows other scenes), or the built-in
 /// scene's.
@@ -411,10 +417,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     }
     let lines = cli.lines.unwrap_or(DEFAULT_LINES);
     let seed = first_seed(cli, endless);
-    let kind_of = |k: u64| {
-        cli.kind
-            .unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
-    };
+    let kind_of = |k: u64| scene_kind(cli.kind, k);
     let (scene, input_name) = match &input {
         Some(path) => {
             if cli.lines.is_some() || cli.kind.is_some() || cli.seed.is_some() {
@@ -508,8 +511,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             let scenes = if endless && input.is_none() {
                 let (detector, kind, timing, config) = (cli.detector, cli.kind, cli.stats, config);
                 let make = move |k: u64| {
-                    let kind = kind.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()]);
-                    let scene = generate(kind, lines, seed.wrapping_add(k));
+                    let scene = generate(scene_kind(kind, k), lines, seed.wrapping_add(k));
                     let mut world = World::with_config(&scene, detector, &config)
                         .expect("threads started once start again");
                     world.set_timing(timing);

@@ -5,14 +5,21 @@
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorConfig, DetectorKind, Line, World};
 
-fn run(threads: usize, kind: SceneKind, steps: u64) -> (Vec<Line>, (u64, u64)) {
-    let scene = generate(kind, 100_000, 7);
+/// The lines and the (wall, line) counts after `steps` steps of a
+/// generated scene (`kind`, `lines` lines, `seed`) with `detector` on
+/// `threads` threads.
+fn run(
+    detector: DetectorKind,
+    (kind, lines, seed): (SceneKind, usize, u64),
+    threads: usize,
+    steps: u64,
+) -> (Vec<Line>, (u64, u64)) {
+    let scene = generate(kind, lines, seed);
     let config = DetectorConfig {
         threads,
         ..DetectorConfig::default()
     };
-    let mut world =
-        World::with_config(&scene, DetectorKind::Quadtree, &config).expect("a thread pool");
+    let mut world = World::with_config(&scene, detector, &config).expect("a thread pool");
     world.run(steps);
     let c = world.counters();
     (world.lines().to_vec(), (c.wall, c.line))
@@ -26,10 +33,11 @@ fn same_bits(a: &[Line], b: &[Line]) -> bool {
 #[test]
 fn any_thread_count_gives_the_same_bits() {
     for kind in [SceneKind::Uniform, SceneKind::Clustered] {
-        let (lines, counts) = run(1, kind, 6);
+        let scene = (kind, 100_000, 7);
+        let (lines, counts) = run(DetectorKind::Quadtree, scene, 1, 6);
         assert!(counts.1 > 0, "the scene should have collisions");
         for threads in [2, 3, 8] {
-            let (other, other_counts) = run(threads, kind, 6);
+            let (other, other_counts) = run(DetectorKind::Quadtree, scene, threads, 6);
             assert_eq!(counts, other_counts, "{kind} on {threads} threads");
             assert!(same_bits(&lines, &other), "{kind} on {threads} threads");
         }
@@ -39,16 +47,8 @@ fn any_thread_count_gives_the_same_bits() {
 #[test]
 fn the_sweep_gives_the_same_bits_on_any_thread_count() {
     let run = |threads| {
-        let scene = generate(SceneKind::Clustered, 100_000, 7);
-        let config = DetectorConfig {
-            threads,
-            ..DetectorConfig::default()
-        };
-        let mut world =
-            World::with_config(&scene, DetectorKind::Sweep, &config).expect("a thread pool");
-        world.run(4);
-        let c = world.counters();
-        (world.lines().to_vec(), (c.wall, c.line))
+        let scene = (SceneKind::Clustered, 100_000, 7);
+        run(DetectorKind::Sweep, scene, threads, 4)
     };
     let (lines, counts) = run(1);
     for threads in [2, 3, 8] {
@@ -68,18 +68,7 @@ fn the_team_gives_the_same_bits_on_any_thread_count() {
         (SceneKind::Clustered, 5000, 100),
         (SceneKind::Ring, 4000, 150),
     ] {
-        let run = |threads| {
-            let scene = generate(kind, lines, 11);
-            let config = DetectorConfig {
-                threads,
-                ..DetectorConfig::default()
-            };
-            let mut world =
-                World::with_config(&scene, DetectorKind::Sweep, &config).expect("a team");
-            world.run(steps);
-            let c = world.counters();
-            (world.lines().to_vec(), (c.wall, c.line))
-        };
+        let run = |threads| run(DetectorKind::Sweep, (kind, lines, 11), threads, steps);
         let (one, counts) = run(1);
         assert!(counts.1 > 0, "{kind}: {counts:?}");
         for threads in [2, 3, 8] {

@@ -333,6 +333,19 @@ mod tests {
         World::new(lines, colors, Box::new(Brute::default()))
     }
 
+    /// A run of one scene of one moving line for `steps` steps, once the
+    /// simulation has finished it.
+    fn finished_run(steps: u64) -> Run {
+        let run = Run::start(Scenes::One {
+            world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
+            steps: Some(steps),
+        });
+        while !run.shared.finished.load(Ordering::Acquire) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        run
+    }
+
     #[test]
     fn a_scene_dies_out_when_nothing_moves_or_all_is_nan() {
         let moving = line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0));
@@ -346,14 +359,7 @@ mod tests {
 
     #[test]
     fn a_run_of_one_scene_ends_after_its_steps() {
-        let run = Run::start(Scenes::One {
-            world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
-            steps: Some(25),
-        });
-        while !run.shared.finished.load(Ordering::Acquire) {
-            std::thread::sleep(Duration::from_millis(1));
-        }
-        let outcome = run.finish().unwrap();
+        let outcome = finished_run(25).finish().unwrap();
         assert_eq!(outcome.world.steps(), 25);
         assert_eq!(outcome.scenes, 1);
     }
@@ -381,13 +387,7 @@ mod tests {
 
     #[test]
     fn the_latest_state_is_taken_once() {
-        let run = Run::start(Scenes::One {
-            world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
-            steps: Some(0),
-        });
-        while !run.shared.finished.load(Ordering::Acquire) {
-            std::thread::sleep(Duration::from_millis(1));
-        }
+        let run = finished_run(0);
         assert!(run.shared.take().is_some());
         assert!(run.shared.take().is_none());
         run.finish().unwrap();
