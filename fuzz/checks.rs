@@ -3,10 +3,12 @@
 //! (`tests/fuzz_corpus.rs`). Every function panics when a property fails,
 //! which is what libFuzzer reports as a crash.
 
+use num_bigint::{BigInt, Sign};
 use screensaver::checkpoint::Checkpoint;
 use screensaver::detect::Detector;
-use screensaver::line::{BOX_MAX, BOX_MIN};
-use screensaver::{Color, Counters, DetectorConfig, DetectorKind, Line, Scene, Vec2, World};
+use screensaver::geometry::{inside_parallelogram_by, segments_cross_by};
+use screensaver::line::{BOX_MAX, BOX_MIN, DT};
+use screensaver::{Color, Counters, DetectorConfig, DetectorKind, Event, Line, Scene, Vec2, World};
 
 /// The origin every parse is given, so that error messages can be checked
 /// for it.
@@ -259,20 +261,110 @@ fn contenders() -> Vec<(String, Box<dyn Detector>)> {
     all
 }
 
+/// A finite double as `mantissa * 2^exponent`, exactly.
+fn decompose(x: f64) -> (i64, i32) {
+    let bits = x.to_bits();
+    let biased = ((bits >> 52) & 0x7ff) as i32;
+    let fraction = (bits & ((1 << 52) - 1)) as i64;
+    let (mantissa, exponent) = if biased == 0 {
+        (fraction, -1074)
+    } else {
+        (fraction | (1 << 52), biased - 1075)
+    };
+    let sign = if bits >> 63 == 0 { 1 } else { -1 };
+    (sign * mantissa, exponent)
+}
+
+/// The sign (-1, 0 or 1) of the contract's `orient(i, j, k)` evaluated in
+/// exact arithmetic on the same finite doubles: every double is an integer
+/// times a power of two, so after scaling by the least of them the
+/// determinant is a sum of big-integer products.
+fn exact_orient(i: Vec2, j: Vec2, k: Vec2) -> f64 {
+    let parts = [i.x, i.y, j.x, j.y, k.x, k.y].map(decompose);
+    let least = parts.iter().map(|&(_, e)| e).min().unwrap_or(0);
+    let [ix, iy, jx, jy, kx, ky] =
+        parts.map(|(m, e)| BigInt::from(m) << usize::try_from(e - least).unwrap_or(0));
+    let det = (&kx - &ix) * (&jy - &iy) - (&jx - &ix) * (&ky - &iy);
+    match det.sign() {
+        Sign::Minus => -1.0,
+        Sign::NoSign => 0.0,
+        Sign::Plus => 1.0,
+    }
+}
+
+/// Whether `l1` and the parallelogram that `l2` sweeps relative to it (its
+/// corners computed as `intersect` computes them) truly share a point: the
+/// tests of `intersect` with every orientation exact. When this is false
+/// and `intersect` still reports an event, the event is rounding noise of
+/// the contract's predicates between segments that never meet. Lines with a
+/// value that is not finite count as meeting (they are not classified).
+pub fn truly_meet(l1: &Line, l2: &Line, dt: f64) -> bool {
+    let rel = l2.v - l1.v;
+    let (q1, q2) = (l2.p1 + rel * dt, l2.p2 + rel * dt);
+    let points = [l1.p1, l1.p2, l2.p1, l2.p2, q1, q2];
+    if !points.iter().all(|p| p.x.is_finite() && p.y.is_finite()) {
+        return true;
+    }
+    let cross = |a, b| segments_cross_by(exact_orient, l1.p1, l1.p2, a, b);
+    let inside = |t| inside_parallelogram_by(exact_orient, t, l2.p1, l2.p2, q1, q2);
+    cross(l2.p1, l2.p2)
+        || cross(q1, q2)
+        || cross(q1, l2.p1)
+        || cross(q2, l2.p2)
+        || (inside(l1.p1) && inside(l1.p2))
+}
+
+/// Compares one step's events of a fast detector with the all-pairs
+/// detector's. They must be equal, with one exception the contract's
+/// floating-point predicates force: an event the fast detector lacks
+/// between segments that truly never meet ([`truly_meet`] on the lines as
+/// they were before the step), which the all-pairs detector reports by
+/// rounding noise alone (see `fuzz/README.md`). Returns whether such an
+/// event was met, after which the two worlds differ and are compared no
+/// further.
+fn compare_events(
+    step: usize,
+    name: &str,
+    before: &[Line],
+    brute: &[Event],
+    fast: &[Event],
+) -> bool {
+    if fast == brute {
+        return false;
+    }
+    for e in fast {
+        assert!(
+            brute.contains(e),
+            "step {step}: {name} found {e:?}, which brute did not\nlines: {before:?}"
+        );
+    }
+    for e in brute.iter().filter(|e| !fast.contains(e)) {
+        let (l1, l2) = (&before[e.first as usize], &before[e.second as usize]);
+        assert!(
+            !truly_meet(l1, l2, DT),
+            "step {step}: {name} missed {e:?}, whose segments truly meet\nlines: {before:?}"
+        );
+    }
+    true
+}
+
 /// A few steps of a world decoded from arbitrary bytes, with every detector:
 /// nothing panics, the all-pairs detector's events are in resolving order
 /// with valid ids, and after every step each other detector's world has the
-/// same events, counters and line bits as the all-pairs one.
+/// same events, counters and line bits as the all-pairs one, until it lacks
+/// an event that is rounding noise alone (see [`compare_events`]); from
+/// then on it only has to step without panicking.
 pub fn step(bytes: &[u8]) {
     let lines = decode_lines(bytes);
     let n = lines.len();
     let world = |detector| World::new(lines.clone(), vec![Color::Red; n], detector);
     let mut oracle = world(DetectorKind::Brute.build());
-    let mut others: Vec<(String, World)> = contenders()
+    let mut others: Vec<(String, World, bool)> = contenders()
         .into_iter()
-        .map(|(name, d)| (name, world(d)))
+        .map(|(name, d)| (name, world(d), false))
         .collect();
     for step in 1..=STEPS {
+        let before = oracle.lines().to_vec();
         oracle.step();
         let events = oracle.last_events();
         for pair in events.windows(2) {
@@ -288,13 +380,15 @@ pub fn step(bytes: &[u8]) {
             );
         }
         let bits: Vec<_> = oracle.lines().iter().map(line_bits).collect();
-        for (name, w) in &mut others {
+        for (name, w, parted) in &mut others {
             w.step();
-            assert_eq!(
-                w.last_events(),
-                events,
-                "step {step}: {name} found other events than brute\nlines: {lines:?}"
-            );
+            if *parted {
+                continue;
+            }
+            *parted = compare_events(step, name, &before, events, w.last_events());
+            if *parted {
+                continue;
+            }
             assert_eq!(
                 w.counters(),
                 oracle.counters(),

@@ -115,6 +115,21 @@ pub fn on_segment(i: Vec2, j: Vec2, k: Vec2) -> bool {
 /// decided by the contract's orientation tests (touching counts).
 #[inline]
 pub fn segments_cross(p1: Vec2, p2: Vec2, p3: Vec2, p4: Vec2) -> bool {
+    segments_cross_by(orient, p1, p2, p3, p4)
+}
+
+/// [`segments_cross`] with the orientation test given: the contract's
+/// [`orient`], or one in exact arithmetic, which tells whether segments
+/// given as floating-point points truly meet (the tests use it to tell a
+/// collision from rounding noise). Only the sign of `orient` matters.
+#[inline]
+pub fn segments_cross_by(
+    orient: impl Fn(Vec2, Vec2, Vec2) -> f64,
+    p1: Vec2,
+    p2: Vec2,
+    p3: Vec2,
+    p4: Vec2,
+) -> bool {
     let d1 = orient(p3, p4, p1);
     let d2 = orient(p3, p4, p2);
     let d3 = orient(p1, p2, p3);
@@ -132,6 +147,20 @@ pub fn segments_cross(p1: Vec2, p2: Vec2, p3: Vec2, p4: Vec2) -> bool {
 /// `a`–`b`, `c`–`d`, `a`–`c` and `b`–`d`.
 #[inline]
 pub fn inside_parallelogram(t: Vec2, a: Vec2, b: Vec2, c: Vec2, d: Vec2) -> bool {
+    inside_parallelogram_by(orient, t, a, b, c, d)
+}
+
+/// [`inside_parallelogram`] with the orientation test given, as for
+/// [`segments_cross_by`].
+#[inline]
+pub fn inside_parallelogram_by(
+    orient: impl Fn(Vec2, Vec2, Vec2) -> f64,
+    t: Vec2,
+    a: Vec2,
+    b: Vec2,
+    c: Vec2,
+    d: Vec2,
+) -> bool {
     let e1 = orient(a, b, t);
     let e2 = orient(c, d, t);
     if !opposite(e1, e2) {
