@@ -130,56 +130,6 @@ impl Layout {
         }
     }
 
-    /// [`Layout::build`] for boxes in no particular order (no step before
-    /// to have kept one): every entry, as its band and key in one integer,
-    /// is radix-sorted once, which leaves each band's entries together and
-    /// sorted; then the boxes are gathered. On one thread.
-    pub(crate) fn build_scrambled(
-        &mut self,
-        slots: &Boxes,
-        n: usize,
-        spans: &[(u32, u32)],
-        bands: &Bands,
-    ) {
-        debug_assert!(n < HOME as usize);
-        let mut entries: Vec<(u64, u32)> = Vec::with_capacity(n + n / 4);
-        for (k, (&key, &(first, end))) in slots.keys[..n].iter().zip(&spans[..n]).enumerate() {
-            if key == NO_KEY {
-                continue;
-            }
-            let bits = u64::from(sortable(key));
-            entries.extend((first..end).map(|band| ((u64::from(band) << 32) | bits, k as u32)));
-        }
-        radsort::sort_by_key(&mut entries, |e| e.0);
-        self.counts.clear();
-        self.counts.resize(bands.count, 0);
-        for e in &entries {
-            self.counts[(e.0 >> 32) as usize] += 1;
-        }
-        self.set_starts();
-        self.keys.clear();
-        self.hulls.clear();
-        self.ids.clear();
-        let mut next = entries.iter().peekable();
-        for band in 0..bands.count as u64 {
-            while let Some(&&(_, k)) = next.peek().filter(|e| e.0 >> 32 == band) {
-                let k = k as usize;
-                self.keys.push(slots.keys[k]);
-                self.hulls.push(slots.hulls[k]);
-                let home = spans[k].0 == band as u32;
-                self.ids.push(if home {
-                    slots.ids[k] | HOME
-                } else {
-                    slots.ids[k]
-                });
-                next.next();
-            }
-            self.keys.push(NO_KEY);
-            self.hulls.push([0.0; 8]);
-            self.ids.push(u32::MAX);
-        }
-    }
-
     /// Sets where each band starts from the entries counted in each, with
     /// room for its sentinel; returns the entries laid out in all.
     fn set_starts(&mut self) -> usize {
@@ -409,16 +359,6 @@ fn lay_out_and_sort(
             }
         }
         std::mem::swap(guests, next);
-    }
-}
-
-/// The bits of a key (never NaN) as an integer that sorts as the key does.
-fn sortable(key: f32) -> u32 {
-    let bits = key.to_bits();
-    if bits >> 31 == 1 {
-        !bits
-    } else {
-        bits | 1 << 31
     }
 }
 

@@ -79,16 +79,6 @@ impl Boxes {
         self.keys[..n].partition_point(|&k| k != NO_KEY)
     }
 
-    /// Sorts boxes in no particular order (radix sort), as
-    /// [`Boxes::sort`] does; returns the number with a real key.
-    pub(crate) fn sort_scrambled(&mut self) -> usize {
-        let n = self.len();
-        self.key_slots(n);
-        radsort::sort_by_key(&mut self.keyed, |k| k.0);
-        self.gather();
-        self.keys[..n].partition_point(|&k| k != NO_KEY)
-    }
-
     /// Insertion sort of the first `n` boxes that gives up after `budget`
     /// moves (leaving them permuted but unsorted). Returns whether it
     /// finished.

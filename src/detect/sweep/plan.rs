@@ -43,8 +43,13 @@ pub(crate) const LAYOUT_COST: f64 = 16.0;
 /// The work of a sweep that lays out `entries` boxes (in several bands if
 /// `banded`) and meets `candidates` pairs, in units of one candidate.
 pub(crate) fn work(entries: f64, candidates: f64, banded: bool) -> f64 {
+    work_at(LAYOUT_COST, entries, candidates, banded)
+}
+
+/// [`work`] with `layout` the cost of laying one box out in one band.
+fn work_at(layout: f64, entries: f64, candidates: f64, banded: bool) -> f64 {
     let per_entry = if banded {
-        SWEEP_COST + LAYOUT_COST
+        SWEEP_COST + layout
     } else {
         SWEEP_COST
     };
@@ -106,12 +111,14 @@ fn spread(sample: &[Packed], total: usize, a: usize) -> Spread {
 /// assumed: each box enters `1 + count * share` bands, and each band holds
 /// that many over `count` of the boxes and so meets `1 / count` of the
 /// candidates of a sweep of as many boxes.
-pub(crate) fn cost(total: usize, candidates: f64, share: f64, count: usize) -> f64 {
+/// `layout` is the cost of laying one box out in one band.
+fn cost(layout: f64, total: usize, candidates: f64, share: f64, count: usize) -> f64 {
     if count == 1 {
-        return work(total as f64, candidates, false);
+        return work_at(layout, total as f64, candidates, false);
     }
     let copies = 1.0 + count as f64 * share;
-    work(
+    work_at(
+        layout,
         total as f64 * copies,
         candidates * copies * copies / count as f64,
         true,
@@ -138,6 +145,13 @@ pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
 /// sweeping along one of the first `directions` directions (2: the axes
 /// only, for boxes without diagonals; 4: the diagonals too).
 pub(crate) fn choose(sample: &[Packed], total: usize, directions: usize) -> Plan {
+    choose_at(LAYOUT_COST, sample, total, directions)
+}
+
+/// [`choose`] for a sweep whose cost of laying one box out in one band is
+/// `layout` (in units of one candidate met) instead of the detector's
+/// [`LAYOUT_COST`].
+pub(crate) fn choose_at(layout: f64, sample: &[Packed], total: usize, directions: usize) -> Plan {
     let directions = directions.min(DIRECTIONS);
     // Each direction's partner across is among the first `directions`.
     let spreads: Vec<Spread> = (0..directions).map(|a| spread(sample, total, a)).collect();
@@ -160,7 +174,7 @@ pub(crate) fn choose(sample: &[Packed], total: usize, directions: usize) -> Plan
         };
         let mut count = 1usize;
         while count <= MAX_BANDS.min(total / 4).max(1) {
-            let estimate = cost(total, s.candidates, share, count);
+            let estimate = cost(layout, total, s.candidates, share, count);
             if estimate < best.0 {
                 let bands = Bands::spanning(across(along), count, c.from, c.to);
                 let spread = (c.from, c.to);
@@ -213,6 +227,8 @@ mod tests {
         let plan = choose(&sample, 1_000_000, 2);
         assert!(plan.bands.count > 16, "{plan:?}");
         // More bands cost more than they save past the model's optimum.
+        let cost =
+            |total, candidates, share, count| cost(LAYOUT_COST, total, candidates, share, count);
         assert!(cost(1000, 1e6, 0.001, 1) > cost(1000, 1e6, 0.001, 30));
         assert!(cost(1000, 1e3, 0.1, 1) < cost(1000, 1e3, 0.1, 30));
     }
