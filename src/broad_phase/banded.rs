@@ -6,10 +6,11 @@
 //! Boxes come in any order. One pass copies each box into its bands, one
 //! stream of entries a band, which the cache keeps up with however
 //! scattered the boxes are. Each band, small enough to stay in the cache,
-//! is then sorted and swept on its own while it is there. A pair that
-//! overlaps lies together in every band from the one holding the larger of
-//! their least values across the bands; it is reported only there, so
-//! once.
+//! is then sorted and swept on its own while it is there, the test across
+//! the sweep made without a branch (in clustered boxes a fifth of the
+//! boxes met overlap, too many for a predictor). A pair that overlaps lies
+//! together in every band from the one holding the larger of their least
+//! values across the bands; it is reported only there, so once.
 //!
 //! The bands' buffers are kept for the thread's next call, so that a
 //! program finding pairs every frame does not ask the system for fresh
@@ -19,11 +20,12 @@ use super::Aabb;
 use crate::detect::sweep::bands::Bands;
 use std::cell::Cell;
 
-/// One box in one band: the box and its index.
+/// One box in one band: the box, its index, and its first band.
 #[derive(Clone, Copy, Debug)]
 struct Entry {
     aabb: Aabb,
     index: u32,
+    first: u32,
 }
 
 /// Working buffers, kept per thread from call to call.
@@ -35,6 +37,8 @@ struct Scratch {
     keyed: Vec<(f32, u32)>,
     /// One band's entries, sorted.
     sorted: Vec<Entry>,
+    /// The boxes one box meets in the sweep.
+    hits: Vec<u32>,
 }
 
 thread_local! {
@@ -63,6 +67,7 @@ pub(super) fn for_each_pair(
         bands: streams,
         keyed,
         sorted,
+        hits,
     } = &mut scratch;
     streams.resize_with(bands.count.max(streams.len()), Vec::new);
     for stream in streams.iter_mut() {
@@ -76,6 +81,7 @@ pub(super) fn for_each_pair(
         let entry = Entry {
             aabb: *aabb,
             index: index as u32,
+            first: first as u32,
         };
         for stream in &mut streams[first..=last] {
             stream.push(entry);
@@ -96,9 +102,10 @@ pub(super) fn for_each_pair(
         sorted.clear();
         sorted.extend(keyed.iter().map(|&(_, k)| entries[k as usize]));
         insertion_sort(sorted, along);
-        sweep(sorted, along, |a, b| {
-            // Reported in the band holding the larger least value across.
-            if bands.count == 1 || band_of(a.aabb.min[across].max(b.aabb.min[across])) == band {
+        sweep(sorted, along, hits, |a, b| {
+            // Reported in the band holding the larger least value across:
+            // the later of the two first bands, as banding is monotone.
+            if a.first.max(b.first) as usize == band {
                 found(a.index.min(b.index), a.index.max(b.index));
             }
         });
@@ -127,19 +134,31 @@ fn insertion_sort(entries: &mut [Entry], along: usize) {
 /// Sweeps `entries`, sorted by their least value along `along`: calls
 /// `overlap(a, b)` for every pair that overlaps. Along the sweep axis two
 /// boxes overlap when the later one starts within the earlier one; across
-/// it the two comparisons are made.
+/// it the two comparisons are made, without a branch: the boxes that pass
+/// are noted in `hits` (one slot per entry at least), and only they are
+/// handed on.
 #[inline]
-fn sweep(entries: &[Entry], along: usize, mut overlap: impl FnMut(&Entry, &Entry)) {
+fn sweep(
+    entries: &[Entry],
+    along: usize,
+    hits: &mut Vec<u32>,
+    mut overlap: impl FnMut(&Entry, &Entry),
+) {
     let across = 1 - along;
+    hits.clear();
+    hits.resize(entries.len(), 0);
     for (i, a) in entries.iter().enumerate() {
         let (end, low, high) = (a.aabb.max[along], a.aabb.min[across], a.aabb.max[across]);
-        for b in &entries[i + 1..] {
+        let mut met = 0;
+        for (j, b) in entries.iter().enumerate().skip(i + 1) {
             if b.aabb.min[along] > end {
                 break;
             }
-            if b.aabb.min[across] <= high && low <= b.aabb.max[across] {
-                overlap(a, b);
-            }
+            hits[met] = j as u32;
+            met += usize::from((b.aabb.min[across] <= high) & (low <= b.aabb.max[across]));
+        }
+        for &j in &hits[..met] {
+            overlap(a, &entries[j as usize]);
         }
     }
 }

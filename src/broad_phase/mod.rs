@@ -79,7 +79,7 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
     // The plan is drawn from an even sample of the boxes, packed as the
     // detector packs its hulls (lanes beyond f32's range held to its
     // largest value; the diagonals unbounded).
-    let stride = boxes.len().div_ceil(plan::SAMPLE).max(1);
+    let stride = boxes.len().div_ceil(BROAD_SAMPLE).max(1);
     let sample: Vec<_> = boxes
         .iter()
         .step_by(stride)
@@ -99,6 +99,10 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
     debug_assert!(chosen.along < 2 && DIRECTIONS == 4);
     banded::for_each_pair(boxes, chosen.along, &chosen.bands, &mut found);
 }
+
+/// Boxes the plan samples: fewer than the detector's, as the plan is
+/// drawn for every call.
+const BROAD_SAMPLE: usize = 2048;
 
 /// The cost of laying one box out in one band, in units of one candidate
 /// pair met, for the plan: a quarter of the detector's, since these bands
