@@ -360,7 +360,12 @@ mod tests {
             -0.01,
             0.02,
         ];
-        let mut lines = Vec::new();
+        // A value that is not finite in one place only.
+        let mut lines = vec![
+            crate::test_util::line((0.6, 0.6), (0.7, 0.7), (f64::NAN, 0.0)),
+            crate::test_util::line((0.6, 0.6), (0.7, 0.7), (0.0, f64::NEG_INFINITY)),
+            crate::test_util::line((0.6, f64::NAN), (0.7, 0.7), (0.0, 0.0)),
+        ];
         let mut k = 0usize;
         for _ in 0..603 {
             let mut v = || {
