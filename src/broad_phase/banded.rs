@@ -145,8 +145,11 @@ fn sweep(
     mut overlap: impl FnMut(&Entry, &Entry),
 ) {
     let across = 1 - along;
-    hits.clear();
-    hits.resize(entries.len(), 0);
+    // Room for every entry; what is in it does not matter (each slot is
+    // written before it is read), so it is only ever grown, not cleared.
+    if hits.len() < entries.len() {
+        hits.resize(entries.len(), 0);
+    }
     for (i, a) in entries.iter().enumerate() {
         let (end, low, high) = (a.aabb.max[along], a.aabb.min[across], a.aabb.max[across]);
         let mut met = 0;
