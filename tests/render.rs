@@ -110,35 +110,18 @@ fn sizes_scale_the_picture() {
     assert_lines_drawn(&p, (250, 100), (450, 250));
 }
 
-#[test]
-fn sequences_number_every_kth_frame() {
-    let dir = temp_dir("seq");
+/// Renders `frames` frames of the test scene into a PNG sequence, every
+/// `every` steps, in a fresh folder named after `name`; the names written.
+fn render_sequence(name: &str, frames: &str, every: &str) -> (std::path::PathBuf, Vec<String>) {
+    let dir = temp_dir(name);
     let out = dir.join("run.png");
     screensaver(&[
-        "9",
+        frames,
         scene(&dir).to_str().unwrap(),
         "--render",
         out.to_str().unwrap(),
         "--render-every",
-        "5",
-        "--size",
-        "118x80",
-    ]);
-    for step in [0, 5, 10] {
-        let frame = dir.join(format!("run-{step:06}.png"));
-        assert!(frame.is_file(), "{}", frame.display());
-    }
-    assert!(!dir.join("run-000001.png").exists());
-    // 12 frames run 13 steps: every fifth, and not the last step besides.
-    let dir = temp_dir("seq-end");
-    let out = dir.join("run.png");
-    screensaver(&[
-        "12",
-        scene(&dir).to_str().unwrap(),
-        "--render",
-        out.to_str().unwrap(),
-        "--render-every",
-        "5",
+        every,
         "--size",
         "118x80",
     ]);
@@ -148,6 +131,19 @@ fn sequences_number_every_kth_frame() {
         .filter(|name| name.starts_with("run-"))
         .collect();
     written.sort();
+    (dir, written)
+}
+
+#[test]
+fn sequences_number_every_kth_frame() {
+    let (dir, _) = render_sequence("seq", "9", "5");
+    for step in [0, 5, 10] {
+        let frame = dir.join(format!("run-{step:06}.png"));
+        assert!(frame.is_file(), "{}", frame.display());
+    }
+    assert!(!dir.join("run-000001.png").exists());
+    // 12 frames run 13 steps: every fifth, and not the last step besides.
+    let (_, written) = render_sequence("seq-end", "12", "5");
     assert_eq!(
         written,
         ["run-000000.png", "run-000005.png", "run-000010.png"]
