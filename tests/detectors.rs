@@ -215,6 +215,35 @@ fn thousands_of_lines_agree_with_the_oracle() {
     }
 }
 
+/// The sweep in bands over many steps, event for event with the oracle:
+/// boxes moving between bands, the band count tried up and down every 16
+/// steps, and the bands laid out in one group and in three.
+#[test]
+fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
+    use screensaver::generate::{generate, SceneKind};
+    let scene = generate(SceneKind::Uniform, 3_000, 5);
+    for threads in [1, 3] {
+        let config = DetectorConfig {
+            threads,
+            grain: 8,
+            ..DetectorConfig::default()
+        };
+        let mut world =
+            World::with_config(&scene, DetectorKind::Sweep, &config).expect("a pool of threads");
+        let mut oracle = Brute::default();
+        for step in 0..34 {
+            world
+                .step_verified(&mut oracle)
+                .unwrap_or_else(|m| panic!("{threads} threads, step {step}: {m}"));
+        }
+        assert!(
+            world.detector().describe().contains("bands"),
+            "{}",
+            world.detector().describe()
+        );
+    }
+}
+
 /// Found by the `step` fuzz target: lines whose coordinates near 1e306 make
 /// the diagonals of their hulls overflow (to infinities and NaN). A
 /// detector that kept pairs from step to step missed their event at the

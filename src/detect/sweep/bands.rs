@@ -75,13 +75,6 @@ impl Bands {
     pub(crate) fn span(&self, p: &Packed) -> (usize, usize) {
         (self.of(lo(p, self.across)), self.of(hi(p, self.across)))
     }
-
-    /// True when band `band` is the one that reports the pair of boxes `a`
-    /// and `b` (which overlap, and both lie in `band`).
-    #[inline]
-    pub(crate) fn reports(&self, band: usize, a: &Packed, b: &Packed) -> bool {
-        self.count == 1 || self.of(lo(a, self.across).max(lo(b, self.across))) == band
-    }
 }
 
 #[cfg(test)]

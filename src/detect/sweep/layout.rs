@@ -1,73 +1,150 @@
-//! The boxes laid out band by band: each box copied into every band it
-//! reaches, each band sorted on its own and closed by a sentinel.
+//! The boxes laid out band by band: each box copied once, into the band
+//! holding its least value across the bands (its *home*), each band sorted;
+//! the boxes that reach up into a band from below (its *guests*) listed
+//! beside it, sorted too.
 //!
-//! A box's *home* is the band holding its least value across the bands;
-//! it is a *guest* in the other bands it reaches, all above its home.
-//! Boxes arrive in last step's order, homes band by band, so each band's
-//! homes arrive nearly sorted (only boxes that crossed from a neighbour
-//! are out of place) and an insertion sort of them, small enough to stay
-//! in the nearest cache, finishes in about one pass. A band's guests are
-//! the entries of the band below (homes and guests) that reach up into it:
-//! taken from that band once it is sorted, they come sorted, and one merge
-//! with the homes finishes the band.
+//! A pair of overlapping boxes is reported in the band holding the larger
+//! of their two least values: there both are homes, or one is a home and
+//! the other a guest. Two guests of a band are never a pair it reports, so
+//! a band is swept as its homes among themselves and its homes against its
+//! guests ([`super::scan`]), and no pair needs a test of which band reports
+//! it.
+//!
+//! The homes, band by band, are the order next step's hulls are made in,
+//! so a step lays out boxes that arrive nearly in place:
+//! 1. [`Layout::classify`]: every box's home band, and per band how many
+//!    homes it has and how far up they reach;
+//! 2. [`Layout::lay_out`]: each box copied to its home band in arrival
+//!    order. A box that stays in the band it came from (nearly all of them)
+//!    goes to the front, still nearly sorted, and is finished by an
+//!    insertion sort in place; a box that moved in from another band is
+//!    held aside, and the few that came to a band are sorted and merged in
+//!    from the back. Each band's guests are the entries of the band below
+//!    that reach up into it, taken in sorted order as that band is done.
 //!
 //! The bands are split into groups of about equal size, one per thread;
-//! each group owns its stretch of the arrays (its first band's guests it
-//! gathers and sorts itself), so the groups are laid out, sorted and swept
-//! at once without sharing anything they write.
+//! each group owns its stretch of the arrays and its guests (its first
+//! band's guests it picks out of the arriving boxes), so the groups are
+//! laid out at once without sharing anything they write.
 
 use super::bands::Bands;
-use super::hull::Packed;
+use super::hull::{hi, Packed};
 use super::order::{Boxes, NO_KEY};
 use std::ops::Range;
-
-/// Marks, in a laid-out id, the band that holds the box's least value
-/// across the bands (its home): the order for next step is the home
-/// entries, band by band. Ids are below 2^31 (a world holds fewer lines).
-pub(crate) const HOME: u32 = 1 << 31;
 
 /// Moves an insertion sort of one band may make per entry before the band
 /// is sorted by radix instead.
 const MOVES_PER_ENTRY: usize = 8;
 
-/// The boxes band after band (see the [module docs](self)).
+/// Boxes classified at a time by one thread.
+const CLASSIFY_CHUNK: usize = 1 << 15;
+
+/// The boxes band by band (see the [module docs](self)).
 #[derive(Debug, Default)]
 pub(crate) struct Layout {
-    /// Least value along the sweep direction, per entry; [`NO_KEY`] for
-    /// each band's sentinel.
-    pub keys: Vec<f32>,
-    /// Packed hull, per entry.
-    pub hulls: Vec<Packed>,
-    /// Line id (or box index), per entry, with [`HOME`] set in the band
-    /// that is the box's home.
-    pub ids: Vec<u32>,
-    /// Where each band's entries start; band `b` ends at `starts[b + 1] - 1`,
-    /// its sentinel.
+    /// Where each band's homes start among the laid-out boxes, then where
+    /// the boxes without a key start, then their end: `count + 2` values.
     pub starts: Vec<usize>,
-    /// Per band, its entries while counting.
-    counts: Vec<usize>,
-    /// Per group, its working buffers, kept from step to step.
-    scratch: Vec<Scratch>,
+    /// The same for last step's layout, which the boxes arrive in (empty
+    /// when they arrive in another order).
+    old_starts: Vec<usize>,
+    /// Per band, the group holding its guests and their range there.
+    guest_at: Vec<(u32, Range<u32>)>,
+    /// Per group, its bands' guests one band after another, and its
+    /// working buffers; kept from step to step.
+    groups: Vec<Group>,
+    /// Per box (in arrival order), its home band; `count` for a box
+    /// without a key.
+    home: Vec<u32>,
+    /// Per band (and the boxes without a key), its homes, then the
+    /// furthest band they reach.
+    counts: Vec<u32>,
+    reach: Vec<u32>,
+    /// The laid-out keys, hulls and ids, exchanged with the arriving
+    /// boxes' arrays once laid out.
+    keys: Vec<f32>,
+    hulls: Vec<Packed>,
+    ids: Vec<u32>,
 }
 
-/// One group's working buffers.
+/// Entries as parallel arrays, with the band after the last they reach.
 #[derive(Debug, Default)]
-struct Scratch {
-    /// The group's homes, band by band in slot order.
-    homes: Run,
-    /// Where each band's homes start in `homes`, and a cursor per band.
-    home_starts: Vec<usize>,
-    cursor: Vec<usize>,
-    /// One band's homes as keys and positions, to sort.
-    order: Vec<(f32, u32)>,
-    /// The current band's guests, and the next band's.
-    guests: Run,
-    next: Run,
-    /// One band's entries' ends, as merged.
+struct Run {
+    keys: Vec<f32>,
+    hulls: Vec<Packed>,
+    ids: Vec<u32>,
     ends: Vec<u32>,
 }
 
-/// One group's stretch of the layout: its bands and their arrays.
+impl Run {
+    fn clear(&mut self) {
+        self.keys.clear();
+        self.hulls.clear();
+        self.ids.clear();
+        self.ends.clear();
+    }
+
+    fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    #[inline]
+    fn push(&mut self, key: f32, hull: Packed, id: u32, end: u32) {
+        self.keys.push(key);
+        self.hulls.push(hull);
+        self.ids.push(id);
+        self.ends.push(end);
+    }
+
+    /// Appends the entries `range` of `other`.
+    fn extend_from(&mut self, other: &Run, range: Range<usize>) {
+        self.keys.extend_from_slice(&other.keys[range.clone()]);
+        self.hulls.extend_from_slice(&other.hulls[range.clone()]);
+        self.ids.extend_from_slice(&other.ids[range.clone()]);
+        self.ends.extend_from_slice(&other.ends[range]);
+    }
+
+    /// Sorts the entries `range` by key (through `order` and `spare`).
+    fn sort(&mut self, range: Range<usize>, order: &mut Vec<(f32, u32)>, spare: &mut Run) {
+        order.clear();
+        order.extend(
+            self.keys[range.clone()]
+                .iter()
+                .zip(range.start as u32..)
+                .map(|(&key, at)| (key, at)),
+        );
+        radsort::sort_by_key(order, |k| k.0);
+        spare.clear();
+        for &(key, at) in order.iter() {
+            let at = at as usize;
+            spare.push(key, self.hulls[at], self.ids[at], self.ends[at]);
+        }
+        let r = range.clone();
+        self.keys[r.clone()].copy_from_slice(&spare.keys);
+        self.hulls[r.clone()].copy_from_slice(&spare.hulls);
+        self.ids[r.clone()].copy_from_slice(&spare.ids);
+        self.ends[r].copy_from_slice(&spare.ends);
+    }
+}
+
+/// One group's guests and working buffers.
+#[derive(Debug, Default)]
+struct Group {
+    /// The guests of the group's bands, one band after another.
+    guests: Run,
+    /// Where each of the group's bands' guests start in `guests`, and
+    /// their end.
+    guest_starts: Vec<u32>,
+    /// The boxes that moved into the group's bands from other bands, with
+    /// their home band in place of an end.
+    movers: Run,
+    /// Keys and positions, to sort.
+    order: Vec<(f32, u32)>,
+    /// Spare entries for sorting.
+    spare: Run,
+}
+
+/// One group's stretch of the laid-out arrays: its bands and their boxes.
 struct Stretch<'a> {
     bands: Range<usize>,
     /// The first entry of the stretch.
@@ -77,106 +154,230 @@ struct Stretch<'a> {
     ids: &'a mut [u32],
 }
 
+/// What every group reads: the arriving boxes and what [`Layout::classify`]
+/// found of them.
+struct Arrivals<'a> {
+    slots: &'a Boxes,
+    n: usize,
+    home: &'a [u32],
+    starts: &'a [usize],
+    old_starts: &'a [usize],
+    reach: &'a [u32],
+    bands: &'a Bands,
+}
+
 impl Layout {
-    /// Lays out the first `n` boxes of `slots` (in last step's order; those
-    /// keyed [`NO_KEY`] are left out) in `bands`, where `spans[k]` gives the
-    /// bands box `k` reaches (first, and one past the last), and sorts
-    /// every band, in `groups` groups of bands on the current rayon pool
-    /// (one group: on this thread).
-    pub(crate) fn build(
-        &mut self,
-        slots: &Boxes,
-        n: usize,
-        spans: &[(u32, u32)],
-        bands: &Bands,
-        groups: usize,
-    ) {
-        debug_assert!(n < HOME as usize);
+    /// Finds the home band of each of the first `n` boxes of `slots` and
+    /// counts each band's homes (on the current rayon pool when
+    /// `parallel`).
+    pub(crate) fn classify(&mut self, slots: &Boxes, n: usize, bands: &Bands, parallel: bool) {
+        let buckets = bands.count + 1;
+        self.home.resize(n, 0);
         self.counts.clear();
-        self.counts.resize(bands.count, 0);
-        for (&key, &(first, end)) in slots.keys[..n].iter().zip(&spans[..n]) {
-            if key != NO_KEY {
-                for c in &mut self.counts[first as usize..end as usize] {
-                    *c += 1;
+        self.counts.resize(buckets, 0);
+        self.reach.clear();
+        self.reach.resize(buckets, 0);
+        let (keys, hulls) = (&slots.keys[..n], &slots.hulls[..n]);
+        if parallel && n > CLASSIFY_CHUNK {
+            use rayon::prelude::*;
+            let found: Vec<(Vec<u32>, Vec<u32>)> = self
+                .home
+                .par_chunks_mut(CLASSIFY_CHUNK)
+                .zip(keys.par_chunks(CLASSIFY_CHUNK))
+                .zip(hulls.par_chunks(CLASSIFY_CHUNK))
+                .map(|((home, keys), hulls)| {
+                    let (mut counts, mut reach) = (vec![0; buckets], vec![0; buckets]);
+                    classify(keys, hulls, bands, home, &mut counts, &mut reach);
+                    (counts, reach)
+                })
+                .collect();
+            for (counts, reach) in found {
+                for b in 0..buckets {
+                    self.counts[b] += counts[b];
+                    self.reach[b] = self.reach[b].max(reach[b]);
                 }
             }
-        }
-        let total = self.set_starts();
-        self.keys.resize(total, NO_KEY);
-        self.hulls.resize(total, [0.0; 8]);
-        self.ids.resize(total, u32::MAX);
-
-        let Layout {
-            keys,
-            hulls,
-            ids,
-            starts,
-            scratch,
-            ..
-        } = self;
-        let stretches = stretches(starts, keys, hulls, ids, groups);
-        scratch.resize_with(stretches.len().max(scratch.len()), Scratch::default);
-        let lay = |(s, scratch): (Stretch, &mut Scratch)| {
-            lay_out_and_sort(s, scratch, starts, slots, n, spans)
-        };
-        if stretches.len() > 1 {
-            use rayon::prelude::*;
-            stretches
-                .into_par_iter()
-                .zip(scratch.par_iter_mut())
-                .for_each(lay);
         } else {
-            stretches.into_iter().zip(scratch.iter_mut()).for_each(lay);
+            classify(
+                keys,
+                hulls,
+                bands,
+                &mut self.home,
+                &mut self.counts,
+                &mut self.reach,
+            );
         }
     }
 
-    /// Sets where each band starts from the entries counted in each, with
-    /// room for its sentinel; returns the entries laid out in all.
-    fn set_starts(&mut self) -> usize {
+    /// Lays out the first `n` boxes of `slots`, as [`Layout::classify`]
+    /// found them, band by band in `groups` groups (on the current rayon
+    /// pool when more than one), and leaves them in `slots`, sentinel last;
+    /// returns the boxes with a key, which come first.
+    pub(crate) fn lay_out(
+        &mut self,
+        slots: &mut Boxes,
+        n: usize,
+        bands: &Bands,
+        groups: usize,
+    ) -> usize {
+        let count = bands.count;
+        std::mem::swap(&mut self.starts, &mut self.old_starts);
         self.starts.clear();
         let mut total = 0;
         for &c in &self.counts {
             self.starts.push(total);
-            total += c + 1;
+            total += c as usize;
         }
         self.starts.push(total);
-        total
+        debug_assert_eq!(total, n);
+        // Last step's layout is what the boxes arrive in only if it had as
+        // many bands and boxes.
+        if self.old_starts.len() != self.starts.len() || self.old_starts.last() != Some(&n) {
+            self.old_starts.clear();
+        }
+        self.keys.resize(n + 1, NO_KEY);
+        self.hulls.resize(n + 1, [0.0; 8]);
+        self.ids.resize(n + 1, u32::MAX);
+        self.keys[n] = NO_KEY;
+        self.ids[n] = u32::MAX;
+
+        // Groups of bands, the last also holding the boxes without a key.
+        let mut bounds = group_bounds(&self.starts[..=count], groups);
+        match bounds.last_mut() {
+            Some(last) => last.end = count + 1,
+            None => bounds.push(0..count + 1),
+        }
+        self.groups
+            .resize_with(bounds.len().max(self.groups.len()), Group::default);
+        let Layout {
+            starts,
+            old_starts,
+            groups: group_bufs,
+            home,
+            reach,
+            keys,
+            hulls,
+            ids,
+            ..
+        } = self;
+        let arrivals = Arrivals {
+            slots,
+            n,
+            home,
+            starts,
+            old_starts,
+            reach,
+            bands,
+        };
+        let stretches = stretches(starts, keys, hulls, ids, &bounds);
+        let lay = |(s, g): (Stretch, &mut Group)| lay_out_group(s, g, &arrivals);
+        if stretches.len() > 1 {
+            use rayon::prelude::*;
+            stretches
+                .into_par_iter()
+                .zip(group_bufs.par_iter_mut())
+                .for_each(lay);
+        } else {
+            stretches
+                .into_iter()
+                .zip(group_bufs.iter_mut())
+                .for_each(lay);
+        }
+
+        self.guest_at.clear();
+        for (g, range) in bounds.iter().enumerate() {
+            let gs = &self.groups[g].guest_starts;
+            for b in range.start..range.end.min(count) {
+                let k = b - range.start;
+                self.guest_at.push((g as u32, gs[k]..gs[k + 1]));
+            }
+        }
+        std::mem::swap(&mut slots.keys, &mut self.keys);
+        std::mem::swap(&mut slots.hulls, &mut self.hulls);
+        std::mem::swap(&mut slots.ids, &mut self.ids);
+        self.starts[count]
     }
 
     /// Consecutive ranges of bands, at most `groups` of them, each holding
-    /// about the same number of entries.
+    /// about the same number of homes.
     pub(crate) fn group_bounds(&self, groups: usize) -> Vec<Range<usize>> {
-        group_bounds(&self.starts, groups)
+        group_bounds(&self.starts[..self.starts.len() - 1], groups)
     }
 
-    /// Appends the ids of the home entries, band by band in sorted order:
-    /// next step's order.
-    pub(crate) fn home_order(&self, order: &mut Vec<u32>) {
-        order.extend(
-            self.ids
-                .iter()
-                .filter(|&&id| id != u32::MAX && id & HOME != 0)
-                .map(|&id| id & !HOME),
-        );
+    /// Where the homes of band `band` lie among the laid-out boxes.
+    pub(crate) fn homes(&self, band: usize) -> Range<usize> {
+        self.starts[band]..self.starts[band + 1]
     }
 
-    /// Entries laid out, sentinels included.
-    pub(crate) fn len(&self) -> usize {
-        self.keys.len()
+    /// The guests of band `band`: keys, hulls and ids, sorted by key.
+    pub(crate) fn guests(&self, band: usize) -> (&[f32], &[Packed], &[u32]) {
+        let (g, range) = &self.guest_at[band];
+        let run = &self.groups[*g as usize].guests;
+        let r = range.start as usize..range.end as usize;
+        (&run.keys[r.clone()], &run.hulls[r.clone()], &run.ids[r])
+    }
+
+    /// Forgets last step's layout: the boxes will arrive in another order.
+    pub(crate) fn forget(&mut self) {
+        self.starts.clear();
+    }
+
+    /// Guests in all bands.
+    pub(crate) fn guest_count(&self) -> usize {
+        self.guest_at.iter().map(|(_, r)| r.len()).sum()
     }
 }
 
-/// Consecutive ranges of the bands that start at `starts`, at most
-/// `groups` of them, each holding about the same number of entries.
+/// Finds each box's home band (keys and hulls, in arrival order) into
+/// `home`, counting the homes of each band in `counts` and noting the
+/// furthest band they reach in `reach`.
+fn classify(
+    keys: &[f32],
+    hulls: &[Packed],
+    bands: &Bands,
+    home: &mut [u32],
+    counts: &mut [u32],
+    reach: &mut [u32],
+) {
+    let none = bands.count as u32;
+    // Boxes arrive band by band, so the counts are kept for a run of boxes
+    // with the same home and written when the home changes: each box
+    // adding to the count in memory would wait for the box before it.
+    let (mut run_home, mut run, mut run_reach) = (none, 0, none);
+    for ((&key, hull), home) in keys.iter().zip(hulls).zip(home) {
+        let (h, last) = if key == NO_KEY {
+            (none, none)
+        } else {
+            let (first, last) = bands.span(hull);
+            (first as u32, last as u32)
+        };
+        *home = h;
+        if h != run_home {
+            counts[run_home as usize] += run;
+            let r = &mut reach[run_home as usize];
+            *r = (*r).max(run_reach);
+            (run_home, run, run_reach) = (h, 0, 0);
+        }
+        run += 1;
+        run_reach = run_reach.max(last);
+    }
+    counts[run_home as usize] += run;
+    let r = &mut reach[run_home as usize];
+    *r = (*r).max(run_reach);
+}
+
+/// Consecutive ranges of the bands that start at `starts` (one past the
+/// last band's start being its end), at most `groups` of them, each holding
+/// about the same number of entries.
 fn group_bounds(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
     let count = starts.len() - 1;
-    let total = starts[count];
+    let (first_start, total) = (starts[0], starts[count]);
 
     let groups = groups.clamp(1, count.max(1));
     let mut bounds = Vec::with_capacity(groups);
     let mut first = 0;
     for g in 1..=groups {
-        let target = total * g / groups;
+        let target = first_start + (total - first_start) * g / groups;
         // The band boundary nearest the target.
         let mut last = if g == groups {
             count
@@ -197,304 +398,421 @@ fn group_bounds(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
     bounds
 }
 
-/// Splits the arrays into stretches of whole bands, one per group.
+/// Splits the arrays into stretches of whole bands, one per range of
+/// `bounds`.
 fn stretches<'a>(
     starts: &[usize],
     mut keys: &'a mut [f32],
     mut hulls: &'a mut [Packed],
     mut ids: &'a mut [u32],
-    groups: usize,
+    bounds: &[Range<usize>],
 ) -> Vec<Stretch<'a>> {
-    let bounds = group_bounds(starts, groups);
     let mut out = Vec::with_capacity(bounds.len());
+    let mut at = 0;
     for bands in bounds {
         let (offset, end) = (starts[bands.start], starts[bands.end]);
+        debug_assert_eq!(offset, at);
         let len = end - offset;
         let (k, rest_k) = std::mem::take(&mut keys).split_at_mut(len);
         let (h, rest_h) = std::mem::take(&mut hulls).split_at_mut(len);
         let (i, rest_i) = std::mem::take(&mut ids).split_at_mut(len);
         (keys, hulls, ids) = (rest_k, rest_h, rest_i);
         out.push(Stretch {
-            bands,
+            bands: bands.clone(),
             offset,
             keys: k,
             hulls: h,
             ids: i,
         });
+        at = end;
     }
     out
 }
 
-/// Entries as parallel arrays: a group's homes, or a band's guests.
-#[derive(Debug, Default)]
-struct Run {
-    keys: Vec<f32>,
-    hulls: Vec<Packed>,
-    ids: Vec<u32>,
-    /// One past the last band each entry reaches.
-    ends: Vec<u32>,
-}
-
-impl Run {
-    fn clear(&mut self) {
-        self.keys.clear();
-        self.hulls.clear();
-        self.ids.clear();
-        self.ends.clear();
-    }
-
-    fn push(&mut self, key: f32, hull: Packed, id: u32, end: u32) {
-        self.keys.push(key);
-        self.hulls.push(hull);
-        self.ids.push(id);
-        self.ends.push(end);
-    }
-
-    /// Puts the entries in the order of `order` (positions), using `spare`.
-    fn gather(&mut self, order: &[(f32, u32)], spare: &mut Run) {
-        spare.clear();
-        for &(key, at) in order {
-            let at = at as usize;
-            spare.push(key, self.hulls[at], self.ids[at], self.ends[at]);
-        }
-        std::mem::swap(self, spare);
-    }
-}
-
-/// Lays out and sorts the bands of one stretch (see the [module
-/// docs](self)).
-fn lay_out_and_sort(
-    s: Stretch,
-    scratch: &mut Scratch,
-    starts: &[usize],
-    slots: &Boxes,
-    n: usize,
-    spans: &[(u32, u32)],
-) {
+/// Lays out one group's stretch (see the [module docs](self)).
+fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
     let Stretch {
-        bands,
+        bands: range,
         offset,
         keys,
         hulls,
         ids,
     } = s;
-    let (first_band, end_band) = (bands.start as u32, bands.end as u32);
-    let home = |first: u32| (first.wrapping_sub(first_band)) as usize;
-    let Scratch {
-        homes,
-        home_starts,
-        cursor,
-        order,
+    let count = a.bands.count;
+    let (b0, b1) = (range.start as u32, range.end as u32);
+    let Group {
         guests,
-        next,
-        ends,
-    } = scratch;
-    // Where each band's homes start in `homes`.
-    home_starts.clear();
-    home_starts.resize(bands.len() + 1, 0);
-    for (&key, &(first, _)) in slots.keys[..n].iter().zip(&spans[..n]) {
-        if key != NO_KEY && (first_band..end_band).contains(&first) {
-            home_starts[home(first) + 1] += 1;
-        }
-    }
-    for b in 1..home_starts.len() {
-        home_starts[b] += home_starts[b - 1];
-    }
-    // The homes, band by band in slot order, and the first band's guests.
-    let total = home_starts[bands.len()];
-    homes.keys.resize(total, 0.0);
-    homes.hulls.resize(total, [0.0; 8]);
-    homes.ids.resize(total, 0);
-    homes.ends.resize(total, 0);
-    cursor.clear();
-    cursor.extend_from_slice(home_starts);
-    guests.clear();
-    for (k, &(first, end)) in spans[..n].iter().enumerate() {
-        let key = slots.keys[k];
-        if key == NO_KEY {
-            continue;
-        }
-        if (first_band..end_band).contains(&first) {
-            let at = &mut cursor[home(first)];
-            homes.keys[*at] = key;
-            homes.hulls[*at] = slots.hulls[k];
-            homes.ids[*at] = slots.ids[k] | HOME;
-            homes.ends[*at] = end;
-            *at += 1;
-        } else if first < first_band && end > first_band {
-            guests.push(key, slots.hulls[k], slots.ids[k], end);
-        }
-    }
-    keyed_order(&guests.keys, 0, order);
-    guests.gather(order, next);
+        guest_starts,
+        movers,
+        order,
+        spare,
+    } = group;
+    // The lowest band whose homes reach into the group's first band.
+    let from = (0..b0).find(|&b| a.reach[b as usize] >= b0).unwrap_or(b0);
+    let across = a.bands.across;
 
-    for (g, band) in bands.enumerate() {
-        // The homes are sorted as keys and positions (a few bytes to move
-        // rather than a whole entry), and gathered by the merge.
-        let run = home_starts[g]..home_starts[g + 1];
-        keyed_order(&homes.keys[run.clone()], run.start, order);
-        let out = starts[band] - offset..starts[band + 1] - 1 - offset;
-        debug_assert_eq!(out.len(), run.len() + guests.keys.len());
-        ends.clear();
-        ends.resize(out.len(), 0);
-        merge(
+    // Every box whose home is in the group: one that arrived from the
+    // same band to the front of its band, in arrival order; one that
+    // moved, aside. The boxes from below that reach into the first band:
+    // its guests.
+    let mut cursor: Vec<usize> = a.starts[range.clone()].iter().map(|s| s - offset).collect();
+    movers.clear();
+    guests.clear();
+    let (slots, old) = (a.slots, a.old_starts);
+    // The band each box arrived from; with no layout to arrive from, every
+    // box counts as arriving from its home.
+    let mut came_from = 0usize;
+    let mut next_old = old.get(1).copied().unwrap_or(usize::MAX);
+    for k in 0..a.n {
+        if k == next_old {
+            came_from += 1;
+            while old[came_from + 1] == k {
+                came_from += 1;
+            }
+            next_old = old[came_from + 1];
+        }
+        let h = a.home[k];
+        if (b0..b1).contains(&h) {
+            let (key, hull, id) = (slots.keys[k], slots.hulls[k], slots.ids[k]);
+            if old.is_empty() || h as usize == came_from || h as usize == count {
+                let at = &mut cursor[(h - b0) as usize];
+                keys[*at] = key;
+                hulls[*at] = hull;
+                ids[*at] = id;
+                *at += 1;
+            } else {
+                movers.push(key, hull, id, h);
+            }
+        } else if (from..b0).contains(&h) {
+            let end = a.bands.of(hi(&slots.hulls[k], across)) as u32 + 1;
+            if end > b0 {
+                guests.push(slots.keys[k], slots.hulls[k], slots.ids[k], end);
+            }
+        }
+    }
+    // The movers by band, then by key within it.
+    if movers.len() > 0 {
+        sort_movers(movers, order, spare);
+    }
+    if guests.len() > 0 {
+        guests.sort(0..guests.len(), order, spare);
+    }
+
+    guest_starts.clear();
+    guest_starts.push(0);
+    let mut mover_at = 0;
+    for band in range.start..range.end.min(count) {
+        let k = band - range.start;
+        let out = a.starts[band] - offset..a.starts[band + 1] - offset;
+        let stayed = out.start..cursor[k];
+        sort_in_place(
+            &mut keys[stayed.clone()],
+            &mut hulls[stayed.clone()],
+            &mut ids[stayed.clone()],
             order,
-            homes,
-            guests,
+            spare,
+        );
+        let moved = mover_at..mover_at + (out.end - stayed.end);
+        debug_assert!(movers.ends[moved.clone()]
+            .iter()
+            .all(|&b| b as usize == band));
+        merge_from_back(
             (
                 &mut keys[out.clone()],
                 &mut hulls[out.clone()],
                 &mut ids[out.clone()],
-                ends,
             ),
+            stayed.len(),
+            movers,
+            moved.clone(),
         );
-        keys[out.end] = NO_KEY;
-        ids[out.end] = u32::MAX;
-        // The next band's guests: this band's entries that reach into it.
-        next.clear();
+        mover_at = moved.end;
+        // The next band's guests: this band's homes and guests that reach
+        // into it, merged in key order, after this band's guests.
+        let own = guest_starts[k] as usize..guests.len();
+        guest_starts.push(guests.len() as u32);
         let beyond = band as u32 + 1;
-        for (k, at) in out.enumerate() {
-            if ends[k] > beyond {
-                next.push(keys[at], hulls[at], ids[at] & !HOME, ends[k]);
+        if band + 1 < range.end.min(count) {
+            spare.clear();
+            // The band after the last each home reaches, found once.
+            let home_end = |i: usize| a.bands.of(hi(&hulls[i], across)) as u32 + 1;
+            let (mut i, mut j) = (out.start, own.start);
+            let next_home = |i: &mut usize| {
+                while *i < out.end {
+                    let end = home_end(*i);
+                    if end > beyond {
+                        return Some(end);
+                    }
+                    *i += 1;
+                }
+                None
+            };
+            let mut end_i = next_home(&mut i);
+            loop {
+                while j < own.end && guests.ends[j] <= beyond {
+                    j += 1;
+                }
+                let home_first = match (end_i, j < own.end) {
+                    (None, false) => break,
+                    (Some(_), false) => true,
+                    (None, true) => false,
+                    (Some(_), true) => keys[i] <= guests.keys[j],
+                };
+                if home_first {
+                    let end = end_i.expect("a home that reaches on");
+                    spare.push(keys[i], hulls[i], ids[i], end);
+                    i += 1;
+                    end_i = next_home(&mut i);
+                } else {
+                    spare.push(
+                        guests.keys[j],
+                        guests.hulls[j],
+                        guests.ids[j],
+                        guests.ends[j],
+                    );
+                    j += 1;
+                }
             }
+            let len = spare.len();
+            guests.extend_from(spare, 0..len);
         }
-        std::mem::swap(guests, next);
     }
 }
 
-/// Fills `order` with `keys` and their positions (from `first`), sorted by
-/// key.
-fn keyed_order(keys: &[f32], first: usize, order: &mut Vec<(f32, u32)>) {
+/// Sorts movers by band, then by key (through `order` and `spare`).
+fn sort_movers(movers: &mut Run, order: &mut Vec<(f32, u32)>, spare: &mut Run) {
     order.clear();
-    order.extend(keys.iter().zip(first as u32..).map(|(&key, at)| (key, at)));
-    sort_keyed(order);
+    order.extend(movers.keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
+    let bands = &movers.ends;
+    order.sort_unstable_by(|x, y| {
+        (bands[x.1 as usize].cmp(&bands[y.1 as usize])).then(x.0.total_cmp(&y.0))
+    });
+    spare.clear();
+    for &(key, at) in order.iter() {
+        let at = at as usize;
+        spare.push(key, movers.hulls[at], movers.ids[at], movers.ends[at]);
+    }
+    std::mem::swap(movers, spare);
 }
 
-/// Sorts keys and positions by key: by insertion while that stays short,
-/// else by radix.
-fn sort_keyed(order: &mut [(f32, u32)]) {
-    let mut budget = MOVES_PER_ENTRY * order.len() + 16;
-    for i in 1..order.len() {
-        let item = order[i];
-        if order[i - 1].0 <= item.0 {
+/// Sorts boxes by key in place: by insertion while that stays short (they
+/// arrive nearly sorted), else by radix through `order` and `spare`.
+fn sort_in_place(
+    keys: &mut [f32],
+    hulls: &mut [Packed],
+    ids: &mut [u32],
+    order: &mut Vec<(f32, u32)>,
+    spare: &mut Run,
+) {
+    let n = keys.len();
+    let mut budget = MOVES_PER_ENTRY * n + 16;
+    for i in 1..n {
+        let key = keys[i];
+        if keys[i - 1] <= key {
             continue;
         }
+        let (hull, id) = (hulls[i], ids[i]);
         let mut j = i;
-        while j > 0 && order[j - 1].0 > item.0 {
-            order[j] = order[j - 1];
+        while j > 0 && keys[j - 1] > key {
+            keys[j] = keys[j - 1];
+            hulls[j] = hulls[j - 1];
+            ids[j] = ids[j - 1];
             j -= 1;
         }
-        order[j] = item;
+        keys[j] = key;
+        hulls[j] = hull;
+        ids[j] = id;
         if i - j > budget {
+            // Too far from sorted: radix sort, then gather.
+            order.clear();
+            order.extend(keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
             radsort::sort_by_key(order, |k| k.0);
+            spare.clear();
+            for &(key, at) in order.iter() {
+                let at = at as usize;
+                spare.push(key, hulls[at], ids[at], 0);
+            }
+            keys.copy_from_slice(&spare.keys);
+            hulls.copy_from_slice(&spare.hulls);
+            ids.copy_from_slice(&spare.ids);
             return;
         }
         budget -= i - j;
     }
 }
 
-/// Merges the homes taken in `order` and the sorted `guests` into `out`,
-/// which holds exactly both.
-fn merge(
-    order: &[(f32, u32)],
-    homes: &Run,
-    guests: &Run,
-    out: (&mut [f32], &mut [Packed], &mut [u32], &mut [u32]),
+/// Merges the sorted movers `moved` into a band whose first `stayed`
+/// entries are sorted and whose rest is free, from the back, so that each
+/// entry moves at most once.
+fn merge_from_back(
+    band: (&mut [f32], &mut [Packed], &mut [u32]),
+    stayed: usize,
+    movers: &Run,
+    moved: Range<usize>,
 ) {
-    let (keys, hulls, ids, ends) = out;
-    let (mut i, mut j) = (0, 0);
-    for at in 0..keys.len() {
-        let take_guest = i == order.len() || (j < guests.keys.len() && guests.keys[j] < order[i].0);
-        if take_guest {
-            keys[at] = guests.keys[j];
-            hulls[at] = guests.hulls[j];
-            ids[at] = guests.ids[j];
-            ends[at] = guests.ends[j];
-            j += 1;
+    let (keys, hulls, ids) = band;
+    debug_assert_eq!(keys.len(), stayed + moved.len());
+    let (mut i, mut j) = (stayed, moved.end);
+    let mut w = keys.len();
+    while j > moved.start {
+        w -= 1;
+        if i > 0 && keys[i - 1] > movers.keys[j - 1] {
+            i -= 1;
+            keys[w] = keys[i];
+            hulls[w] = hulls[i];
+            ids[w] = ids[i];
         } else {
-            let (key, from) = order[i];
-            keys[at] = key;
-            hulls[at] = homes.hulls[from as usize];
-            ids[at] = homes.ids[from as usize];
-            ends[at] = homes.ends[from as usize];
-            i += 1;
+            j -= 1;
+            keys[w] = movers.keys[j];
+            hulls[w] = movers.hulls[j];
+            ids[w] = movers.ids[j];
         }
     }
+    debug_assert_eq!(w, i);
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn hull(lo_y: f32, hi_y: f32) -> Packed {
+    fn hull(key: f32, lo_y: f32, hi_y: f32) -> Packed {
         let n = f32::NEG_INFINITY;
-        [0.0, lo_y, n, n, -1.0, -hi_y, n, n]
+        [key, lo_y, n, n, -(key + 1.0), -hi_y, n, n]
     }
 
-    /// Boxes keyed `keys` with spans across y from `ys`.
-    fn slots(keys: &[f32], ys: &[(f32, f32)], bands: &Bands) -> (Boxes, Vec<(u32, u32)>) {
+    /// Boxes keyed `keys` with spans across y from `ys`, ids from 10.
+    fn slots(keys: &[f32], ys: &[(f32, f32)]) -> Boxes {
         let mut b = Boxes::default();
         b.reset(keys.len());
-        let mut spans = Vec::new();
         for (k, (&key, &(lo, hi))) in keys.iter().zip(ys).enumerate() {
             b.keys[k] = key;
-            b.hulls[k] = hull(lo, hi);
+            b.hulls[k] = hull(key, lo, hi);
             b.ids[k] = 10 + k as u32;
-            let (first, last) = bands.span(&b.hulls[k]);
-            spans.push((first as u32, last as u32 + 1));
         }
-        (b, spans)
+        b
+    }
+
+    fn lay_out(b: &mut Boxes, bands: &Bands, groups: usize, layout: &mut Layout) -> usize {
+        let n = b.len();
+        layout.classify(b, n, bands, groups > 1);
+        layout.lay_out(b, n, bands, groups)
     }
 
     #[test]
-    fn boxes_go_into_every_band_they_reach_each_band_sorted() {
+    fn boxes_go_home_sorted_with_their_guests_beside() {
         let bands = Bands::spanning(1, 2, 0.0, 1.0);
         // Ids 10..14; 11 spans both bands; 13 takes no part.
         let keys = [0.5, 0.0, 0.7, NO_KEY, 0.1];
         let ys = [(0.1, 0.2), (0.1, 0.9), (0.6, 0.7), (0.0, 0.0), (0.8, 0.9)];
-        let (b, spans) = slots(&keys, &ys, &bands);
         for groups in [1, 2, 3] {
+            let mut b = slots(&keys, &ys);
             let mut layout = Layout::default();
-            layout.build(&b, keys.len(), &spans, &bands, groups);
-            assert_eq!(layout.starts, vec![0, 3, 7]);
-            let ids: Vec<u32> = layout.ids.iter().map(|&id| id & !HOME).collect();
-            assert_eq!(ids, vec![11, 10, !HOME, 11, 14, 12, !HOME]);
-            assert_eq!(layout.keys, vec![0.0, 0.5, NO_KEY, 0.0, 0.1, 0.7, NO_KEY]);
-            // 11's home is band 0; it is a guest in band 1.
-            assert_eq!(layout.ids[3], 11);
-            let mut order = Vec::new();
-            layout.home_order(&mut order);
-            assert_eq!(order, vec![11, 10, 14, 12]);
+            assert_eq!(lay_out(&mut b, &bands, groups, &mut layout), 4);
+            assert_eq!(layout.starts, vec![0, 2, 4, 5]);
+            assert_eq!(b.ids, vec![11, 10, 14, 12, 13, u32::MAX]);
+            assert_eq!(b.keys[..4], [0.0, 0.5, 0.1, 0.7]);
+            assert_eq!(layout.guests(0).2, &[] as &[u32]);
+            assert_eq!(layout.guests(1).2, &[11]);
+            assert_eq!(layout.guest_count(), 1);
         }
     }
 
+    /// Every layout, however the boxes arrive, holds each box with a key
+    /// once at home, sorted, and as a guest in exactly the bands above its
+    /// home that it reaches, sorted.
     #[test]
-    fn keys_are_sorted_with_their_positions_however_scrambled() {
-        for n in [0, 1, 5, 500] {
-            for step in [1, 7919] {
-                let keys: Vec<f32> = (0..n).map(|i| ((i * step) % n.max(1)) as f32).collect();
-                let mut order = Vec::new();
-                keyed_order(&keys, 100, &mut order);
-                assert!(order.windows(2).all(|w| w[0].0 <= w[1].0));
-                let mut at: Vec<u32> = order.iter().map(|o| o.1).collect();
-                at.sort_unstable();
-                assert_eq!(at, (100..100 + n as u32).collect::<Vec<_>>());
-                assert!(order
-                    .iter()
-                    .all(|&(key, at)| keys[at as usize - 100] == key));
+    fn layouts_hold_every_box_at_home_and_as_guest_where_it_reaches() {
+        let n = 3000usize;
+        let mut state = 12345u64;
+        let mut rand = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 33) as f32) / (1u64 << 31) as f32
+        };
+        let mut keys: Vec<f32> = (0..n).map(|_| rand()).collect();
+        let mut ys: Vec<(f32, f32)> = (0..n)
+            .map(|_| {
+                let y = rand();
+                (y, y + rand() * rand() * 0.3)
+            })
+            .collect();
+        keys[7] = NO_KEY;
+        keys[100] = NO_KEY;
+        let mut layout = Layout::default();
+        let mut b = slots(&keys, &ys);
+        for step in 0..6 {
+            let count = [7, 7, 7, 13, 1000, 7][step];
+            let bands = Bands::spanning(1, count, 0.0, 1.0);
+            let groups = [1, 2, 3, 2, 8, 1][step];
+            // Boxes move a little (and a few far) between steps, arriving
+            // in last step's layout order.
+            if step > 0 {
+                for k in 0..n {
+                    let id = b.ids[k] as usize - 10;
+                    if keys[id] != NO_KEY {
+                        let shift = if k % 97 == 0 { 0.5 } else { 0.01 };
+                        keys[id] = (keys[id] + (rand() - 0.5) * shift).abs();
+                        let (lo, hi) = ys[id];
+                        let dy = (rand() - 0.5) * shift;
+                        ys[id] = ((lo + dy).abs(), (hi + dy).abs().max((lo + dy).abs()));
+                    }
+                    b.keys[k] = keys[id];
+                    b.hulls[k] = hull(keys[id], ys[id].0, ys[id].1);
+                }
+            }
+            let boxed = lay_out(&mut b, &bands, groups, &mut layout);
+            assert_eq!(boxed, n - 2);
+            let mut seen: Vec<u32> = b.ids[..n].to_vec();
+            seen.sort_unstable();
+            assert_eq!(seen, (10..10 + n as u32).collect::<Vec<_>>());
+            assert_eq!(b.ids[n], u32::MAX);
+            for band in 0..count {
+                let homes = layout.homes(band);
+                assert!(b.keys[homes.clone()].windows(2).all(|w| w[0] <= w[1]));
+                for at in homes {
+                    let id = b.ids[at] as usize - 10;
+                    assert_eq!(b.keys[at], keys[id]);
+                    assert_eq!(bands.of(ys[id].0), band);
+                }
+                let (gk, _, gi) = layout.guests(band);
+                assert!(gk.windows(2).all(|w| w[0] <= w[1]));
+                let mut want: Vec<u32> = (0..n)
+                    .filter(|&id| {
+                        keys[id] != NO_KEY
+                            && bands.of(ys[id].0) < band
+                            && bands.of(ys[id].1) >= band
+                    })
+                    .map(|id| id as u32 + 10)
+                    .collect();
+                let mut got = gi.to_vec();
+                want.sort_unstable();
+                got.sort_unstable();
+                assert_eq!(got, want, "step {step}, band {band}");
             }
         }
     }
 
     #[test]
     fn groups_split_bands_by_entries() {
-        let layout = Layout {
-            starts: vec![0, 10, 11, 12, 40],
-            ..Layout::default()
-        };
-        assert_eq!(layout.group_bounds(1), vec![0..4]);
-        assert_eq!(layout.group_bounds(2), vec![0..3, 3..4]);
-        let all: usize = layout.group_bounds(8).iter().map(|r| r.len()).sum();
+        let starts = vec![0, 10, 11, 12, 40];
+        assert_eq!(group_bounds(&starts, 1), vec![0..4]);
+        assert_eq!(group_bounds(&starts, 2), vec![0..3, 3..4]);
+        let all: usize = group_bounds(&starts, 8).iter().map(|r| r.len()).sum();
         assert_eq!(all, 4);
+    }
+
+    #[test]
+    fn far_out_of_order_bands_fall_back_to_radix() {
+        let mut keys: Vec<f32> = (0..500u32).map(|i| ((i * 7919) % 500) as f32).collect();
+        let mut hulls: Vec<Packed> = keys.iter().map(|&k| [k; 8]).collect();
+        let mut ids: Vec<u32> = (0..500).collect();
+        let (mut order, mut spare) = (Vec::new(), Run::default());
+        sort_in_place(&mut keys, &mut hulls, &mut ids, &mut order, &mut spare);
+        assert!(keys.windows(2).all(|w| w[0] <= w[1]));
+        for k in 0..500 {
+            assert_eq!(hulls[k][0], keys[k]);
+            assert_eq!(keys[k], ((ids[k] * 7919) % 500) as f32);
+        }
     }
 }

@@ -9,10 +9,13 @@
 //!    to cut the plane into, chosen on a sample;
 //! 3. with one band, [`order`]: the boxes sorted in place by their least
 //!    value along that direction (nearly sorted already);
-//! 4. with several, [`bands`] and [`layout`]: the bands each box reaches,
-//!    and the boxes laid out band by band, each band sorted;
-//! 5. [`scan`]: each band swept; the pairs whose hulls overlap go to the
-//!    exact test.
+//! 4. with several, [`bands`] and [`layout`]: each box's home band (the
+//!    one holding its least value across them), the boxes laid out band by
+//!    band, each band sorted, and beside each band the boxes reaching into
+//!    it from below (its guests), sorted too;
+//! 5. [`scan`]: each band (or the one) swept, with several bands its homes
+//!    among themselves and against its guests; the pairs whose hulls
+//!    overlap go to the exact test.
 //!
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
@@ -75,10 +78,10 @@ enum Phase {
     /// Making the packed hulls (and, now and then, the plan).
     Hulls,
     /// With one band, sorting them along the sweep direction; with
-    /// several, finding the bands each reaches.
+    /// several, finding each one's home band.
     Sort,
-    /// With several bands, laying them out band by band, each sorted;
-    /// listing the wild lines.
+    /// With several bands, laying them out band by band, each sorted, with
+    /// their guests; listing the wild lines.
     Layout,
     /// Sweeping the bands and testing the pairs that overlap; testing the
     /// wild lines.
@@ -131,13 +134,9 @@ pub struct Sweep {
     /// band's own in sorted order), then the others. Next step's hulls are
     /// made in this order, so that its sort has little to do.
     sorted: Boxes,
-    /// With several bands: the bands each slot's box reaches (first, and
-    /// one past the last).
-    spans: Vec<(u32, u32)>,
-    /// The boxes band by band, when there are several bands.
+    /// With several bands: where each band starts in `sorted`, its guests,
+    /// and the buffers that lay them out.
     layout: Layout,
-    /// Where the next order is gathered, when there are several bands.
-    next_order: Vec<u32>,
     /// Ids of this step's wild lines.
     wild: Vec<u32>,
     stats: DetectorStats,
@@ -162,9 +161,7 @@ impl Sweep {
             until_plan: 0,
             tuner: BandTuner::default(),
             sorted: Boxes::default(),
-            spans: Vec::new(),
             layout: Layout::default(),
-            next_order: Vec::new(),
             wild: Vec::new(),
             stats: DetectorStats::default(),
             clock: None,
@@ -250,29 +247,6 @@ impl Sweep {
                 .for_each(|((ids, hulls), keys)| fill(ids, hulls, keys));
         } else {
             fill(ids, hulls, keys);
-        }
-    }
-
-    /// With several bands: the bands each slot's box reaches.
-    fn make_spans(&mut self, bands: &Bands) {
-        let fill = |hulls: &[Packed], spans: &mut [(u32, u32)]| {
-            for (hull, span) in hulls.iter().zip(spans) {
-                let (first, last) = bands.span(hull);
-                *span = (first as u32, last as u32 + 1);
-            }
-        };
-        let n = self.sorted.len();
-        self.spans.resize(n, (0, 0));
-        let hulls = &self.sorted.hulls[..n];
-        if self.parallel(n) {
-            use rayon::prelude::*;
-            let chunk = self.grain;
-            hulls
-                .par_chunks(chunk)
-                .zip(self.spans.par_chunks_mut(chunk))
-                .for_each(|(hulls, spans)| fill(hulls, spans));
-        } else {
-            fill(hulls, &mut self.spans);
         }
     }
 
@@ -421,28 +395,14 @@ impl Detector for Sweep {
         let bands = self.plan.bands;
         let n = lines.len();
         let (boxed, entries) = if bands.count > 1 {
-            self.make_spans(&bands);
+            let parallel = self.parallel(n);
+            self.layout.classify(&self.sorted, n, &bands, parallel);
             self.lap(Phase::Sort);
-            let groups = if self.parallel(n) { self.threads } else { 1 };
-            self.layout
-                .build(&self.sorted, n, &self.spans, &bands, groups);
-            self.next_order.clear();
-            self.layout.home_order(&mut self.next_order);
-            let boxed = self.next_order.len();
-            let b = &self.sorted;
-            self.next_order.extend(
-                b.keys[..n]
-                    .iter()
-                    .zip(&b.ids)
-                    .filter(|(&key, _)| key == NO_KEY)
-                    .map(|(_, &id)| id),
-            );
-            // The sentinel stays last; the old order becomes next step's
-            // buffer.
-            self.next_order.push(u32::MAX);
-            std::mem::swap(&mut self.sorted.ids, &mut self.next_order);
-            (boxed, self.layout.len() - bands.count)
+            let groups = if parallel { self.threads } else { 1 };
+            let boxed = self.layout.lay_out(&mut self.sorted, n, &bands, groups);
+            (boxed, boxed + self.layout.guest_count())
         } else {
+            self.layout.forget();
             let boxed = self.sorted.sort();
             self.lap(Phase::Sort);
             (boxed, boxed)

@@ -35,9 +35,9 @@ pub(crate) fn across(a: usize) -> usize {
 pub(crate) const SWEEP_COST: f64 = 5.0;
 
 /// The model's cost of laying one box out in one band (done only when
-/// there are several: its bands, its copy, its share of the band's sort
-/// and merge), in units of one candidate pair met: about 240 instructions
-/// (callgrind, 10^5 generated lines).
+/// there are several: its home band, its copy, its share of the band's
+/// sort and of its guests), in units of one candidate pair met: about 230
+/// instructions (callgrind, 10^5 generated lines).
 pub(crate) const LAYOUT_COST: f64 = 16.0;
 
 /// The work of a sweep that lays out `entries` boxes (in several bands if

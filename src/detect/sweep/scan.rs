@@ -2,15 +2,15 @@
 //! along the sweep direction lies within its own extent; of those, the
 //! ones its packed hull overlaps are reported.
 
-use super::bands::Bands;
 use super::hull::{hi, overlaps, reach, Packed};
-use super::layout::{Layout, HOME};
+use super::layout::Layout;
 use super::order::Boxes;
 use super::plan::Plan;
 use multiversion::multiversion;
 
 /// Sweeps the bands `bands` of a plan: with one band, the first `boxed`
-/// of `sorted`; with several, `layout`. Calls
+/// of `sorted`; with several, each band's homes in `sorted` among
+/// themselves and against its guests, as `layout` lays them out. Calls
 /// `found(a, b)` with the ids of every pair whose hulls overlap, once
 /// each. Returns the candidates met.
 pub(crate) fn sweep_bands(
@@ -21,24 +21,111 @@ pub(crate) fn sweep_bands(
     bands: std::ops::Range<usize>,
     mut found: impl FnMut(u32, u32),
 ) -> u64 {
-    let cut: &Bands = &plan.bands;
     // The sweep only notes the pairs (its loops stay small, with nothing
     // else live in registers); they are handed on afterwards.
     let mut pairs = Vec::new();
-    if cut.count == 1 {
+    if plan.bands.count == 1 {
         return sweep_sorted(sorted, 0..boxed, plan.along, &mut pairs, found);
     }
     let mut candidates = 0;
     for band in bands {
-        let entries = layout.starts[band]..layout.starts[band + 1] - 1;
+        let homes = layout.homes(band);
+        let (keys, hulls, ids) = (
+            &sorted.keys[..homes.end],
+            &sorted.hulls[..homes.end],
+            &sorted.ids[homes.clone()],
+        );
         pairs.clear();
-        candidates += sweep(&layout.keys, &layout.hulls, entries, plan.along, &mut pairs);
+        candidates += sweep(keys, hulls, homes.clone(), plan.along, &mut pairs);
         for &(i, j) in &pairs {
-            let (i, j) = (i as usize, j as usize);
-            if cut.reports(band, &layout.hulls[i], &layout.hulls[j]) {
-                found(layout.ids[i] & !HOME, layout.ids[j] & !HOME);
-            }
+            found(sorted.ids[i as usize], sorted.ids[j as usize]);
         }
+        let (guest_keys, guest_hulls, guest_ids) = layout.guests(band);
+        if guest_keys.is_empty() {
+            continue;
+        }
+        pairs.clear();
+        candidates += sweep_across(
+            (&keys[homes.clone()], &hulls[homes.clone()]),
+            (guest_keys, guest_hulls),
+            plan.along,
+            &mut pairs,
+        );
+        for &(i, j) in &pairs {
+            found(ids[i as usize], guest_ids[j as usize]);
+        }
+    }
+    candidates
+}
+
+/// Sweeps two sets of boxes, each sorted by key, against each other along
+/// direction `along`: each box of `a` meets the boxes of `b` whose key
+/// lies within its extent from its own key on, and each box of `b` the
+/// boxes of `a` whose key lies within its extent beyond its own key (so a
+/// pair with equal keys is met once). Appends to `found` every pair
+/// `(i, j)`, `i` in `a` and `j` in `b`, whose hulls overlap. Returns the
+/// pairs met.
+fn sweep_across(
+    a: (&[f32], &[Packed]),
+    b: (&[f32], &[Packed]),
+    along: usize,
+    found: &mut Vec<(u32, u32)>,
+) -> u64 {
+    let mut candidates = meet_later(a, b, along, false, found);
+    // The pairs of the second half are found the other way round.
+    let start = found.len();
+    candidates += meet_later(b, a, along, true, found);
+    for p in &mut found[start..] {
+        *p = (p.1, p.0);
+    }
+    candidates
+}
+
+/// Half of [`sweep_across`]: each box of `a` meets the boxes of `b` from
+/// the first whose key is not below its own (with `strictly`: above it),
+/// while within its extent. With AVX2, eight at a time as in [`sweep`].
+#[multiversion(targets("x86_64+avx2"))]
+fn meet_later(
+    (keys, hulls): (&[f32], &[Packed]),
+    (other_keys, other_hulls): (&[f32], &[Packed]),
+    along: usize,
+    strictly: bool,
+    found: &mut Vec<(u32, u32)>,
+) -> u64 {
+    let mut candidates = 0;
+    let mut first = 0;
+    for (i, (&key, hull)) in keys.iter().zip(hulls).enumerate() {
+        while other_keys
+            .get(first)
+            .is_some_and(|&k| k < key || (strictly && k == key))
+        {
+            first += 1;
+        }
+        let Some(&next) = other_keys.get(first) else {
+            break;
+        };
+        let end = hi(hull, along).min(f32::MAX);
+        if next > end {
+            continue;
+        }
+        let reach = reach(hull);
+        let mut j = first;
+        multiversion::target::match_target! {
+            "x86_64+avx2" => {
+                if other_keys.get(j + 1).is_some_and(|&k| k <= end) {
+                    j = blocks::sweep_box(other_keys, other_hulls, i, j, end, &reach, found, &mut candidates);
+                }
+            }
+            _ => {}
+        }
+        let start = j;
+        while other_keys.get(j).is_some_and(|&k| k <= end) {
+            if overlaps(&other_hulls[j], &reach) {
+                found.push((i as u32, j as u32));
+            }
+            j += 1;
+        }
+        candidates += (j - start) as u64;
     }
     candidates
 }
@@ -64,7 +151,8 @@ pub(crate) fn sweep_sorted(
 
 /// Sweeps the boxes `range` of sorted `keys` and `hulls`, each against the
 /// boxes after it up to the first whose key lies beyond its extent along
-/// direction `along` (a sentinel after the last box guarantees one), and
+/// direction `along` (a sentinel after the last box, or the end of the
+/// arrays), and
 /// appends to `found` every pair `(i, j)` whose hulls overlap. Returns the
 /// pairs met (the candidates).
 ///
@@ -87,7 +175,7 @@ pub(crate) fn sweep(
         // Keys are at most f32::MAX, so a box reaching to +inf still
         // stops at the sentinel.
         let end = hi(hull, along).min(f32::MAX);
-        if keys[i + 1] > end {
+        if keys.get(i + 1).is_none_or(|&k| k > end) {
             // Most boxes of sparse scenes: nothing within the extent (keys
             // are never NaN).
             continue;
@@ -97,14 +185,14 @@ pub(crate) fn sweep(
         multiversion::target::match_target! {
             "x86_64+avx2" => {
                 // A box with a single candidate is quicker one at a time.
-                if keys[i + 2] <= end {
+                if keys.get(i + 2).is_some_and(|&k| k <= end) {
                     j = blocks::sweep_box(keys, hulls, i, j, end, &reach, found, &mut candidates);
                 }
             }
             _ => {}
         }
         let start = j;
-        while keys[j] <= end {
+        while keys.get(j).is_some_and(|&k| k <= end) {
             if overlaps(&hulls[j], &reach) {
                 found.push((i as u32, j as u32));
             }
