@@ -217,15 +217,17 @@ fn thousands_of_lines_agree_with_the_oracle() {
 
 /// The sweep in bands over many steps, event for event with the oracle:
 /// boxes moving between bands, the band count tried up and down every 16
-/// steps, and the bands laid out in one group and in three.
+/// steps, and the bands laid out on one thread, on rayon's pool (a grain
+/// of a few lines) and on the team (the default grain, above the scene).
 #[test]
 fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
     use screensaver::generate::{generate, SceneKind};
     let scene = generate(SceneKind::Uniform, 3_000, 5);
-    for threads in [1, 3] {
+    let default = DetectorConfig::default().grain;
+    for (threads, grain) in [(1, default), (3, 8), (2, default), (3, default)] {
         let config = DetectorConfig {
             threads,
-            grain: 8,
+            grain,
             ..DetectorConfig::default()
         };
         let mut world =
@@ -234,7 +236,7 @@ fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
         for step in 0..34 {
             world
                 .step_verified(&mut oracle)
-                .unwrap_or_else(|m| panic!("{threads} threads, step {step}: {m}"));
+                .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}, step {step}: {m}"));
         }
         assert!(
             world.detector().describe().contains("bands"),

@@ -30,7 +30,9 @@
 use super::bands::Bands;
 use super::hull::{hi, Packed};
 use super::order::{Boxes, NO_KEY};
+use crate::team::{self, Team};
 use std::ops::Range;
+use std::sync::Mutex;
 
 /// Moves an insertion sort of one band may make per entry before the band
 /// is sorted by radix instead.
@@ -168,9 +170,16 @@ struct Arrivals<'a> {
 
 impl Layout {
     /// Finds the home band of each of the first `n` boxes of `slots` and
-    /// counts each band's homes (on the current rayon pool when
-    /// `parallel`).
-    pub(crate) fn classify(&mut self, slots: &Boxes, n: usize, bands: &Bands, parallel: bool) {
+    /// counts each band's homes: on the current rayon pool when `parallel`,
+    /// else shared with `team` if there is one.
+    pub(crate) fn classify(
+        &mut self,
+        slots: &Boxes,
+        n: usize,
+        bands: &Bands,
+        parallel: bool,
+        team: Option<&Team>,
+    ) {
         let buckets = bands.count + 1;
         self.home.resize(n, 0);
         self.counts.clear();
@@ -192,10 +201,31 @@ impl Layout {
                 })
                 .collect();
             for (counts, reach) in found {
-                for b in 0..buckets {
-                    self.counts[b] += counts[b];
-                    self.reach[b] = self.reach[b].max(reach[b]);
-                }
+                self.add_counts(&counts, &reach);
+            }
+        } else if let Some(team) = team {
+            let threads = team.threads();
+            let homes = team::shares_mut(&mut self.home, threads);
+            let found: Vec<Mutex<(Vec<u32>, Vec<u32>)>> = (0..threads)
+                .map(|_| Mutex::new((vec![0; buckets], vec![0; buckets])))
+                .collect();
+            team.run(&|k| {
+                let share = team::share(n, threads, k);
+                let mut found = found[k].lock().expect("a member's counts");
+                let (counts, reach) = &mut *found;
+                classify(
+                    &keys[share.clone()],
+                    &hulls[share],
+                    bands,
+                    &mut homes[k].lock().expect("a share"),
+                    counts,
+                    reach,
+                );
+            });
+            drop(homes);
+            for found in found {
+                let (counts, reach) = found.into_inner().expect("a member's counts");
+                self.add_counts(&counts, &reach);
             }
         } else {
             classify(
@@ -209,16 +239,28 @@ impl Layout {
         }
     }
 
+    /// Adds one part's counts and reaches to the whole's.
+    fn add_counts(&mut self, counts: &[u32], reach: &[u32]) {
+        for (all, part) in self.counts.iter_mut().zip(counts) {
+            *all += part;
+        }
+        for (all, part) in self.reach.iter_mut().zip(reach) {
+            *all = (*all).max(*part);
+        }
+    }
+
     /// Lays out the first `n` boxes of `slots`, as [`Layout::classify`]
-    /// found them, band by band in `groups` groups (on the current rayon
-    /// pool when more than one), and leaves them in `slots`, sentinel last;
-    /// returns the boxes with a key, which come first.
+    /// found them, band by band in `groups` groups (when more than one,
+    /// shared with `team` if there is one, else on the current rayon pool),
+    /// and leaves them in `slots`, sentinel last; returns the boxes with a
+    /// key, which come first.
     pub(crate) fn lay_out(
         &mut self,
         slots: &mut Boxes,
         n: usize,
         bands: &Bands,
         groups: usize,
+        team: Option<&Team>,
     ) -> usize {
         let count = bands.count;
         std::mem::swap(&mut self.starts, &mut self.old_starts);
@@ -271,7 +313,25 @@ impl Layout {
         };
         let stretches = stretches(starts, keys, hulls, ids, &bounds);
         let lay = |(s, g): (Stretch, &mut Group)| lay_out_group(s, g, &arrivals);
-        if stretches.len() > 1 {
+        if let Some(team) = team.filter(|_| stretches.len() > 1) {
+            // Stretch `k` to member `k` (there are no more stretches than
+            // members): the boxes whose hulls it made, near enough.
+            let count = stretches.len();
+            let work: Vec<Mutex<Option<(Stretch, &mut Group)>>> = stretches
+                .into_iter()
+                .zip(group_bufs.iter_mut())
+                .map(|w| Mutex::new(Some(w)))
+                .collect();
+            debug_assert!(count <= team.threads());
+            team.run(&|k| {
+                let taken = work
+                    .get(k)
+                    .and_then(|w| w.lock().expect("a stretch").take());
+                if let Some(w) = taken {
+                    lay(w);
+                }
+            });
+        } else if stretches.len() > 1 {
             use rayon::prelude::*;
             stretches
                 .into_par_iter()
@@ -692,10 +752,17 @@ mod tests {
         b
     }
 
-    fn lay_out(b: &mut Boxes, bands: &Bands, groups: usize, layout: &mut Layout) -> usize {
+    /// Lays out `b` in `groups` groups: on rayon's pool, or with `team`.
+    fn lay_out(
+        b: &mut Boxes,
+        bands: &Bands,
+        groups: usize,
+        layout: &mut Layout,
+        team: Option<&Team>,
+    ) -> usize {
         let n = b.len();
-        layout.classify(b, n, bands, groups > 1);
-        layout.lay_out(b, n, bands, groups)
+        layout.classify(b, n, bands, groups > 1 && team.is_none(), team);
+        layout.lay_out(b, n, bands, groups, team)
     }
 
     #[test]
@@ -707,7 +774,7 @@ mod tests {
         for groups in [1, 2, 3] {
             let mut b = slots(&keys, &ys);
             let mut layout = Layout::default();
-            assert_eq!(lay_out(&mut b, &bands, groups, &mut layout), 4);
+            assert_eq!(lay_out(&mut b, &bands, groups, &mut layout, None), 4);
             assert_eq!(layout.starts, vec![0, 2, 4, 5]);
             assert_eq!(b.ids, vec![11, 10, 14, 12, 13, u32::MAX]);
             assert_eq!(b.keys[..4], [0.0, 0.5, 0.1, 0.7]);
@@ -741,10 +808,13 @@ mod tests {
         keys[100] = NO_KEY;
         let mut layout = Layout::default();
         let mut b = slots(&keys, &ys);
-        for step in 0..6 {
-            let count = [7, 7, 7, 13, 1000, 7][step];
+        let teams = [Team::new(2).unwrap(), Team::new(3).unwrap()];
+        for step in 0..8 {
+            let count = [7, 7, 7, 13, 1000, 7, 7, 7][step];
             let bands = Bands::spanning(1, count, 0.0, 1.0);
-            let groups = [1, 2, 3, 2, 8, 1][step];
+            let groups = [1, 2, 3, 2, 8, 1, 2, 3][step];
+            // The last two steps with a team of as many members as groups.
+            let team = (step >= 6).then(|| &teams[groups - 2]);
             // Boxes move a little (and a few far) between steps, arriving
             // in last step's layout order.
             if step > 0 {
@@ -761,7 +831,7 @@ mod tests {
                     b.hulls[k] = hull(keys[id], ys[id].0, ys[id].1);
                 }
             }
-            let boxed = lay_out(&mut b, &bands, groups, &mut layout);
+            let boxed = lay_out(&mut b, &bands, groups, &mut layout, team);
             assert_eq!(boxed, n - 2);
             let mut seen: Vec<u32> = b.ids[..n].to_vec();
             seen.sort_unstable();

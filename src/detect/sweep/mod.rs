@@ -195,14 +195,12 @@ impl Sweep {
         self.threads > 1 && work >= 2 * self.grain
     }
 
-    /// The team to share `work` boxes' worth of a phase among: with one
-    /// band only (several bands are laid out on one thread, which would
-    /// then read what the other members wrote), when the phase is too
-    /// small for rayon and large enough to share.
+    /// The team to share `work` boxes' worth of a phase among: when the
+    /// phase is too small for rayon and large enough to share.
     fn team_for(&self, work: usize) -> Option<&Team> {
-        self.team.as_deref().filter(|_| {
-            self.plan.bands.count == 1 && !self.parallel(work) && work >= TEAM_MIN_BOXES
-        })
+        self.team
+            .as_deref()
+            .filter(|_| !self.parallel(work) && work >= TEAM_MIN_BOXES)
     }
 
     /// Makes every line's packed hull and key, in last step's order.
@@ -396,14 +394,27 @@ impl Detector for Sweep {
         let n = lines.len();
         let (boxed, entries) = if bands.count > 1 {
             let parallel = self.parallel(n);
-            self.layout.classify(&self.sorted, n, &bands, parallel);
+            // A handle of its own, as the boxes are about to be borrowed
+            // mutably.
+            let team = self.team_for(n).and(self.team.clone());
+            self.layout
+                .classify(&self.sorted, n, &bands, parallel, team.as_deref());
             self.lap(Phase::Sort);
-            let groups = if parallel { self.threads } else { 1 };
-            let boxed = self.layout.lay_out(&mut self.sorted, n, &bands, groups);
+            let groups = match (parallel, team.as_deref()) {
+                (true, _) => self.threads,
+                (false, Some(team)) => team.threads(),
+                (false, None) => 1,
+            };
+            let boxed = self
+                .layout
+                .lay_out(&mut self.sorted, n, &bands, groups, team.as_deref());
             (boxed, boxed + self.layout.guest_count())
         } else {
             self.layout.forget();
-            let boxed = self.sorted.sort();
+            // A handle of its own, as the boxes are about to be borrowed
+            // mutably.
+            let team = self.team_for(n).and(self.team.clone());
+            let boxed = self.sorted.sort(team.as_deref());
             self.lap(Phase::Sort);
             (boxed, boxed)
         };
@@ -418,10 +429,7 @@ impl Detector for Sweep {
 
         let mut counts = PairCounts::default();
         // A handle of its own: the chunks' buffers are taken from `self`.
-        let team = match (self.team_for(boxed), bands.count) {
-            (Some(_), 1) => self.team.clone(),
-            _ => None,
-        };
+        let team = self.team_for(entries).and(self.team.clone());
         if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
             let groups = self
@@ -439,6 +447,30 @@ impl Detector for Sweep {
                 events.extend(found);
                 counts.add(&c);
             }
+        } else if let (Some(team), true) = (team.as_deref(), bands.count > 1) {
+            // The bands in groups, taken by the members as they finish one,
+            // the findings put together in group order.
+            let groups = self
+                .layout
+                .group_bounds(SWEEP_GROUPS_PER_THREAD * team.threads());
+            let next = AtomicUsize::new(0);
+            let mut found = std::mem::take(&mut self.chunks);
+            found.resize_with(groups.len().max(found.len()), Mutex::default);
+            team.run(&|_| loop {
+                let g = next.fetch_add(1, Ordering::Relaxed);
+                let Some(range) = groups.get(g) else {
+                    break;
+                };
+                let mut chunk = found[g].lock().expect("a group's findings");
+                let Chunk { events, counts, .. } = &mut *chunk;
+                *counts = self.sweep_bands(lines, dt, boxed, range.clone(), events);
+            });
+            for chunk in &mut found[..groups.len()] {
+                let chunk = chunk.get_mut().expect("a group's findings");
+                events.append(&mut chunk.events);
+                counts.add(&chunk.counts);
+            }
+            self.chunks = found;
         } else if let Some(team) = team.as_deref() {
             // One band: the boxes are swept a chunk at a time (each box
             // against the boxes after it, wherever they lie), the members

@@ -10,6 +10,8 @@
 //! sort does the whole job instead.
 
 use super::hull::Packed;
+use crate::team::{self, Team};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// The key of a box that takes no part in the sweep (a line without a
 /// finite hull): it sorts after every real key, and no comparison
@@ -65,50 +67,78 @@ impl Boxes {
     }
 
     /// Sorts the boxes by key (ties in any order: the sweep tests tied
-    /// boxes both ways round), the sentinel staying last. Keys are never
-    /// NaN. Returns the number of boxes with a real key, which now come
-    /// first.
-    pub(crate) fn sort(&mut self) -> usize {
+    /// boxes both ways round), the sentinel staying last, sharing the work
+    /// with `team` if there is one. Keys are never NaN. Returns the number
+    /// of boxes with a real key, which now come first.
+    pub(crate) fn sort(&mut self, team: Option<&Team>) -> usize {
         let n = self.len();
+        let budget = RESTLESS_MOVES * n;
         if self.restless {
             self.sort_by_slot(n);
-        } else if !self.insertion_sort(n, RESTLESS_MOVES * n) {
+        } else if !match team {
+            Some(team) => self.insertion_sort_shared(n, budget, team),
+            None => insert(self.arrays(n), 1, budget, false).is_some(),
+        } {
             self.restless = true;
             self.sort_by_slot(n);
         }
         self.keys[..n].partition_point(|&k| k != NO_KEY)
     }
 
-    /// Insertion sort of the first `n` boxes that gives up after `budget`
-    /// moves (leaving them permuted but unsorted). Returns whether it
-    /// finished.
-    fn insertion_sort(&mut self, n: usize, mut budget: usize) -> bool {
-        let (keys, hulls, ids) = (
+    /// The first `n` keys, hulls and ids.
+    fn arrays(&mut self, n: usize) -> (&mut [f32], &mut [Packed], &mut [u32]) {
+        (
             &mut self.keys[..n],
             &mut self.hulls[..n],
             &mut self.ids[..n],
+        )
+    }
+
+    /// Insertion sort of the first `n` boxes shared with `team`: each
+    /// member sorts its share of the order in place (the boxes it made the
+    /// hulls of, still in its cache), then the few boxes that belong before
+    /// the start of their share are moved there on this thread. Gives up
+    /// after about `budget` moves (leaving the boxes permuted but
+    /// unsorted); returns whether it finished.
+    fn insertion_sort_shared(&mut self, n: usize, budget: usize, team: &Team) -> bool {
+        let threads = team.threads();
+        let (keys, hulls, ids) = self.arrays(n);
+        let (keys, hulls, ids) = (
+            team::shares_mut(keys, threads),
+            team::shares_mut(hulls, threads),
+            team::shares_mut(ids, threads),
         );
-        for i in 1..n {
-            let key = keys[i];
-            if keys[i - 1] <= key {
+        let sorted = AtomicBool::new(true);
+        team.run(&|k| {
+            let (mut keys, mut hulls, mut ids) = (
+                keys[k].lock().expect("a share"),
+                hulls[k].lock().expect("a share"),
+                ids[k].lock().expect("a share"),
+            );
+            if insert(
+                (&mut keys, &mut hulls, &mut ids),
+                1,
+                budget / threads,
+                false,
+            )
+            .is_none()
+            {
+                sorted.store(false, Ordering::Relaxed);
+            }
+        });
+        if !sorted.load(Ordering::Relaxed) {
+            return false;
+        }
+        let mut budget = budget;
+        for k in 1..threads {
+            let start = team::share(n, threads, k).start;
+            if start == 0 || start >= n {
                 continue;
             }
-            let (hull, id) = (hulls[i], ids[i]);
-            let mut j = i;
-            while j > 0 && keys[j - 1] > key {
-                keys[j] = keys[j - 1];
-                hulls[j] = hulls[j - 1];
-                ids[j] = ids[j - 1];
-                j -= 1;
+            match insert(self.arrays(n), start, budget, true) {
+                Some(moves) => budget -= moves,
+                None => return false,
             }
-            keys[j] = key;
-            hulls[j] = hull;
-            ids[j] = id;
-            let moved = i - j;
-            if moved > budget {
-                return false;
-            }
-            budget -= moved;
         }
         true
     }
@@ -161,6 +191,47 @@ impl Boxes {
         std::mem::swap(&mut self.ids, &mut spare.ids);
         self.spare = Some(spare);
     }
+}
+
+/// Insertion sort of the boxes from `from` on into the sorted boxes
+/// before them, giving up after `budget` moves (leaving them permuted but
+/// unsorted). With `until_in_place`, the boxes from `from` on are sorted
+/// already and it stops at the first that needs no move. Returns the moves
+/// made, if it finished.
+fn insert(
+    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
+    from: usize,
+    mut budget: usize,
+    until_in_place: bool,
+) -> Option<usize> {
+    let mut moves = 0;
+    for i in from.max(1)..keys.len() {
+        let key = keys[i];
+        if keys[i - 1] <= key {
+            if until_in_place {
+                break;
+            }
+            continue;
+        }
+        let (hull, id) = (hulls[i], ids[i]);
+        let mut j = i;
+        while j > 0 && keys[j - 1] > key {
+            keys[j] = keys[j - 1];
+            hulls[j] = hulls[j - 1];
+            ids[j] = ids[j - 1];
+            j -= 1;
+        }
+        keys[j] = key;
+        hulls[j] = hull;
+        ids[j] = id;
+        let moved = i - j;
+        if moved > budget {
+            return None;
+        }
+        budget -= moved;
+        moves += moved;
+    }
+    Some(moves)
 }
 
 /// Insertion sort of keys and slots that gives up after `budget` moves.
@@ -223,14 +294,15 @@ mod tests {
         keys.swap(500, 503);
         keys[7] = NO_KEY;
         let mut b = boxes(&keys);
-        assert!(b.insertion_sort(keys.len(), 1000));
+        let n = keys.len();
+        assert!(insert(b.arrays(n), 1, 1000, false).is_some());
         assert_eq!(
             insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 10),
             Some(3)
         );
         assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 2), None);
         let mut b = boxes(&keys);
-        assert_eq!(b.sort(), 999);
+        assert_eq!(b.sort(None), 999);
         check(&b, &keys, 999);
     }
 
@@ -241,16 +313,44 @@ mod tests {
             .collect();
         keys.extend([f32::NEG_INFINITY, -0.0, 0.0, NO_KEY]);
         let mut b = boxes(&keys);
-        assert!(!b.insertion_sort(keys.len(), 8 * keys.len()));
+        let n = keys.len();
+        assert!(insert(b.arrays(n), 1, 8 * n, false).is_none());
         let mut b = boxes(&keys);
-        assert_eq!(b.sort(), keys.len() - 1);
+        assert_eq!(b.sort(None), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
         assert!(b.restless);
         // Sorting again (now in order) keeps it so, and calms down.
-        assert_eq!(b.sort(), keys.len() - 1);
+        assert_eq!(b.sort(None), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
         assert!(!b.restless);
-        assert_eq!(b.sort(), keys.len() - 1);
+        assert_eq!(b.sort(None), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
+    }
+
+    #[test]
+    fn a_team_sorts_its_shares_and_mends_the_seams() {
+        for threads in [2, 3, 8] {
+            let team = Team::new(threads).unwrap();
+            // Nearly sorted, with boxes that belong in another share.
+            let mut keys: Vec<f32> = (0..1000).map(|i| i as f32).collect();
+            keys.swap(10, 11);
+            keys.swap(499, 503);
+            keys[600] = 3.5;
+            keys[7] = NO_KEY;
+            let mut b = boxes(&keys);
+            assert_eq!(b.sort(Some(&team)), 999);
+            check(&b, &keys, 999);
+            assert!(!b.restless);
+            // Scrambled: the team gives up and the radix sort takes over.
+            let keys: Vec<f32> = (0..1000u32).map(|i| ((i * 7919) % 1000) as f32).collect();
+            let mut b = boxes(&keys);
+            assert_eq!(b.sort(Some(&team)), 1000);
+            check(&b, &keys, 1000);
+            // Fewer boxes than members.
+            let keys = [2.0, 1.0];
+            let mut b = boxes(&keys);
+            assert_eq!(b.sort(Some(&team)), 2);
+            check(&b, &keys, 2);
+        }
     }
 }
