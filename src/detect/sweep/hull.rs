@@ -180,10 +180,15 @@ fn make_batch(
         [*x, *y, lanes(|k| x_[k] + y_[k]), lanes(|k| x_[k] - y_[k])]
     };
     let (a, b, d) = (project(&ax, &ay), project(&bx, &by), project(&dx, &dy));
-    let lo: [Lanes; DIRECTIONS] =
-        std::array::from_fn(|r| lanes(|k| min(a[r][k], b[r][k]) + min(d[r][k], 0.0)));
-    let hi: [Lanes; DIRECTIONS] =
-        std::array::from_fn(|r| lanes(|k| max(a[r][k], b[r][k]) + max(d[r][k], 0.0)));
+    // Plain loops: `array::from_fn` over these nested closures is left as
+    // a call, compiled without AVX2 (`koch` hulls took a third longer).
+    let (mut lo, mut hi) = ([[0.0; LANES]; DIRECTIONS], [[0.0; LANES]; DIRECTIONS]);
+    for r in 0..DIRECTIONS {
+        for k in 0..LANES {
+            lo[r][k] = min(a[r][k], b[r][k]) + min(d[r][k], 0.0);
+            hi[r][k] = max(a[r][k], b[r][k]) + max(d[r][k], 0.0);
+        }
+    }
     let magnitude = lanes(|k| max(max(-lo[0][k], hi[0][k]), max(-lo[1][k], hi[1][k])));
     let sum = lanes(|k| ax[k] + ay[k] + bx[k] + by[k] + vx[k] + vy[k]);
     let pad = lanes(|k| magnitude[k] * PAD + 1e-12);
