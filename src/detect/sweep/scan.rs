@@ -84,7 +84,7 @@ fn sweep_across(
 /// Half of [`sweep_across`]: each box of `a` meets the boxes of `b` from
 /// the first whose key is not below its own (with `strictly`: above it),
 /// while within its extent. With AVX2, eight at a time as in [`sweep`].
-#[multiversion(targets("x86_64+avx2"))]
+#[multiversion(targets("x86_64+avx2+popcnt+bmi1"))]
 fn meet_later(
     (keys, hulls): (&[f32], &[Packed]),
     (other_keys, other_hulls): (&[f32], &[Packed]),
@@ -111,7 +111,7 @@ fn meet_later(
         let reach = reach(hull);
         let mut j = first;
         multiversion::target::match_target! {
-            "x86_64+avx2" => {
+            "x86_64+avx2+popcnt+bmi1" => {
                 if other_keys.get(j + 1).is_some_and(|&k| k <= end) {
                     j = blocks::sweep_box(other_keys, other_hulls, i, j, end, &reach, found, &mut candidates);
                 }
@@ -161,7 +161,7 @@ pub(crate) fn sweep_sorted(
 /// with two candidates or more takes them eight at a time
 /// ([`blocks::sweep_box`]), which on `koch` and `mit` cuts the sweep by a
 /// sixth, and the rest one at a time.
-#[multiversion(targets("x86_64+avx2"))]
+#[multiversion(targets("x86_64+avx2+popcnt+bmi1"))]
 pub(crate) fn sweep(
     keys: &[f32],
     hulls: &[Packed],
@@ -183,7 +183,7 @@ pub(crate) fn sweep(
         let reach = reach(hull);
         let mut j = i + 1;
         multiversion::target::match_target! {
-            "x86_64+avx2" => {
+            "x86_64+avx2+popcnt+bmi1" => {
                 // A box with a single candidate is quicker one at a time.
                 if keys.get(i + 2).is_some_and(|&k| k <= end) {
                     j = blocks::sweep_box(keys, hulls, i, j, end, &reach, found, &mut candidates);
