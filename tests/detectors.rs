@@ -216,9 +216,10 @@ fn thousands_of_lines_agree_with_the_oracle() {
 }
 
 /// The sweep in bands over many steps, event for event with the oracle:
-/// boxes moving between bands, the band count tried up and down every 16
-/// steps, and the bands laid out on one thread, on rayon's pool (a grain
-/// of a few lines) and on the team (the default grain, above the scene).
+/// boxes moving between bands; on rayon's pool (a grain of a few lines)
+/// the bands laid out anew every step and their count tried up and down
+/// every 16 steps; on one thread and on the team (the default grain,
+/// above the scene) the layout kept from step to step.
 #[test]
 fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
     use screensaver::generate::{generate, SceneKind};

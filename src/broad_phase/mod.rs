@@ -95,7 +95,7 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
         .collect();
     // As many boxes as the sample stands for.
     let live = (sample.len() * stride).min(boxes.len());
-    let chosen = plan::choose_at(LAYOUT_COST, &sample, live, 2);
+    let chosen = plan::choose(LAYOUT_COST, &sample, live, 2);
     debug_assert!(chosen.along < 2 && DIRECTIONS == 4);
     banded::for_each_pair(boxes, chosen.along, &chosen.bands, &mut found);
 }

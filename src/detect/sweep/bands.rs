@@ -70,6 +70,23 @@ impl Bands {
         t as u32 as usize
     }
 
+    /// The least value in band `band` (`1..count`): a value `v` is in
+    /// band `band` or above exactly when `v >= self.edge(band)`, so a
+    /// comparison can stand in for [`Bands::of`].
+    pub(crate) fn edge(&self, band: usize) -> f32 {
+        debug_assert!((1..self.count).contains(&band));
+        let mut v = self.start + band as f32 / self.per_unit;
+        // A few steps of one unit in the last place at most: `of` is
+        // monotone, and `v` is within a rounding or two of the edge.
+        while self.of(v) >= band && v > f32::MIN {
+            v = v.next_down();
+        }
+        while self.of(v) < band {
+            v = v.next_up();
+        }
+        v
+    }
+
     /// The first and last band a packed box reaches.
     #[inline]
     pub(crate) fn span(&self, p: &Packed) -> (usize, usize) {
@@ -92,5 +109,22 @@ mod tests {
         // Degenerate spreads give one band.
         assert_eq!(Bands::spanning(1, 4, 1.0, 1.0).count, 1);
         assert_eq!(Bands::spanning(1, 4, 0.0, f32::INFINITY).count, 1);
+    }
+
+    #[test]
+    fn an_edge_is_the_least_value_of_its_band() {
+        for (count, from, to) in [
+            (4, 0.0, 1.0),
+            (7, -3.3, 0.1),
+            (1000, 0.5, 1.0),
+            (3, 1e-30, 3e-30),
+        ] {
+            let b = Bands::spanning(1, count, from, to);
+            for band in 1..count {
+                let e = b.edge(band);
+                assert_eq!(b.of(e), band, "{count} bands, band {band}");
+                assert_eq!(b.of(e.next_down()), band - 1, "{count} bands, band {band}");
+            }
+        }
     }
 }

@@ -28,7 +28,7 @@
 //! laid out at once without sharing anything they write.
 
 use super::bands::Bands;
-use super::hull::{hi, Packed};
+use super::hull::{hi, lo, Packed};
 use super::order::{Boxes, NO_KEY};
 use crate::team::{self, Team};
 use std::ops::Range;
@@ -62,6 +62,17 @@ pub(crate) struct Layout {
     /// furthest band they reach.
     counts: Vec<u32>,
     reach: Vec<u32>,
+    /// The bands the boxes are laid out in, while the arriving boxes are
+    /// in that layout's order (so that [`Layout::keep`] can update it).
+    kept: Option<Bands>,
+    /// Per band (and the boxes without a key), the boxes that stayed in it
+    /// this step.
+    stayed: Vec<usize>,
+    /// The least value of each band (`-inf` for the first), then `+inf`,
+    /// for the bands in `kept`.
+    edges: Vec<f32>,
+    /// Where boxes left their band this step, in order.
+    gaps: Vec<usize>,
     /// The laid-out keys, hulls and ids, exchanged with the arriving
     /// boxes' arrays once laid out.
     keys: Vec<f32>,
@@ -355,7 +366,178 @@ impl Layout {
         std::mem::swap(&mut slots.keys, &mut self.keys);
         std::mem::swap(&mut slots.hulls, &mut self.hulls);
         std::mem::swap(&mut slots.ids, &mut self.ids);
+        if self.kept != Some(*bands) {
+            self.edges.clear();
+        }
+        self.kept = Some(*bands);
         self.starts[count]
+    }
+
+    /// Lays out the first `n` boxes of `slots` again in place, when they
+    /// arrive in the order of last step's layout in the same `bands` (their
+    /// hulls made anew); returns the boxes with a key (which come first),
+    /// or `None`, changing nothing, when they do not.
+    ///
+    /// Each band's boxes that stayed in it are closed up at its front in
+    /// one pass, and the ones that left are held aside; the bands' runs
+    /// then move to their new starts (a copy of whole runs, in the order
+    /// that overwrites nothing unmoved); each band's stayers are finished
+    /// by insertion and its newcomers merged in from the back; and the
+    /// guests are listed band by band. On one thread.
+    pub(crate) fn keep(&mut self, slots: &mut Boxes, n: usize, bands: &Bands) -> Option<usize> {
+        let count = bands.count;
+        if self.kept != Some(*bands)
+            || self.starts.len() != count + 2
+            || self.starts[count + 1] != n
+            || slots.len() != n
+        {
+            return None;
+        }
+        if self.groups.is_empty() {
+            self.groups.push(Group::default());
+        }
+        let Group {
+            guests,
+            guest_starts,
+            movers,
+            order,
+            spare,
+        } = &mut self.groups[0];
+        let (keys, hulls, ids) = (
+            &mut slots.keys[..n],
+            &mut slots.hulls[..n],
+            &mut slots.ids[..n],
+        );
+        // The bands' edges, so that a box that stays is told by two
+        // comparisons.
+        if self.edges.len() != count + 1 {
+            self.edges.clear();
+            self.edges.push(f32::NEG_INFINITY);
+            self.edges.extend((1..count).map(|b| bands.edge(b)));
+            self.edges.push(f32::INFINITY);
+        }
+        // The boxes that left their band aside; each band's stayers closed
+        // up at its front, a run at a time.
+        std::mem::swap(&mut self.starts, &mut self.old_starts);
+        let (old, edges) = (&self.old_starts, &self.edges);
+        movers.clear();
+        self.stayed.clear();
+        for b in 0..=count {
+            let band = old[b]..old[b + 1];
+            self.gaps.clear();
+            for k in band.clone() {
+                let key = keys[k];
+                let stays = if b == count {
+                    key == NO_KEY
+                } else {
+                    let v = lo(&hulls[k], bands.across);
+                    key != NO_KEY && edges[b] <= v && v < edges[b + 1]
+                };
+                if !stays {
+                    let home = if key == NO_KEY {
+                        count
+                    } else {
+                        bands.of(lo(&hulls[k], bands.across))
+                    };
+                    movers.push(key, hulls[k], ids[k], home as u32);
+                    self.gaps.push(k);
+                }
+            }
+            let mut w = band.start;
+            let mut r = band.start;
+            for &gap in self.gaps.iter().chain(std::iter::once(&band.end)) {
+                if w != r {
+                    keys.copy_within(r..gap, w);
+                    hulls.copy_within(r..gap, w);
+                    ids.copy_within(r..gap, w);
+                }
+                w += gap - r;
+                r = gap + 1;
+            }
+            self.stayed.push(w - band.start);
+        }
+        // The new starts: each band's stayers and newcomers.
+        self.counts.clear();
+        self.counts.extend(self.stayed.iter().map(|&s| s as u32));
+        for &b in &movers.ends {
+            self.counts[b as usize] += 1;
+        }
+        self.starts.clear();
+        let mut total = 0;
+        for &c in &self.counts {
+            self.starts.push(total);
+            total += c as usize;
+        }
+        self.starts.push(total);
+        debug_assert_eq!(total, n);
+        // The runs of stayers to their new starts: those moving up from
+        // the last band down, then those moving down from the first up,
+        // so that no run lands on one not yet moved.
+        let new = &self.starts;
+        let shift = |b: usize, keys: &mut [f32], hulls: &mut [Packed], ids: &mut [u32]| {
+            let run = old[b]..old[b] + self.stayed[b];
+            keys.copy_within(run.clone(), new[b]);
+            hulls.copy_within(run.clone(), new[b]);
+            ids.copy_within(run, new[b]);
+        };
+        for b in (0..=count).rev().filter(|&b| new[b] > old[b]) {
+            shift(b, keys, hulls, ids);
+        }
+        for b in (0..=count).filter(|&b| new[b] < old[b]) {
+            shift(b, keys, hulls, ids);
+        }
+        // Each band sorted, its newcomers merged in; then its guests.
+        if movers.len() > 0 {
+            sort_movers(movers, order, spare);
+        }
+        guests.clear();
+        guest_starts.clear();
+        guest_starts.push(0);
+        let mut mover_at = 0;
+        for b in 0..=count {
+            let out = new[b]..new[b + 1];
+            let stayed = out.start..out.start + self.stayed[b];
+            let moved = mover_at..mover_at + (out.len() - stayed.len());
+            mover_at = moved.end;
+            if b == count {
+                // The boxes without a key: in any order.
+                for (at, m) in (stayed.end..).zip(moved) {
+                    keys[at] = movers.keys[m];
+                    hulls[at] = movers.hulls[m];
+                    ids[at] = movers.ids[m];
+                }
+                break;
+            }
+            sort_in_place(
+                &mut keys[stayed.clone()],
+                &mut hulls[stayed.clone()],
+                &mut ids[stayed.clone()],
+                order,
+                spare,
+            );
+            insert_runs(
+                (
+                    &mut keys[out.clone()],
+                    &mut hulls[out.clone()],
+                    &mut ids[out.clone()],
+                ),
+                stayed.len(),
+                movers,
+                moved,
+            );
+            let own = guest_starts[b] as usize..guests.len();
+            guest_starts.push(guests.len() as u32);
+            if b + 1 < count {
+                let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+                push_next_guests(guests, own, homes, b, bands, spare);
+            }
+        }
+        self.guest_at.clear();
+        for b in 0..count {
+            self.guest_at
+                .push((0, guest_starts[b]..guest_starts[b + 1]));
+        }
+        Some(self.starts[count])
     }
 
     /// Consecutive ranges of bands, at most `groups` of them, each holding
@@ -380,6 +562,8 @@ impl Layout {
     /// Forgets last step's layout: the boxes will arrive in another order.
     pub(crate) fn forget(&mut self) {
         self.starts.clear();
+        self.kept = None;
+        self.edges.clear();
     }
 
     /// Guests in all bands.
@@ -591,52 +775,69 @@ fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
         // into it, merged in key order, after this band's guests.
         let own = guest_starts[k] as usize..guests.len();
         guest_starts.push(guests.len() as u32);
-        let beyond = band as u32 + 1;
         if band + 1 < range.end.min(count) {
-            spare.clear();
-            // The band after the last each home reaches, found once.
-            let home_end = |i: usize| a.bands.of(hi(&hulls[i], across)) as u32 + 1;
-            let (mut i, mut j) = (out.start, own.start);
-            let next_home = |i: &mut usize| {
-                while *i < out.end {
-                    let end = home_end(*i);
-                    if end > beyond {
-                        return Some(end);
-                    }
-                    *i += 1;
-                }
-                None
-            };
-            let mut end_i = next_home(&mut i);
-            loop {
-                while j < own.end && guests.ends[j] <= beyond {
-                    j += 1;
-                }
-                let home_first = match (end_i, j < own.end) {
-                    (None, false) => break,
-                    (Some(_), false) => true,
-                    (None, true) => false,
-                    (Some(_), true) => keys[i] <= guests.keys[j],
-                };
-                if home_first {
-                    let end = end_i.expect("a home that reaches on");
-                    spare.push(keys[i], hulls[i], ids[i], end);
-                    i += 1;
-                    end_i = next_home(&mut i);
-                } else {
-                    spare.push(
-                        guests.keys[j],
-                        guests.hulls[j],
-                        guests.ids[j],
-                        guests.ends[j],
-                    );
-                    j += 1;
-                }
-            }
-            let len = spare.len();
-            guests.extend_from(spare, 0..len);
+            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+            push_next_guests(guests, own, homes, band, a.bands, spare);
         }
     }
+}
+
+/// Appends to `guests` the guests of the band after `band`: the homes of
+/// `band` (sorted) and its guests `own` (a range of `guests`, sorted) that
+/// reach beyond it, merged in key order (through `spare`).
+fn push_next_guests(
+    guests: &mut Run,
+    own: Range<usize>,
+    (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
+    band: usize,
+    bands: &Bands,
+    spare: &mut Run,
+) {
+    let beyond = band as u32 + 1;
+    spare.clear();
+    // The next home that reaches beyond the band, and the band after the
+    // last it reaches: one comparison with the next band's edge a home,
+    // the band worked out only for those that reach.
+    let edge = bands.edge(band + 1);
+    let next_home = |i: &mut usize| {
+        while *i < keys.len() {
+            let top = hi(&hulls[*i], bands.across);
+            if top >= edge {
+                return Some(bands.of(top) as u32 + 1);
+            }
+            *i += 1;
+        }
+        None
+    };
+    let (mut i, mut j) = (0, own.start);
+    let mut end_i = next_home(&mut i);
+    loop {
+        while j < own.end && guests.ends[j] <= beyond {
+            j += 1;
+        }
+        let home_first = match (end_i, j < own.end) {
+            (None, false) => break,
+            (Some(_), false) => true,
+            (None, true) => false,
+            (Some(_), true) => keys[i] <= guests.keys[j],
+        };
+        if home_first {
+            let end = end_i.expect("a home that reaches on");
+            spare.push(keys[i], hulls[i], ids[i], end);
+            i += 1;
+            end_i = next_home(&mut i);
+        } else {
+            spare.push(
+                guests.keys[j],
+                guests.hulls[j],
+                guests.ids[j],
+                guests.ends[j],
+            );
+            j += 1;
+        }
+    }
+    let len = spare.len();
+    guests.extend_from(spare, 0..len);
 }
 
 /// Sorts movers by band, then by key (through `order` and `spare`).
@@ -698,6 +899,33 @@ fn sort_in_place(
             return;
         }
         budget -= i - j;
+    }
+}
+
+/// Inserts the sorted movers `moved` into a band whose first `stayed`
+/// entries are sorted and whose rest is free: from the largest down, each
+/// found by binary search and the entries above it moved up in one copy,
+/// so that each entry moves at most once and a few newcomers cost a few
+/// copies of contiguous memory.
+fn insert_runs(
+    band: (&mut [f32], &mut [Packed], &mut [u32]),
+    stayed: usize,
+    movers: &Run,
+    moved: Range<usize>,
+) {
+    let (keys, hulls, ids) = band;
+    debug_assert_eq!(keys.len(), stayed + moved.len());
+    let mut end = stayed;
+    for (up, m) in (1..=moved.len()).rev().zip(moved.rev()) {
+        let key = movers.keys[m];
+        let at = keys[..end].partition_point(|&k| k <= key);
+        keys.copy_within(at..end, at + up);
+        hulls.copy_within(at..end, at + up);
+        ids.copy_within(at..end, at + up);
+        keys[at + up - 1] = key;
+        hulls[at + up - 1] = movers.hulls[m];
+        ids[at + up - 1] = movers.ids[m];
+        end = at;
     }
 }
 
@@ -765,6 +993,21 @@ mod tests {
         layout.lay_out(b, n, bands, groups, team)
     }
 
+    /// Updates the layout of `b` in place if it can, else lays it out as
+    /// [`lay_out`] does; says which.
+    fn keep_or_lay_out(
+        b: &mut Boxes,
+        bands: &Bands,
+        groups: usize,
+        layout: &mut Layout,
+        team: Option<&Team>,
+    ) -> (usize, bool) {
+        match layout.keep(b, b.len(), bands) {
+            Some(boxed) => (boxed, true),
+            None => (lay_out(b, bands, groups, layout, team), false),
+        }
+    }
+
     #[test]
     fn boxes_go_home_sorted_with_their_guests_beside() {
         let bands = Bands::spanning(1, 2, 0.0, 1.0);
@@ -809,12 +1052,13 @@ mod tests {
         let mut layout = Layout::default();
         let mut b = slots(&keys, &ys);
         let teams = [Team::new(2).unwrap(), Team::new(3).unwrap()];
-        for step in 0..8 {
-            let count = [7, 7, 7, 13, 1000, 7, 7, 7][step];
+        let mut kept = 0;
+        for step in 0..12 {
+            let count = [7, 7, 7, 13, 1000, 7, 7, 7, 7, 7, 3, 3][step];
             let bands = Bands::spanning(1, count, 0.0, 1.0);
-            let groups = [1, 2, 3, 2, 8, 1, 2, 3][step];
-            // The last two steps with a team of as many members as groups.
-            let team = (step >= 6).then(|| &teams[groups - 2]);
+            let groups = [1, 2, 3, 2, 8, 1, 2, 3, 1, 1, 2, 1][step];
+            // Steps 6 and 7 with a team of as many members as groups.
+            let team = (6..8).contains(&step).then(|| &teams[groups - 2]);
             // Boxes move a little (and a few far) between steps, arriving
             // in last step's layout order.
             if step > 0 {
@@ -827,12 +1071,26 @@ mod tests {
                         let dy = (rand() - 0.5) * shift;
                         ys[id] = ((lo + dy).abs(), (hi + dy).abs().max((lo + dy).abs()));
                     }
+                    // Line 50 loses its hull at step 9 and has it back at
+                    // step 11: it goes to the boxes without a key and back.
+                    if id == 50 && step >= 9 {
+                        keys[id] = if step < 11 { NO_KEY } else { 0.25 };
+                    }
                     b.keys[k] = keys[id];
                     b.hulls[k] = hull(keys[id], ys[id].0, ys[id].1);
                 }
             }
-            let boxed = lay_out(&mut b, &bands, groups, &mut layout, team);
-            assert_eq!(boxed, n - 2);
+            // From step 8 on, the layout is kept where the bands are the
+            // same as the step before's.
+            let no_key = if (9..11).contains(&step) { 3 } else { 2 };
+            let boxed = if step >= 8 {
+                let (boxed, was_kept) = keep_or_lay_out(&mut b, &bands, groups, &mut layout, team);
+                kept += usize::from(was_kept);
+                boxed
+            } else {
+                lay_out(&mut b, &bands, groups, &mut layout, team)
+            };
+            assert_eq!(boxed, n - no_key);
             let mut seen: Vec<u32> = b.ids[..n].to_vec();
             seen.sort_unstable();
             assert_eq!(seen, (10..10 + n as u32).collect::<Vec<_>>());
@@ -861,6 +1119,8 @@ mod tests {
                 assert_eq!(got, want, "step {step}, band {band}");
             }
         }
+        // Steps 8, 9 and 11.
+        assert_eq!(kept, 3);
     }
 
     #[test]

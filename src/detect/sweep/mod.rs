@@ -68,6 +68,10 @@ const TEAM_SWEEP_CHUNK: usize = 256;
 /// Steps between two trials of another band count.
 const TRIAL_EVERY: u64 = 16;
 
+/// The same below rayon's grain, where the layout is otherwise kept from
+/// step to step and a trial (and its end) lays every box out anew.
+const TRIAL_EVERY_KEPT: u64 = 128;
+
 /// A trial's band count is kept when its work is below this share of the
 /// work with the current count.
 const TRIAL_GAIN: f64 = 0.97;
@@ -248,12 +252,21 @@ impl Sweep {
         }
     }
 
+    /// The plan's cost of laying a box out in a band: below rayon's grain
+    /// the layout is kept from step to step, above it laid out anew.
+    fn layout_cost(&self) -> f64 {
+        match self.parallel(self.sorted.len()) {
+            true => plan::LAYOUT_COST,
+            false => plan::KEPT_LAYOUT_COST,
+        }
+    }
+
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
     /// them if the direction changed.
     fn make_plan(&mut self) {
         let n = self.sorted.len();
         let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
-        let plan = plan::choose(&sample, boxed, hull::DIRECTIONS);
+        let plan = plan::choose(self.layout_cost(), &sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
             for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
@@ -275,9 +288,13 @@ impl Sweep {
     /// step across would cost a whole re-sort there and another back. The
     /// plan decides between one band and several.
     fn start_trial(&mut self) {
+        let every = match self.parallel(self.sorted.len()) {
+            true => TRIAL_EVERY,
+            false => TRIAL_EVERY_KEPT,
+        };
         let t = &mut self.tuner;
         t.since_trial += 1;
-        if t.since_trial < TRIAL_EVERY || t.work == 0.0 || self.plan.bands.count == 1 {
+        if t.since_trial < every || t.work == 0.0 || self.plan.bands.count == 1 {
             return;
         }
         t.since_trial = 0;
@@ -301,7 +318,12 @@ impl Sweep {
     /// use becomes the count in use.
     fn end_step(&mut self, entries: usize, candidates: u64) {
         let banded = self.plan.bands.count > 1;
-        let work = plan::work(entries as f64, candidates as f64, banded);
+        let work = plan::work(
+            self.layout_cost(),
+            entries as f64,
+            candidates as f64,
+            banded,
+        );
         let t = &mut self.tuner;
         match t.kept.take() {
             Some(kept) if work >= TRIAL_GAIN * t.work => self.plan = kept,
@@ -379,6 +401,7 @@ impl Detector for Sweep {
         }
         if self.sorted.len() != lines.len() {
             self.sorted.reset(lines.len());
+            self.layout.forget();
             self.until_plan = 0;
         }
 
@@ -394,20 +417,31 @@ impl Detector for Sweep {
         let n = lines.len();
         let (boxed, entries) = if bands.count > 1 {
             let parallel = self.parallel(n);
-            // A handle of its own, as the boxes are about to be borrowed
-            // mutably.
-            let team = self.team_for(n).and(self.team.clone());
-            self.layout
-                .classify(&self.sorted, n, &bands, parallel, team.as_deref());
+            // Below rayon's grain, last step's layout is updated in place
+            // when it has the same bands; otherwise laid out anew.
             self.lap(Phase::Sort);
-            let groups = match (parallel, team.as_deref()) {
-                (true, _) => self.threads,
-                (false, Some(team)) => team.threads(),
-                (false, None) => 1,
+            let kept = match parallel {
+                true => None,
+                false => self.layout.keep(&mut self.sorted, n, &bands),
             };
-            let boxed = self
-                .layout
-                .lay_out(&mut self.sorted, n, &bands, groups, team.as_deref());
+            let boxed = match kept {
+                Some(boxed) => boxed,
+                None => {
+                    // A handle of its own, as the boxes are about to be
+                    // borrowed mutably.
+                    let team = self.team_for(n).and(self.team.clone());
+                    self.layout
+                        .classify(&self.sorted, n, &bands, parallel, team.as_deref());
+                    self.lap(Phase::Sort);
+                    let groups = match (parallel, team.as_deref()) {
+                        (true, _) => self.threads,
+                        (false, Some(team)) => team.threads(),
+                        (false, None) => 1,
+                    };
+                    self.layout
+                        .lay_out(&mut self.sorted, n, &bands, groups, team.as_deref())
+                }
+            };
             (boxed, boxed + self.layout.guest_count())
         } else {
             self.layout.forget();

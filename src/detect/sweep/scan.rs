@@ -58,74 +58,56 @@ pub(crate) fn sweep_bands(
     candidates
 }
 
-/// Sweeps two sets of boxes, each sorted by key, against each other along
-/// direction `along`: each box of `a` meets the boxes of `b` whose key
-/// lies within its extent from its own key on, and each box of `b` the
-/// boxes of `a` whose key lies within its extent beyond its own key (so a
-/// pair with equal keys is met once). Appends to `found` every pair
-/// `(i, j)`, `i` in `a` and `j` in `b`, whose hulls overlap. Returns the
-/// pairs met.
+/// Sweeps a band's homes `a` against its guests `b`, each sorted by key,
+/// along direction `along`: each home meets the guests whose key lies
+/// within its extent from its own key on, and each guest the homes whose
+/// key lies within its extent beyond its own key (so a pair with equal
+/// keys is met once). Appends to `found` every pair `(i, j)`, `i` a home
+/// and `j` a guest, whose hulls overlap. Returns the pairs met.
+///
+/// A band has few guests (`koch` in 22 bands: about 125 in all), so the
+/// work is done guest by guest: the homes that reach a guest from below lie
+/// within the band's longest extent before it, found by binary search.
 fn sweep_across(
-    a: (&[f32], &[Packed]),
-    b: (&[f32], &[Packed]),
-    along: usize,
-    found: &mut Vec<(u32, u32)>,
-) -> u64 {
-    let mut candidates = meet_later(a, b, along, false, found);
-    // The pairs of the second half are found the other way round.
-    let start = found.len();
-    candidates += meet_later(b, a, along, true, found);
-    for p in &mut found[start..] {
-        *p = (p.1, p.0);
-    }
-    candidates
-}
-
-/// Half of [`sweep_across`]: each box of `a` meets the boxes of `b` from
-/// the first whose key is not below its own (with `strictly`: above it),
-/// while within its extent. With AVX2, eight at a time as in [`sweep`].
-#[multiversion(targets("x86_64+avx2+popcnt+bmi1"))]
-fn meet_later(
     (keys, hulls): (&[f32], &[Packed]),
-    (other_keys, other_hulls): (&[f32], &[Packed]),
+    (guest_keys, guest_hulls): (&[f32], &[Packed]),
     along: usize,
-    strictly: bool,
     found: &mut Vec<(u32, u32)>,
 ) -> u64 {
+    // The longest extent of a home, in `f64` and widened, so that no
+    // home that reaches a guest starts before the window (a home too many
+    // is turned down by the overlap test).
+    let longest = hulls
+        .iter()
+        .zip(keys)
+        .map(|(h, &k)| f64::from(hi(h, along)) - f64::from(k))
+        .fold(0.0f64, f64::max);
     let mut candidates = 0;
-    let mut first = 0;
-    for (i, (&key, hull)) in keys.iter().zip(hulls).enumerate() {
-        while other_keys
-            .get(first)
-            .is_some_and(|&k| k < key || (strictly && k == key))
-        {
-            first += 1;
-        }
-        let Some(&next) = other_keys.get(first) else {
-            break;
-        };
-        let end = hi(hull, along).min(f32::MAX);
-        if next > end {
-            continue;
-        }
-        let reach = reach(hull);
-        let mut j = first;
-        multiversion::target::match_target! {
-            "x86_64+avx2+popcnt+bmi1" => {
-                if other_keys.get(j + 1).is_some_and(|&k| k <= end) {
-                    j = blocks::sweep_box(other_keys, other_hulls, i, j, end, &reach, found, &mut candidates);
+    for (j, (&key, hull)) in guest_keys.iter().zip(guest_hulls).enumerate() {
+        let reach_j = reach(hull);
+        let at = f64::from(key);
+        let from = at - longest * (1.0 + 1e-6) - at.abs() * 1e-6 - 1e-30;
+        // Homes from below: key at most the guest's, end at least it.
+        let first = keys.partition_point(|&k| f64::from(k) < from);
+        let last = keys.partition_point(|&k| k <= key);
+        for (i, home) in hulls.iter().enumerate().take(last).skip(first) {
+            if hi(home, along) >= key {
+                candidates += 1;
+                if overlaps(home, &reach_j) {
+                    found.push((i as u32, j as u32));
                 }
             }
-            _ => {}
         }
-        let start = j;
-        while other_keys.get(j).is_some_and(|&k| k <= end) {
-            if overlaps(&other_hulls[j], &reach) {
+        // Homes beyond: key above the guest's, within its extent.
+        let end = hi(hull, along).min(f32::MAX);
+        let mut i = last;
+        while i < keys.len() && keys[i] <= end {
+            candidates += 1;
+            if overlaps(&hulls[i], &reach_j) {
                 found.push((i as u32, j as u32));
             }
-            j += 1;
+            i += 1;
         }
-        candidates += (j - start) as u64;
     }
     candidates
 }
