@@ -105,12 +105,15 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
 const BROAD_SAMPLE: usize = 2048;
 
 /// The cost of laying one box out in one band, in units of one candidate
-/// pair met, for the plan: a quarter of the detector's, since these bands
-/// are filled in one streaming pass and swept in `f64` with two
-/// comparisons a candidate. Measured on 10^5 and 10^6 generated boxes
-/// against 2, 8 and 16: clustered boxes gain the most from the extra bands
-/// it buys (`versus_broccoli`, see `docs/DESIGN.md`).
-const LAYOUT_COST: f64 = 4.0;
+/// pair met, for the plan: a quarter of the detector's layout made anew,
+/// since these bands are filled in one streaming pass and swept in `f64`
+/// with two comparisons a candidate. Measured on 10^5 and 10^6 generated
+/// boxes against 2, 8 and 16: clustered boxes gain the most from the extra
+/// bands it buys (`versus_broccoli`, see `docs/DESIGN.md`).
+const LAYOUT_COST: plan::LayoutCost = plan::LayoutCost {
+    per_box: 4.0,
+    per_guest: 0.0,
+};
 
 /// Every overlapping pair by testing all pairs: the oracle the sweep is
 /// checked against, and as fast as anything for a few dozen boxes.

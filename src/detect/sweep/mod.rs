@@ -252,12 +252,12 @@ impl Sweep {
         }
     }
 
-    /// The plan's cost of laying a box out in a band: below rayon's grain
+    /// The plan's cost of laying boxes out in bands: below rayon's grain
     /// the layout is kept from step to step, above it laid out anew.
-    fn layout_cost(&self) -> f64 {
+    fn layout_cost(&self) -> plan::LayoutCost {
         match self.parallel(self.sorted.len()) {
-            true => plan::LAYOUT_COST,
-            false => plan::KEPT_LAYOUT_COST,
+            true => plan::LAYOUT_ANEW,
+            false => plan::LAYOUT_KEPT,
         }
     }
 
@@ -319,7 +319,7 @@ impl Sweep {
     fn end_step(&mut self, entries: usize, candidates: u64) {
         let banded = self.plan.bands.count > 1;
         let work = plan::work(
-            self.layout_cost(),
+            self.layout_cost().per_box,
             entries as f64,
             candidates as f64,
             banded,

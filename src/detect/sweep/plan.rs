@@ -34,18 +34,35 @@ pub(crate) fn across(a: usize) -> usize {
 /// candidate (callgrind, `koch`).
 pub(crate) const SWEEP_COST: f64 = 5.0;
 
-/// The model's cost of laying one box out anew in one band (done only
-/// when there are several: its home band, its copy, its share of the
-/// band's sort and of its guests), in units of one candidate pair met:
-/// about 230 instructions (callgrind, 10^5 generated lines).
-pub(crate) const LAYOUT_COST: f64 = 16.0;
+/// What laying boxes out in bands costs the model, in units of one
+/// candidate pair met.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct LayoutCost {
+    /// Each box laid out in a band (its home or a guest).
+    pub per_box: f64,
+    /// Each guest, on top of that.
+    pub per_guest: f64,
+}
 
-/// The same for a layout kept from the step before and updated in place
-/// (below rayon's grain): about 65 instructions a box on `koch` in 22
-/// bands. Set where the model's choices matched the measured ones: with
-/// it `koch` and `mit` are cut into bands (`koch`: 8% fewer instructions
-/// than one band) and `sin_wave` and `smalllines` are not.
-pub(crate) const KEPT_LAYOUT_COST: f64 = 3.0;
+/// A layout made anew every step (above rayon's grain): its home band, its
+/// copy, its share of the band's sort and of its guests, about 230
+/// instructions a box (callgrind, 10^5 generated lines).
+pub(crate) const LAYOUT_ANEW: LayoutCost = LayoutCost {
+    per_box: 16.0,
+    per_guest: 0.0,
+};
+
+/// A layout kept from the step before and updated in place (below rayon's
+/// grain): about 65 instructions a box on `koch` in 22 bands, and a guest,
+/// copied from band to band and met by binary search, several times a
+/// home. Set where the model's choices matched the measured ones: `koch`
+/// is cut into bands (15% faster than one band), and `mit` (whose long
+/// lines make a third of its boxes guests: 6% slower in bands),
+/// `sin_wave` and `smalllines` are not.
+pub(crate) const LAYOUT_KEPT: LayoutCost = LayoutCost {
+    per_box: 3.0,
+    per_guest: 20.0,
+};
 
 /// The work of a sweep that lays out `entries` boxes (in several bands if
 /// `banded`, at `layout` a box) and meets `candidates` pairs, in units of
@@ -115,17 +132,18 @@ fn spread(sample: &[Packed], total: usize, a: usize) -> Spread {
 /// that many over `count` of the boxes and so meets `1 / count` of the
 /// candidates of a sweep of as many boxes.
 /// `layout` is the cost of laying one box out in one band.
-fn cost(layout: f64, total: usize, candidates: f64, share: f64, count: usize) -> f64 {
+fn cost(layout: LayoutCost, total: usize, candidates: f64, share: f64, count: usize) -> f64 {
     if count == 1 {
-        return work(layout, total as f64, candidates, false);
+        return work(layout.per_box, total as f64, candidates, false);
     }
     let copies = 1.0 + count as f64 * share;
+    let guests = total as f64 * (copies - 1.0);
     work(
-        layout,
+        layout.per_box,
         total as f64 * copies,
         candidates * copies * copies / count as f64,
         true,
-    )
+    ) + layout.per_guest * guests
 }
 
 /// An even sample of at most [`SAMPLE`] of the boxes whose key is real
@@ -147,9 +165,14 @@ pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
 /// sweeping along one of the first `directions` directions (2: the axes
 /// only, for boxes without diagonals; 4: the diagonals too), for a sweep
-/// that lays a box out in a band at `layout` (in units of one candidate
-/// met; [`LAYOUT_COST`] or [`KEPT_LAYOUT_COST`]).
-pub(crate) fn choose(layout: f64, sample: &[Packed], total: usize, directions: usize) -> Plan {
+/// that lays boxes out in bands at `layout` ([`LAYOUT_ANEW`] or
+/// [`LAYOUT_KEPT`]).
+pub(crate) fn choose(
+    layout: LayoutCost,
+    sample: &[Packed],
+    total: usize,
+    directions: usize,
+) -> Plan {
     let directions = directions.min(DIRECTIONS);
     // Each direction's partner across is among the first `directions`.
     let spreads: Vec<Spread> = (0..directions).map(|a| spread(sample, total, a)).collect();
@@ -209,7 +232,7 @@ mod tests {
         // Boxes strung out along x, all at the same height: along y every
         // pair meets, along x only neighbours.
         let sample: Vec<Packed> = (0..200).map(|i| boxed(i as f32, 0.0, 1.5, 1.0)).collect();
-        let plan = choose(LAYOUT_COST, &sample, sample.len(), 2);
+        let plan = choose(LAYOUT_ANEW, &sample, sample.len(), 2);
         assert_eq!(plan.along, 0);
         assert_eq!(plan.bands.count, 1);
     }
@@ -222,11 +245,11 @@ mod tests {
                 boxed(x, y, 1.0, 1.0)
             })
             .collect();
-        let plan = choose(LAYOUT_COST, &sample, 1_000_000, 2);
+        let plan = choose(LAYOUT_ANEW, &sample, 1_000_000, 2);
         assert!(plan.bands.count > 16, "{plan:?}");
         // More bands cost more than they save past the model's optimum.
         let cost =
-            |total, candidates, share, count| cost(LAYOUT_COST, total, candidates, share, count);
+            |total, candidates, share, count| cost(LAYOUT_ANEW, total, candidates, share, count);
         assert!(cost(1000, 1e6, 0.001, 1) > cost(1000, 1e6, 0.001, 30));
         assert!(cost(1000, 1e3, 0.1, 1) < cost(1000, 1e3, 0.1, 30));
     }
