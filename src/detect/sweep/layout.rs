@@ -29,7 +29,7 @@
 
 use super::bands::Bands;
 use super::hull::{hi, lo, Packed};
-use super::order::{Boxes, NO_KEY};
+use super::order::{insert, Boxes, NO_KEY};
 use crate::team::{self, Team};
 use std::ops::Range;
 use std::sync::Mutex;
@@ -275,14 +275,7 @@ impl Layout {
     ) -> usize {
         let count = bands.count;
         std::mem::swap(&mut self.starts, &mut self.old_starts);
-        self.starts.clear();
-        let mut total = 0;
-        for &c in &self.counts {
-            self.starts.push(total);
-            total += c as usize;
-        }
-        self.starts.push(total);
-        debug_assert_eq!(total, n);
+        set_starts(&self.counts, &mut self.starts, n);
         // Last step's layout is what the boxes arrive in only if it had as
         // many bands and boxes.
         if self.old_starts.len() != self.starts.len() || self.old_starts.last() != Some(&n) {
@@ -462,14 +455,7 @@ impl Layout {
         for &b in &movers.ends {
             self.counts[b as usize] += 1;
         }
-        self.starts.clear();
-        let mut total = 0;
-        for &c in &self.counts {
-            self.starts.push(total);
-            total += c as usize;
-        }
-        self.starts.push(total);
-        debug_assert_eq!(total, n);
+        set_starts(&self.counts, &mut self.starts, n);
         // The runs of stayers to their new starts: those moving up from
         // the last band down, then those moving down from the first up,
         // so that no run lands on one not yet moved.
@@ -508,23 +494,12 @@ impl Layout {
                 }
                 break;
             }
-            sort_in_place(
-                &mut keys[stayed.clone()],
-                &mut hulls[stayed.clone()],
-                &mut ids[stayed.clone()],
-                order,
-                spare,
+            let band_arrays = (
+                &mut keys[out.clone()],
+                &mut hulls[out.clone()],
+                &mut ids[out.clone()],
             );
-            insert_runs(
-                (
-                    &mut keys[out.clone()],
-                    &mut hulls[out.clone()],
-                    &mut ids[out.clone()],
-                ),
-                stayed.len(),
-                movers,
-                moved,
-            );
+            finish_band(band_arrays, stayed.len(), movers, moved, order, spare);
             let own = guest_starts[b] as usize..guests.len();
             guest_starts.push(guests.len() as u32);
             if b + 1 < count {
@@ -570,6 +545,19 @@ impl Layout {
     pub(crate) fn guest_count(&self) -> usize {
         self.guest_at.iter().map(|(_, r)| r.len()).sum()
     }
+}
+
+/// Sets `starts` to where each band's homes start, from the homes counted
+/// in each (`n` in all), and their end.
+fn set_starts(counts: &[u32], starts: &mut Vec<usize>, n: usize) {
+    starts.clear();
+    let mut total = 0;
+    for &c in counts {
+        starts.push(total);
+        total += c as usize;
+    }
+    starts.push(total);
+    debug_assert_eq!(total, n);
 }
 
 /// Finds each box's home band (keys and hulls, in arrival order) into
@@ -749,26 +737,22 @@ fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
         let k = band - range.start;
         let out = a.starts[band] - offset..a.starts[band + 1] - offset;
         let stayed = out.start..cursor[k];
-        sort_in_place(
-            &mut keys[stayed.clone()],
-            &mut hulls[stayed.clone()],
-            &mut ids[stayed.clone()],
-            order,
-            spare,
-        );
         let moved = mover_at..mover_at + (out.end - stayed.end);
         debug_assert!(movers.ends[moved.clone()]
             .iter()
             .all(|&b| b as usize == band));
-        merge_from_back(
-            (
-                &mut keys[out.clone()],
-                &mut hulls[out.clone()],
-                &mut ids[out.clone()],
-            ),
+        let band_arrays = (
+            &mut keys[out.clone()],
+            &mut hulls[out.clone()],
+            &mut ids[out.clone()],
+        );
+        finish_band(
+            band_arrays,
             stayed.len(),
             movers,
             moved.clone(),
+            order,
+            spare,
         );
         mover_at = moved.end;
         // The next band's guests: this band's homes and guests that reach
@@ -865,41 +849,43 @@ fn sort_in_place(
     order: &mut Vec<(f32, u32)>,
     spare: &mut Run,
 ) {
-    let n = keys.len();
-    let mut budget = MOVES_PER_ENTRY * n + 16;
-    for i in 1..n {
-        let key = keys[i];
-        if keys[i - 1] <= key {
-            continue;
-        }
-        let (hull, id) = (hulls[i], ids[i]);
-        let mut j = i;
-        while j > 0 && keys[j - 1] > key {
-            keys[j] = keys[j - 1];
-            hulls[j] = hulls[j - 1];
-            ids[j] = ids[j - 1];
-            j -= 1;
-        }
-        keys[j] = key;
-        hulls[j] = hull;
-        ids[j] = id;
-        if i - j > budget {
-            // Too far from sorted: radix sort, then gather.
-            order.clear();
-            order.extend(keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
-            radsort::sort_by_key(order, |k| k.0);
-            spare.clear();
-            for &(key, at) in order.iter() {
-                let at = at as usize;
-                spare.push(key, hulls[at], ids[at], 0);
-            }
-            keys.copy_from_slice(&spare.keys);
-            hulls.copy_from_slice(&spare.hulls);
-            ids.copy_from_slice(&spare.ids);
-            return;
-        }
-        budget -= i - j;
+    let budget = MOVES_PER_ENTRY * keys.len() + 16;
+    if insert((&mut *keys, &mut *hulls, &mut *ids), 1, budget, false).is_some() {
+        return;
     }
+    // Too far from sorted: radix sort, then gather.
+    order.clear();
+    order.extend(keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
+    radsort::sort_by_key(order, |k| k.0);
+    spare.clear();
+    for &(key, at) in order.iter() {
+        let at = at as usize;
+        spare.push(key, hulls[at], ids[at], 0);
+    }
+    keys.copy_from_slice(&spare.keys);
+    hulls.copy_from_slice(&spare.hulls);
+    ids.copy_from_slice(&spare.ids);
+}
+
+/// Finishes a band whose first `stayed` entries are the boxes that stayed
+/// in it (nearly sorted) and whose rest is free: sorts them in place and
+/// inserts its newcomers, `moved` of the sorted `movers`.
+fn finish_band(
+    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
+    stayed: usize,
+    movers: &Run,
+    moved: Range<usize>,
+    order: &mut Vec<(f32, u32)>,
+    spare: &mut Run,
+) {
+    sort_in_place(
+        &mut keys[..stayed],
+        &mut hulls[..stayed],
+        &mut ids[..stayed],
+        order,
+        spare,
+    );
+    insert_runs((keys, hulls, ids), stayed, movers, moved);
 }
 
 /// Inserts the sorted movers `moved` into a band whose first `stayed`
@@ -927,36 +913,6 @@ fn insert_runs(
         ids[at + up - 1] = movers.ids[m];
         end = at;
     }
-}
-
-/// Merges the sorted movers `moved` into a band whose first `stayed`
-/// entries are sorted and whose rest is free, from the back, so that each
-/// entry moves at most once.
-fn merge_from_back(
-    band: (&mut [f32], &mut [Packed], &mut [u32]),
-    stayed: usize,
-    movers: &Run,
-    moved: Range<usize>,
-) {
-    let (keys, hulls, ids) = band;
-    debug_assert_eq!(keys.len(), stayed + moved.len());
-    let (mut i, mut j) = (stayed, moved.end);
-    let mut w = keys.len();
-    while j > moved.start {
-        w -= 1;
-        if i > 0 && keys[i - 1] > movers.keys[j - 1] {
-            i -= 1;
-            keys[w] = keys[i];
-            hulls[w] = hulls[i];
-            ids[w] = ids[i];
-        } else {
-            j -= 1;
-            keys[w] = movers.keys[j];
-            hulls[w] = movers.hulls[j];
-            ids[w] = movers.ids[j];
-        }
-    }
-    debug_assert_eq!(w, i);
 }
 
 #[cfg(test)]

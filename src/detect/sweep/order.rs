@@ -198,7 +198,7 @@ impl Boxes {
 /// unsorted). With `until_in_place`, the boxes from `from` on are sorted
 /// already and it stops at the first that needs no move. Returns the moves
 /// made, if it finished.
-fn insert(
+pub(crate) fn insert(
     (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
     from: usize,
     mut budget: usize,
