@@ -1,0 +1,456 @@
+//! A layout made anew: every box's home band found ([`Layout::classify`]),
+//! then each box copied to its home band in arrival order
+//! ([`Layout::lay_out`]). A box that arrived from the band it is in goes to
+//! the front of the band, nearly sorted; one that moved in is held aside
+//! and inserted once the band is sorted.
+//!
+//! The bands are split into groups of about equal size, one per thread;
+//! each group owns its stretch of the arrays and its guests (its first
+//! band's guests it picks out of the arriving boxes), so the groups are
+//! laid out at once without sharing anything they write.
+
+use super::{finish_band, push_next_guests, set_starts, sort_movers, Group, Layout};
+use crate::detect::sweep::bands::Bands;
+use crate::detect::sweep::hull::{hi, Packed};
+use crate::detect::sweep::order::{Boxes, NO_KEY};
+use crate::team::{self, Team};
+use std::ops::Range;
+use std::sync::Mutex;
+
+/// Boxes classified at a time by one thread.
+const CLASSIFY_CHUNK: usize = 1 << 15;
+
+/// One group's stretch of the laid-out arrays: its bands and their boxes.
+struct Stretch<'a> {
+    bands: Range<usize>,
+    /// The first entry of the stretch.
+    offset: usize,
+    keys: &'a mut [f32],
+    hulls: &'a mut [Packed],
+    ids: &'a mut [u32],
+}
+
+/// What every group reads: the arriving boxes and what [`Layout::classify`]
+/// found of them.
+struct Arrivals<'a> {
+    slots: &'a Boxes,
+    n: usize,
+    home: &'a [u32],
+    starts: &'a [usize],
+    old_starts: &'a [usize],
+    reach: &'a [u32],
+    bands: &'a Bands,
+}
+
+impl Layout {
+    /// Finds the home band of each of the first `n` boxes of `slots` and
+    /// counts each band's homes: on the current rayon pool when `parallel`,
+    /// else shared with `team` if there is one.
+    pub(crate) fn classify(
+        &mut self,
+        slots: &Boxes,
+        n: usize,
+        bands: &Bands,
+        parallel: bool,
+        team: Option<&Team>,
+    ) {
+        let buckets = bands.count + 1;
+        self.home.resize(n, 0);
+        self.counts.clear();
+        self.counts.resize(buckets, 0);
+        self.reach.clear();
+        self.reach.resize(buckets, 0);
+        let (keys, hulls) = (&slots.keys[..n], &slots.hulls[..n]);
+        if parallel && n > CLASSIFY_CHUNK {
+            use rayon::prelude::*;
+            let found: Vec<(Vec<u32>, Vec<u32>)> = self
+                .home
+                .par_chunks_mut(CLASSIFY_CHUNK)
+                .zip(keys.par_chunks(CLASSIFY_CHUNK))
+                .zip(hulls.par_chunks(CLASSIFY_CHUNK))
+                .map(|((home, keys), hulls)| {
+                    let (mut counts, mut reach) = (vec![0; buckets], vec![0; buckets]);
+                    classify(keys, hulls, bands, home, &mut counts, &mut reach);
+                    (counts, reach)
+                })
+                .collect();
+            for (counts, reach) in found {
+                self.add_counts(&counts, &reach);
+            }
+        } else if let Some(team) = team {
+            let threads = team.threads();
+            let homes = team::shares_mut(&mut self.home, threads);
+            let found: Vec<Mutex<(Vec<u32>, Vec<u32>)>> = (0..threads)
+                .map(|_| Mutex::new((vec![0; buckets], vec![0; buckets])))
+                .collect();
+            team.run(&|k| {
+                let share = team::share(n, threads, k);
+                let mut found = found[k].lock().expect("a member's counts");
+                let (counts, reach) = &mut *found;
+                classify(
+                    &keys[share.clone()],
+                    &hulls[share],
+                    bands,
+                    &mut homes[k].lock().expect("a share"),
+                    counts,
+                    reach,
+                );
+            });
+            drop(homes);
+            for found in found {
+                let (counts, reach) = found.into_inner().expect("a member's counts");
+                self.add_counts(&counts, &reach);
+            }
+        } else {
+            classify(
+                keys,
+                hulls,
+                bands,
+                &mut self.home,
+                &mut self.counts,
+                &mut self.reach,
+            );
+        }
+    }
+
+    /// Adds one part's counts and reaches to the whole's.
+    fn add_counts(&mut self, counts: &[u32], reach: &[u32]) {
+        for (all, part) in self.counts.iter_mut().zip(counts) {
+            *all += part;
+        }
+        for (all, part) in self.reach.iter_mut().zip(reach) {
+            *all = (*all).max(*part);
+        }
+    }
+
+    /// Lays out the first `n` boxes of `slots`, as [`Layout::classify`]
+    /// found them, band by band in `groups` groups (when more than one,
+    /// shared with `team` if there is one, else on the current rayon pool),
+    /// and leaves them in `slots`, sentinel last; returns the boxes with a
+    /// key, which come first.
+    pub(crate) fn lay_out(
+        &mut self,
+        slots: &mut Boxes,
+        n: usize,
+        bands: &Bands,
+        groups: usize,
+        team: Option<&Team>,
+    ) -> usize {
+        let count = bands.count;
+        std::mem::swap(&mut self.starts, &mut self.old_starts);
+        set_starts(&self.counts, &mut self.starts, n);
+        // Last step's layout is what the boxes arrive in only if it had as
+        // many bands and boxes.
+        if self.old_starts.len() != self.starts.len() || self.old_starts.last() != Some(&n) {
+            self.old_starts.clear();
+        }
+        self.keys.resize(n + 1, NO_KEY);
+        self.hulls.resize(n + 1, [0.0; 8]);
+        self.ids.resize(n + 1, u32::MAX);
+        self.keys[n] = NO_KEY;
+        self.ids[n] = u32::MAX;
+
+        // Groups of bands, the last also holding the boxes without a key.
+        let mut bounds = group_bounds(&self.starts[..=count], groups);
+        match bounds.last_mut() {
+            Some(last) => last.end = count + 1,
+            None => bounds.push(0..count + 1),
+        }
+        self.groups
+            .resize_with(bounds.len().max(self.groups.len()), Group::default);
+        let Layout {
+            starts,
+            old_starts,
+            groups: group_bufs,
+            home,
+            reach,
+            keys,
+            hulls,
+            ids,
+            ..
+        } = self;
+        let arrivals = Arrivals {
+            slots,
+            n,
+            home,
+            starts,
+            old_starts,
+            reach,
+            bands,
+        };
+        let stretches = stretches(starts, keys, hulls, ids, &bounds);
+        let lay = |(s, g): (Stretch, &mut Group)| lay_out_group(s, g, &arrivals);
+        if let Some(team) = team.filter(|_| stretches.len() > 1) {
+            // Stretch `k` to member `k` (there are no more stretches than
+            // members): the boxes whose hulls it made, near enough.
+            let count = stretches.len();
+            let work: Vec<Mutex<Option<(Stretch, &mut Group)>>> = stretches
+                .into_iter()
+                .zip(group_bufs.iter_mut())
+                .map(|w| Mutex::new(Some(w)))
+                .collect();
+            debug_assert!(count <= team.threads());
+            team.run(&|k| {
+                let taken = work
+                    .get(k)
+                    .and_then(|w| w.lock().expect("a stretch").take());
+                if let Some(w) = taken {
+                    lay(w);
+                }
+            });
+        } else if stretches.len() > 1 {
+            use rayon::prelude::*;
+            stretches
+                .into_par_iter()
+                .zip(group_bufs.par_iter_mut())
+                .for_each(lay);
+        } else {
+            stretches
+                .into_iter()
+                .zip(group_bufs.iter_mut())
+                .for_each(lay);
+        }
+
+        self.guest_at.clear();
+        for (g, range) in bounds.iter().enumerate() {
+            let gs = &self.groups[g].guest_starts;
+            for b in range.start..range.end.min(count) {
+                let k = b - range.start;
+                self.guest_at.push((g as u32, gs[k]..gs[k + 1]));
+            }
+        }
+        std::mem::swap(&mut slots.keys, &mut self.keys);
+        std::mem::swap(&mut slots.hulls, &mut self.hulls);
+        std::mem::swap(&mut slots.ids, &mut self.ids);
+        if self.kept != Some(*bands) {
+            // The least value of each band, for the layouts kept from this
+            // one: a box that stays in its band is told by two comparisons.
+            self.edges.clear();
+            self.edges.push(f32::NEG_INFINITY);
+            self.edges.extend((1..count).map(|b| bands.edge(b)));
+            self.edges.push(f32::INFINITY);
+        }
+        self.kept = Some(*bands);
+        self.starts[count]
+    }
+}
+
+/// Finds each box's home band (keys and hulls, in arrival order) into
+/// `home`, counting the homes of each band in `counts` and noting the
+/// furthest band they reach in `reach`.
+fn classify(
+    keys: &[f32],
+    hulls: &[Packed],
+    bands: &Bands,
+    home: &mut [u32],
+    counts: &mut [u32],
+    reach: &mut [u32],
+) {
+    let none = bands.count as u32;
+    // Boxes arrive band by band, so the counts are kept for a run of boxes
+    // with the same home and written when the home changes: each box
+    // adding to the count in memory would wait for the box before it.
+    let (mut run_home, mut run, mut run_reach) = (none, 0, none);
+    for ((&key, hull), home) in keys.iter().zip(hulls).zip(home) {
+        let (h, last) = if key == NO_KEY {
+            (none, none)
+        } else {
+            let (first, last) = bands.span(hull);
+            (first as u32, last as u32)
+        };
+        *home = h;
+        if h != run_home {
+            counts[run_home as usize] += run;
+            let r = &mut reach[run_home as usize];
+            *r = (*r).max(run_reach);
+            (run_home, run, run_reach) = (h, 0, 0);
+        }
+        run += 1;
+        run_reach = run_reach.max(last);
+    }
+    counts[run_home as usize] += run;
+    let r = &mut reach[run_home as usize];
+    *r = (*r).max(run_reach);
+}
+
+/// Consecutive ranges of the bands that start at `starts` (one past the
+/// last band's start being its end), at most `groups` of them, each holding
+/// about the same number of entries.
+pub(super) fn group_bounds(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
+    let count = starts.len() - 1;
+    let (first_start, total) = (starts[0], starts[count]);
+
+    let groups = groups.clamp(1, count.max(1));
+    let mut bounds = Vec::with_capacity(groups);
+    let mut first = 0;
+    for g in 1..=groups {
+        let target = first_start + (total - first_start) * g / groups;
+        // The band boundary nearest the target.
+        let mut last = if g == groups {
+            count
+        } else {
+            let after = starts.partition_point(|&s| s < target).min(count);
+            if after > 0 && target - starts[after - 1] < starts[after] - target {
+                after - 1
+            } else {
+                after
+            }
+        };
+        last = last.max(first);
+        if last > first {
+            bounds.push(first..last);
+        }
+        first = last;
+    }
+    bounds
+}
+
+/// Splits the arrays into stretches of whole bands, one per range of
+/// `bounds`.
+fn stretches<'a>(
+    starts: &[usize],
+    mut keys: &'a mut [f32],
+    mut hulls: &'a mut [Packed],
+    mut ids: &'a mut [u32],
+    bounds: &[Range<usize>],
+) -> Vec<Stretch<'a>> {
+    let mut out = Vec::with_capacity(bounds.len());
+    let mut at = 0;
+    for bands in bounds {
+        let (offset, end) = (starts[bands.start], starts[bands.end]);
+        debug_assert_eq!(offset, at);
+        let len = end - offset;
+        let (k, rest_k) = std::mem::take(&mut keys).split_at_mut(len);
+        let (h, rest_h) = std::mem::take(&mut hulls).split_at_mut(len);
+        let (i, rest_i) = std::mem::take(&mut ids).split_at_mut(len);
+        (keys, hulls, ids) = (rest_k, rest_h, rest_i);
+        out.push(Stretch {
+            bands: bands.clone(),
+            offset,
+            keys: k,
+            hulls: h,
+            ids: i,
+        });
+        at = end;
+    }
+    out
+}
+
+/// Lays out one group's stretch (see the [module docs](self)).
+fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
+    let Stretch {
+        bands: range,
+        offset,
+        keys,
+        hulls,
+        ids,
+    } = s;
+    let count = a.bands.count;
+    let (b0, b1) = (range.start as u32, range.end as u32);
+    let Group {
+        guests,
+        guest_starts,
+        movers,
+        order,
+        spare,
+    } = group;
+    // The lowest band whose homes reach into the group's first band.
+    let from = (0..b0).find(|&b| a.reach[b as usize] >= b0).unwrap_or(b0);
+    let across = a.bands.across;
+
+    // Every box whose home is in the group: one that arrived from the
+    // same band to the front of its band, in arrival order; one that
+    // moved, aside. The boxes from below that reach into the first band:
+    // its guests.
+    let mut cursor: Vec<usize> = a.starts[range.clone()].iter().map(|s| s - offset).collect();
+    movers.clear();
+    guests.clear();
+    let (slots, old) = (a.slots, a.old_starts);
+    // The band each box arrived from; with no layout to arrive from, every
+    // box counts as arriving from its home.
+    let mut came_from = 0usize;
+    let mut next_old = old.get(1).copied().unwrap_or(usize::MAX);
+    for k in 0..a.n {
+        if k == next_old {
+            came_from += 1;
+            while old[came_from + 1] == k {
+                came_from += 1;
+            }
+            next_old = old[came_from + 1];
+        }
+        let h = a.home[k];
+        if (b0..b1).contains(&h) {
+            let (key, hull, id) = (slots.keys[k], slots.hulls[k], slots.ids[k]);
+            if old.is_empty() || h as usize == came_from || h as usize == count {
+                let at = &mut cursor[(h - b0) as usize];
+                keys[*at] = key;
+                hulls[*at] = hull;
+                ids[*at] = id;
+                *at += 1;
+            } else {
+                movers.push(key, hull, id, h);
+            }
+        } else if (from..b0).contains(&h) {
+            let end = a.bands.of(hi(&slots.hulls[k], across)) as u32 + 1;
+            if end > b0 {
+                guests.push(slots.keys[k], slots.hulls[k], slots.ids[k], end);
+            }
+        }
+    }
+    // The movers by band, then by key within it.
+    if movers.len() > 0 {
+        sort_movers(movers, order, spare);
+    }
+    if guests.len() > 0 {
+        guests.sort(0..guests.len(), order, spare);
+    }
+
+    guest_starts.clear();
+    guest_starts.push(0);
+    let mut mover_at = 0;
+    for band in range.start..range.end.min(count) {
+        let k = band - range.start;
+        let out = a.starts[band] - offset..a.starts[band + 1] - offset;
+        let stayed = out.start..cursor[k];
+        let moved = mover_at..mover_at + (out.end - stayed.end);
+        debug_assert!(movers.ends[moved.clone()]
+            .iter()
+            .all(|&b| b as usize == band));
+        let band_arrays = (
+            &mut keys[out.clone()],
+            &mut hulls[out.clone()],
+            &mut ids[out.clone()],
+        );
+        finish_band(
+            band_arrays,
+            stayed.len(),
+            movers,
+            moved.clone(),
+            order,
+            spare,
+        );
+        mover_at = moved.end;
+        // The next band's guests: this band's homes and guests that reach
+        // into it, merged in key order, after this band's guests.
+        let own = guest_starts[k] as usize..guests.len();
+        guest_starts.push(guests.len() as u32);
+        if band + 1 < range.end.min(count) {
+            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+            push_next_guests(guests, own, homes, band, a.bands, spare);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn groups_split_bands_by_entries() {
+        let starts = vec![0, 10, 11, 12, 40];
+        assert_eq!(group_bounds(&starts, 1), vec![0..4]);
+        assert_eq!(group_bounds(&starts, 2), vec![0..3, 3..4]);
+        let all: usize = group_bounds(&starts, 8).iter().map(|r| r.len()).sum();
+        assert_eq!(all, 4);
+    }
+}

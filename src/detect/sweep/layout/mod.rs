@@ -1,0 +1,530 @@
+//! The boxes laid out band by band: each box copied once, into the band
+//! holding its least value across the bands (its *home*), each band sorted;
+//! the boxes that reach up into a band from below (its *guests*) listed
+//! beside it, sorted too.
+//!
+//! A pair of overlapping boxes is reported in the band holding the larger
+//! of their two least values: there both are homes, or one is a home and
+//! the other a guest. Two guests of a band are never a pair it reports, so
+//! a band is swept as its homes among themselves and its homes against its
+//! guests ([`super::scan`]), and no pair needs a test of which band reports
+//! it.
+//!
+//! The homes, band by band, are the order next step's hulls are made in,
+//! so a step lays out boxes that arrive nearly in place, in one of two
+//! ways:
+//! - [`anew`]: every box's home band found, then each box copied to its
+//!   home band in arrival order, a group of bands per thread (above
+//!   rayon's grain, and whenever the bands change);
+//! - [`kept`]: last step's layout updated in place, only the boxes that
+//!   changed band moved (below rayon's grain, on one thread).
+//!
+//! Either way a box that stayed in its band arrives nearly sorted and is
+//! finished by an insertion sort in place; the few that moved in are
+//! sorted apart and inserted; and each band's guests are the entries of
+//! the band below that reach up into it, taken in sorted order as that band
+//! is done. This file holds what both share.
+
+mod anew;
+mod kept;
+
+use super::bands::Bands;
+use super::hull::{hi, Packed};
+use super::order::insert;
+use std::ops::Range;
+
+/// Moves an insertion sort of one band may make per entry before the band
+/// is sorted by radix instead.
+const MOVES_PER_ENTRY: usize = 8;
+
+/// The boxes band by band (see the [module docs](self)).
+#[derive(Debug, Default)]
+pub(crate) struct Layout {
+    /// Where each band's homes start among the laid-out boxes, then where
+    /// the boxes without a key start, then their end: `count + 2` values.
+    pub starts: Vec<usize>,
+    /// The same for last step's layout, which the boxes arrive in (empty
+    /// when they arrive in another order).
+    old_starts: Vec<usize>,
+    /// Per band, the group holding its guests and their range there.
+    guest_at: Vec<(u32, Range<u32>)>,
+    /// Per group, its bands' guests one band after another, and its
+    /// working buffers; kept from step to step.
+    groups: Vec<Group>,
+    /// Per box (in arrival order), its home band; `count` for a box
+    /// without a key.
+    home: Vec<u32>,
+    /// Per band (and the boxes without a key), its homes, then the
+    /// furthest band they reach.
+    counts: Vec<u32>,
+    reach: Vec<u32>,
+    /// The bands the boxes are laid out in, while the arriving boxes are
+    /// in that layout's order (so that [`Layout::keep`] can update it).
+    kept: Option<Bands>,
+    /// Per band (and the boxes without a key), the boxes that stayed in it
+    /// this step.
+    stayed: Vec<usize>,
+    /// The least value of each band (`-inf` for the first), then `+inf`,
+    /// for the bands in `kept`.
+    edges: Vec<f32>,
+    /// Where boxes left their band this step, in order.
+    gaps: Vec<usize>,
+    /// The laid-out keys, hulls and ids, exchanged with the arriving
+    /// boxes' arrays once laid out.
+    keys: Vec<f32>,
+    hulls: Vec<Packed>,
+    ids: Vec<u32>,
+}
+
+/// Entries as parallel arrays, with the band after the last they reach.
+#[derive(Debug, Default)]
+struct Run {
+    keys: Vec<f32>,
+    hulls: Vec<Packed>,
+    ids: Vec<u32>,
+    ends: Vec<u32>,
+}
+
+impl Run {
+    fn clear(&mut self) {
+        self.keys.clear();
+        self.hulls.clear();
+        self.ids.clear();
+        self.ends.clear();
+    }
+
+    fn len(&self) -> usize {
+        self.keys.len()
+    }
+
+    #[inline]
+    fn push(&mut self, key: f32, hull: Packed, id: u32, end: u32) {
+        self.keys.push(key);
+        self.hulls.push(hull);
+        self.ids.push(id);
+        self.ends.push(end);
+    }
+
+    /// Appends the entries `range` of `other`.
+    fn extend_from(&mut self, other: &Run, range: Range<usize>) {
+        self.keys.extend_from_slice(&other.keys[range.clone()]);
+        self.hulls.extend_from_slice(&other.hulls[range.clone()]);
+        self.ids.extend_from_slice(&other.ids[range.clone()]);
+        self.ends.extend_from_slice(&other.ends[range]);
+    }
+
+    /// Sorts the entries `range` by key (through `order` and `spare`).
+    fn sort(&mut self, range: Range<usize>, order: &mut Vec<(f32, u32)>, spare: &mut Run) {
+        order.clear();
+        order.extend(
+            self.keys[range.clone()]
+                .iter()
+                .zip(range.start as u32..)
+                .map(|(&key, at)| (key, at)),
+        );
+        radsort::sort_by_key(order, |k| k.0);
+        spare.clear();
+        for &(key, at) in order.iter() {
+            let at = at as usize;
+            spare.push(key, self.hulls[at], self.ids[at], self.ends[at]);
+        }
+        let r = range.clone();
+        self.keys[r.clone()].copy_from_slice(&spare.keys);
+        self.hulls[r.clone()].copy_from_slice(&spare.hulls);
+        self.ids[r.clone()].copy_from_slice(&spare.ids);
+        self.ends[r].copy_from_slice(&spare.ends);
+    }
+}
+
+/// One group's guests and working buffers.
+#[derive(Debug, Default)]
+struct Group {
+    /// The guests of the group's bands, one band after another.
+    guests: Run,
+    /// Where each of the group's bands' guests start in `guests`, and
+    /// their end.
+    guest_starts: Vec<u32>,
+    /// The boxes that moved into the group's bands from other bands, with
+    /// their home band in place of an end.
+    movers: Run,
+    /// Keys and positions, to sort.
+    order: Vec<(f32, u32)>,
+    /// Spare entries for sorting.
+    spare: Run,
+}
+
+impl Layout {
+    /// Consecutive ranges of bands, at most `groups` of them, each holding
+    /// about the same number of homes.
+    pub(crate) fn group_bounds(&self, groups: usize) -> Vec<Range<usize>> {
+        anew::group_bounds(&self.starts[..self.starts.len() - 1], groups)
+    }
+
+    /// Where the homes of band `band` lie among the laid-out boxes.
+    pub(crate) fn homes(&self, band: usize) -> Range<usize> {
+        self.starts[band]..self.starts[band + 1]
+    }
+
+    /// The guests of band `band`: keys, hulls and ids, sorted by key.
+    pub(crate) fn guests(&self, band: usize) -> (&[f32], &[Packed], &[u32]) {
+        let (g, range) = &self.guest_at[band];
+        let run = &self.groups[*g as usize].guests;
+        let r = range.start as usize..range.end as usize;
+        (&run.keys[r.clone()], &run.hulls[r.clone()], &run.ids[r])
+    }
+
+    /// Forgets last step's layout: the boxes will arrive in another order.
+    pub(crate) fn forget(&mut self) {
+        self.starts.clear();
+        self.kept = None;
+        self.edges.clear();
+    }
+
+    /// Guests in all bands.
+    pub(crate) fn guest_count(&self) -> usize {
+        self.guest_at.iter().map(|(_, r)| r.len()).sum()
+    }
+}
+
+/// Sets `starts` to where each band's homes start, from the homes counted
+/// in each (`n` in all), and their end.
+fn set_starts(counts: &[u32], starts: &mut Vec<usize>, n: usize) {
+    starts.clear();
+    let mut total = 0;
+    for &c in counts {
+        starts.push(total);
+        total += c as usize;
+    }
+    starts.push(total);
+    debug_assert_eq!(total, n);
+}
+
+/// Appends to `guests` the guests of the band after `band`: the homes of
+/// `band` (sorted) and its guests `own` (a range of `guests`, sorted) that
+/// reach beyond it, merged in key order (through `spare`).
+fn push_next_guests(
+    guests: &mut Run,
+    own: Range<usize>,
+    (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
+    band: usize,
+    bands: &Bands,
+    spare: &mut Run,
+) {
+    let beyond = band as u32 + 1;
+    spare.clear();
+    // The next home that reaches beyond the band, and the band after the
+    // last it reaches: one comparison with the next band's edge a home,
+    // the band worked out only for those that reach.
+    let edge = bands.edge(band + 1);
+    let next_home = |i: &mut usize| {
+        while *i < keys.len() {
+            let top = hi(&hulls[*i], bands.across);
+            if top >= edge {
+                return Some(bands.of(top) as u32 + 1);
+            }
+            *i += 1;
+        }
+        None
+    };
+    let (mut i, mut j) = (0, own.start);
+    let mut end_i = next_home(&mut i);
+    loop {
+        while j < own.end && guests.ends[j] <= beyond {
+            j += 1;
+        }
+        let home_first = match (end_i, j < own.end) {
+            (None, false) => break,
+            (Some(_), false) => true,
+            (None, true) => false,
+            (Some(_), true) => keys[i] <= guests.keys[j],
+        };
+        if home_first {
+            let end = end_i.expect("a home that reaches on");
+            spare.push(keys[i], hulls[i], ids[i], end);
+            i += 1;
+            end_i = next_home(&mut i);
+        } else {
+            spare.push(
+                guests.keys[j],
+                guests.hulls[j],
+                guests.ids[j],
+                guests.ends[j],
+            );
+            j += 1;
+        }
+    }
+    let len = spare.len();
+    guests.extend_from(spare, 0..len);
+}
+
+/// Sorts movers by band, then by key (through `order` and `spare`).
+fn sort_movers(movers: &mut Run, order: &mut Vec<(f32, u32)>, spare: &mut Run) {
+    order.clear();
+    order.extend(movers.keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
+    let bands = &movers.ends;
+    order.sort_unstable_by(|x, y| {
+        (bands[x.1 as usize].cmp(&bands[y.1 as usize])).then(x.0.total_cmp(&y.0))
+    });
+    spare.clear();
+    for &(key, at) in order.iter() {
+        let at = at as usize;
+        spare.push(key, movers.hulls[at], movers.ids[at], movers.ends[at]);
+    }
+    std::mem::swap(movers, spare);
+}
+
+/// Sorts boxes by key in place: by insertion while that stays short (they
+/// arrive nearly sorted), else by radix through `order` and `spare`.
+fn sort_in_place(
+    keys: &mut [f32],
+    hulls: &mut [Packed],
+    ids: &mut [u32],
+    order: &mut Vec<(f32, u32)>,
+    spare: &mut Run,
+) {
+    let budget = MOVES_PER_ENTRY * keys.len() + 16;
+    if insert((&mut *keys, &mut *hulls, &mut *ids), 1, budget, false).is_some() {
+        return;
+    }
+    // Too far from sorted: radix sort, then gather.
+    order.clear();
+    order.extend(keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
+    radsort::sort_by_key(order, |k| k.0);
+    spare.clear();
+    for &(key, at) in order.iter() {
+        let at = at as usize;
+        spare.push(key, hulls[at], ids[at], 0);
+    }
+    keys.copy_from_slice(&spare.keys);
+    hulls.copy_from_slice(&spare.hulls);
+    ids.copy_from_slice(&spare.ids);
+}
+
+/// Finishes a band whose first `stayed` entries are the boxes that stayed
+/// in it (nearly sorted) and whose rest is free: sorts them in place and
+/// inserts its newcomers, `moved` of the sorted `movers`.
+fn finish_band(
+    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
+    stayed: usize,
+    movers: &Run,
+    moved: Range<usize>,
+    order: &mut Vec<(f32, u32)>,
+    spare: &mut Run,
+) {
+    sort_in_place(
+        &mut keys[..stayed],
+        &mut hulls[..stayed],
+        &mut ids[..stayed],
+        order,
+        spare,
+    );
+    insert_runs((keys, hulls, ids), stayed, movers, moved);
+}
+
+/// Inserts the sorted movers `moved` into a band whose first `stayed`
+/// entries are sorted and whose rest is free: from the largest down, each
+/// found by binary search and the entries above it moved up in one copy,
+/// so that each entry moves at most once and a few newcomers cost a few
+/// copies of contiguous memory.
+fn insert_runs(
+    band: (&mut [f32], &mut [Packed], &mut [u32]),
+    stayed: usize,
+    movers: &Run,
+    moved: Range<usize>,
+) {
+    let (keys, hulls, ids) = band;
+    debug_assert_eq!(keys.len(), stayed + moved.len());
+    let mut end = stayed;
+    for (up, m) in (1..=moved.len()).rev().zip(moved.rev()) {
+        let key = movers.keys[m];
+        let at = keys[..end].partition_point(|&k| k <= key);
+        keys.copy_within(at..end, at + up);
+        hulls.copy_within(at..end, at + up);
+        ids.copy_within(at..end, at + up);
+        keys[at + up - 1] = key;
+        hulls[at + up - 1] = movers.hulls[m];
+        ids[at + up - 1] = movers.ids[m];
+        end = at;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::detect::sweep::order::{Boxes, NO_KEY};
+    use crate::team::Team;
+
+    fn hull(key: f32, lo_y: f32, hi_y: f32) -> Packed {
+        let n = f32::NEG_INFINITY;
+        [key, lo_y, n, n, -(key + 1.0), -hi_y, n, n]
+    }
+
+    /// Boxes keyed `keys` with spans across y from `ys`, ids from 10.
+    fn slots(keys: &[f32], ys: &[(f32, f32)]) -> Boxes {
+        let mut b = Boxes::default();
+        b.reset(keys.len());
+        for (k, (&key, &(lo, hi))) in keys.iter().zip(ys).enumerate() {
+            b.keys[k] = key;
+            b.hulls[k] = hull(key, lo, hi);
+            b.ids[k] = 10 + k as u32;
+        }
+        b
+    }
+
+    /// Lays out `b` in `groups` groups: on rayon's pool, or with `team`.
+    fn lay_out(
+        b: &mut Boxes,
+        bands: &Bands,
+        groups: usize,
+        layout: &mut Layout,
+        team: Option<&Team>,
+    ) -> usize {
+        let n = b.len();
+        layout.classify(b, n, bands, groups > 1 && team.is_none(), team);
+        layout.lay_out(b, n, bands, groups, team)
+    }
+
+    /// Updates the layout of `b` in place if it can, else lays it out as
+    /// [`lay_out`] does; says which.
+    fn keep_or_lay_out(
+        b: &mut Boxes,
+        bands: &Bands,
+        groups: usize,
+        layout: &mut Layout,
+        team: Option<&Team>,
+    ) -> (usize, bool) {
+        match layout.keep(b, b.len(), bands) {
+            Some(boxed) => (boxed, true),
+            None => (lay_out(b, bands, groups, layout, team), false),
+        }
+    }
+
+    #[test]
+    fn boxes_go_home_sorted_with_their_guests_beside() {
+        let bands = Bands::spanning(1, 2, 0.0, 1.0);
+        // Ids 10..14; 11 spans both bands; 13 takes no part.
+        let keys = [0.5, 0.0, 0.7, NO_KEY, 0.1];
+        let ys = [(0.1, 0.2), (0.1, 0.9), (0.6, 0.7), (0.0, 0.0), (0.8, 0.9)];
+        for groups in [1, 2, 3] {
+            let mut b = slots(&keys, &ys);
+            let mut layout = Layout::default();
+            assert_eq!(lay_out(&mut b, &bands, groups, &mut layout, None), 4);
+            assert_eq!(layout.starts, vec![0, 2, 4, 5]);
+            assert_eq!(b.ids, vec![11, 10, 14, 12, 13, u32::MAX]);
+            assert_eq!(b.keys[..4], [0.0, 0.5, 0.1, 0.7]);
+            assert_eq!(layout.guests(0).2, &[] as &[u32]);
+            assert_eq!(layout.guests(1).2, &[11]);
+            assert_eq!(layout.guest_count(), 1);
+        }
+    }
+
+    /// Every layout, however the boxes arrive, holds each box with a key
+    /// once at home, sorted, and as a guest in exactly the bands above its
+    /// home that it reaches, sorted.
+    #[test]
+    fn layouts_hold_every_box_at_home_and_as_guest_where_it_reaches() {
+        let n = 3000usize;
+        let mut state = 12345u64;
+        let mut rand = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((state >> 33) as f32) / (1u64 << 31) as f32
+        };
+        let mut keys: Vec<f32> = (0..n).map(|_| rand()).collect();
+        let mut ys: Vec<(f32, f32)> = (0..n)
+            .map(|_| {
+                let y = rand();
+                (y, y + rand() * rand() * 0.3)
+            })
+            .collect();
+        keys[7] = NO_KEY;
+        keys[100] = NO_KEY;
+        let mut layout = Layout::default();
+        let mut b = slots(&keys, &ys);
+        let teams = [Team::new(2).unwrap(), Team::new(3).unwrap()];
+        let mut kept = 0;
+        for step in 0..12 {
+            let count = [7, 7, 7, 13, 1000, 7, 7, 7, 7, 7, 3, 3][step];
+            let bands = Bands::spanning(1, count, 0.0, 1.0);
+            let groups = [1, 2, 3, 2, 8, 1, 2, 3, 1, 1, 2, 1][step];
+            // Steps 6 and 7 with a team of as many members as groups.
+            let team = (6..8).contains(&step).then(|| &teams[groups - 2]);
+            // Boxes move a little (and a few far) between steps, arriving
+            // in last step's layout order.
+            if step > 0 {
+                for k in 0..n {
+                    let id = b.ids[k] as usize - 10;
+                    if keys[id] != NO_KEY {
+                        let shift = if k % 97 == 0 { 0.5 } else { 0.01 };
+                        keys[id] = (keys[id] + (rand() - 0.5) * shift).abs();
+                        let (lo, hi) = ys[id];
+                        let dy = (rand() - 0.5) * shift;
+                        ys[id] = ((lo + dy).abs(), (hi + dy).abs().max((lo + dy).abs()));
+                    }
+                    // Line 50 loses its hull at step 9 and has it back at
+                    // step 11: it goes to the boxes without a key and back.
+                    if id == 50 && step >= 9 {
+                        keys[id] = if step < 11 { NO_KEY } else { 0.25 };
+                    }
+                    b.keys[k] = keys[id];
+                    b.hulls[k] = hull(keys[id], ys[id].0, ys[id].1);
+                }
+            }
+            // From step 8 on, the layout is kept where the bands are the
+            // same as the step before's.
+            let no_key = if (9..11).contains(&step) { 3 } else { 2 };
+            let boxed = if step >= 8 {
+                let (boxed, was_kept) = keep_or_lay_out(&mut b, &bands, groups, &mut layout, team);
+                kept += usize::from(was_kept);
+                boxed
+            } else {
+                lay_out(&mut b, &bands, groups, &mut layout, team)
+            };
+            assert_eq!(boxed, n - no_key);
+            let mut seen: Vec<u32> = b.ids[..n].to_vec();
+            seen.sort_unstable();
+            assert_eq!(seen, (10..10 + n as u32).collect::<Vec<_>>());
+            assert_eq!(b.ids[n], u32::MAX);
+            for band in 0..count {
+                let homes = layout.homes(band);
+                assert!(b.keys[homes.clone()].windows(2).all(|w| w[0] <= w[1]));
+                for at in homes {
+                    let id = b.ids[at] as usize - 10;
+                    assert_eq!(b.keys[at], keys[id]);
+                    assert_eq!(bands.of(ys[id].0), band);
+                }
+                let (gk, _, gi) = layout.guests(band);
+                assert!(gk.windows(2).all(|w| w[0] <= w[1]));
+                let mut want: Vec<u32> = (0..n)
+                    .filter(|&id| {
+                        keys[id] != NO_KEY
+                            && bands.of(ys[id].0) < band
+                            && bands.of(ys[id].1) >= band
+                    })
+                    .map(|id| id as u32 + 10)
+                    .collect();
+                let mut got = gi.to_vec();
+                want.sort_unstable();
+                got.sort_unstable();
+                assert_eq!(got, want, "step {step}, band {band}");
+            }
+        }
+        // Steps 8, 9 and 11.
+        assert_eq!(kept, 3);
+    }
+
+    #[test]
+    fn far_out_of_order_bands_fall_back_to_radix() {
+        let mut keys: Vec<f32> = (0..500u32).map(|i| ((i * 7919) % 500) as f32).collect();
+        let mut hulls: Vec<Packed> = keys.iter().map(|&k| [k; 8]).collect();
+        let mut ids: Vec<u32> = (0..500).collect();
+        let (mut order, mut spare) = (Vec::new(), Run::default());
+        sort_in_place(&mut keys, &mut hulls, &mut ids, &mut order, &mut spare);
+        assert!(keys.windows(2).all(|w| w[0] <= w[1]));
+        for k in 0..500 {
+            assert_eq!(hulls[k][0], keys[k]);
+            assert_eq!(keys[k], ((ids[k] * 7919) % 500) as f32);
+        }
+    }
+}
