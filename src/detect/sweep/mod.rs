@@ -252,12 +252,17 @@ impl Sweep {
         }
     }
 
-    /// The plan's cost of laying boxes out in bands: below rayon's grain
-    /// the layout is kept from step to step, above it laid out anew.
+    /// Whether a layout in bands is kept from step to step (below rayon's
+    /// grain, on one thread) rather than made anew every step.
+    fn keeps_layout(&self) -> bool {
+        !self.parallel(self.sorted.len())
+    }
+
+    /// The plan's cost of laying boxes out in bands, kept or made anew.
     fn layout_cost(&self) -> plan::LayoutCost {
-        match self.parallel(self.sorted.len()) {
-            true => plan::LAYOUT_ANEW,
-            false => plan::LAYOUT_KEPT,
+        match self.keeps_layout() {
+            true => plan::LAYOUT_KEPT,
+            false => plan::LAYOUT_ANEW,
         }
     }
 
@@ -288,9 +293,9 @@ impl Sweep {
     /// step across would cost a whole re-sort there and another back. The
     /// plan decides between one band and several.
     fn start_trial(&mut self) {
-        let every = match self.parallel(self.sorted.len()) {
-            true => TRIAL_EVERY,
-            false => TRIAL_EVERY_KEPT,
+        let every = match self.keeps_layout() {
+            true => TRIAL_EVERY_KEPT,
+            false => TRIAL_EVERY,
         };
         let t = &mut self.tuner;
         t.since_trial += 1;
@@ -417,12 +422,12 @@ impl Detector for Sweep {
         let n = lines.len();
         let (boxed, entries) = if bands.count > 1 {
             let parallel = self.parallel(n);
-            // Below rayon's grain, last step's layout is updated in place
-            // when it has the same bands; otherwise laid out anew.
+            // Last step's layout updated in place when it is kept and has
+            // the same bands; otherwise laid out anew.
             self.lap(Phase::Sort);
-            let kept = match parallel {
-                true => None,
-                false => self.layout.keep(&mut self.sorted, n, &bands),
+            let kept = match self.keeps_layout() {
+                true => self.layout.keep(&mut self.sorted, n, &bands),
+                false => None,
             };
             let boxed = match kept {
                 Some(boxed) => boxed,

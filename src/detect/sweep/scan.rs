@@ -58,8 +58,8 @@ pub(crate) fn sweep_bands(
     candidates
 }
 
-/// Sweeps a band's homes `a` against its guests `b`, each sorted by key,
-/// along direction `along`: each home meets the guests whose key lies
+/// Sweeps a band's homes against its guests (keys and hulls, each sorted
+/// by key) along direction `along`: each home meets the guests whose key lies
 /// within its extent from its own key on, and each guest the homes whose
 /// key lies within its extent beyond its own key (so a pair with equal
 /// keys is met once). Appends to `found` every pair `(i, j)`, `i` a home
