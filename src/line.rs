@@ -75,6 +75,25 @@ impl Line {
     }
 }
 
+/// Scenes of this many lines (3 MB of them) or more are larger than a
+/// core's cache: the steps that read lines in no order of memory's (by the
+/// ids of pairs and events) ask for them a few items ahead
+/// ([`read_ahead`]), and the hulls gather theirs a block at a time.
+pub(crate) const LARGE_SCENE: usize = 1 << 16;
+
+/// Items (pairs, events) between a line's [`read_ahead`] and its use.
+pub(crate) const READ_AHEAD: usize = 8;
+
+/// Reads `line`'s first and last fields (which may lie in two cache lines)
+/// and drops them, so that it is on its way from memory while the items
+/// before it are worked on: the loads stay in the program
+/// ([`std::hint::black_box`]) and the processor carries on past them
+/// while they wait.
+#[inline(always)]
+pub(crate) fn read_ahead(line: &Line) {
+    std::hint::black_box(line.p1.x + line.v.y);
+}
+
 /// Converts a window-coordinate point to box coordinates, in the contract's
 /// order of operations.
 #[inline]

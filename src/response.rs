@@ -1,7 +1,7 @@
 //! Collision response: new velocities for the two lines of one event.
 
 use crate::geometry::{crossing_point, Vec2};
-use crate::line::Line;
+use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::{Event, IntersectionKind};
 
 /// Applies the response to one event. Only velocities change; positions are
@@ -12,6 +12,20 @@ pub fn resolve(lines: &mut [Line], event: &Event) {
     let (v1, v2) = respond(&lines[i], &lines[j], event.kind);
     lines[i].v = v1;
     lines[j].v = v2;
+}
+
+/// Resolves `events` one after another. In scenes larger than the cache,
+/// the lines of the event [`READ_AHEAD`] places on are read ahead, as the
+/// events' lines lie anywhere in memory.
+fn resolve_each(lines: &mut [Line], events: &[Event]) {
+    let ahead = lines.len() >= LARGE_SCENE;
+    for (k, event) in events.iter().enumerate() {
+        if let Some(next) = events.get(k + READ_AHEAD).filter(|_| ahead) {
+            read_ahead(&lines[next.first as usize]);
+            read_ahead(&lines[next.second as usize]);
+        }
+        resolve(lines, event);
+    }
 }
 
 /// Events per task in a parallel wave.
@@ -48,18 +62,14 @@ impl Resolver {
     /// those of at least a quarter of it on the current rayon pool.
     pub fn resolve_all(&mut self, lines: &mut [Line], events: &[Event], grain: Option<usize>) {
         let Some(grain) = grain.filter(|&g| events.len() >= g.max(1)) else {
-            for event in events {
-                resolve(lines, event);
-            }
+            resolve_each(lines, events);
             return;
         };
         self.group_by_wave(lines.len(), events);
         for w in 1..self.starts.len() - 1 {
             let wave = &self.grouped[self.starts[w]..self.starts[w + 1]];
             if wave.len() < (grain / 4).max(1) {
-                for event in wave {
-                    resolve(lines, event);
-                }
+                resolve_each(lines, wave);
                 continue;
             }
             use rayon::prelude::*;
@@ -237,6 +247,59 @@ mod tests {
         assert_eq!(lines[0].v, Vec2::new(0.0, -2.0));
         assert_eq!(lines[2].v, Vec2::new(0.0, 0.0));
         assert_eq!(lines[1].v, Vec2::new(0.0, 0.0));
+    }
+
+    /// In a scene larger than the cache the events' lines are read ahead;
+    /// the lines end exactly as resolving the events one by one leaves
+    /// them, chained events included.
+    #[test]
+    fn events_read_ahead_resolve_like_the_plain_loop() {
+        let n = LARGE_SCENE as u32 + 5;
+        let lines: Vec<Line> = (0..n)
+            .map(|k| {
+                let x = f64::from(k % 1000) / 1000.0;
+                let y = f64::from(k / 1000) / 100.0;
+                line((x, y), (x + 0.01, y + 0.002), (0.1 - x / 5.0, y / 7.0))
+            })
+            .collect();
+        let kinds = [
+            IntersectionKind::L1WithL2,
+            IntersectionKind::L2WithL1,
+            IntersectionKind::AlreadyIntersected,
+        ];
+        // Pairs far apart in memory, lines shared between events, up to
+        // the last line.
+        let mut events: Vec<Event> = (0..3000u32)
+            .map(|k| {
+                let (a, b) = ((k * 7919) % n, (k * 104_729 + 13) % n);
+                Event {
+                    first: a.min(b),
+                    second: a.max(b),
+                    kind: kinds[k as usize % 3],
+                }
+            })
+            .filter(|e| e.first != e.second)
+            .chain([Event {
+                first: 0,
+                second: n - 1,
+                kind: IntersectionKind::L1WithL2,
+            }])
+            .collect();
+        events.sort_unstable_by_key(Event::order_key);
+        events.dedup_by_key(|e| e.order_key());
+        let mut expected = lines.clone();
+        for e in &events {
+            resolve(&mut expected, e);
+        }
+        let mut got = lines;
+        Resolver::default().resolve_all(&mut got, &events, None);
+        let bits = |ls: &[Line]| -> Vec<u64> {
+            ls.iter()
+                .flat_map(|l| [l.v.x.to_bits(), l.v.y.to_bits()])
+                .collect()
+        };
+        assert!(bits(&got) == bits(&expected));
+        assert_ne!(got[0].v, Vec2::new(0.1, 0.0), "the first line was resolved");
     }
 
     proptest::proptest! {

@@ -58,6 +58,19 @@ fn the_sweep_gives_the_same_bits_on_any_thread_count() {
     }
 }
 
+/// A scene larger than the cache (where the sweep gathers its lines and
+/// reads the lines of pairs and events ahead) ends as the quadtree leaves
+/// it, bit for bit.
+#[test]
+fn the_sweep_gives_the_quadtrees_bits_beyond_the_cache() {
+    let scene = (SceneKind::Uniform, 100_000, 3);
+    let (sweep, sweep_counts) = run(DetectorKind::Sweep, scene, 1, 4);
+    let (tree, tree_counts) = run(DetectorKind::Quadtree, scene, 1, 4);
+    assert!(sweep_counts.1 > 1000, "{sweep_counts:?}");
+    assert_eq!(sweep_counts, tree_counts);
+    assert!(same_bits(&sweep, &tree));
+}
+
 /// Scenes of thousands of lines share their phases among the world's team
 /// of threads (rayon's pool is kept for larger ones): the same bits on
 /// any number of threads, over enough steps for events and wall bounces.

@@ -6,7 +6,47 @@ use super::hull::{hi, overlaps, reach, Packed};
 use super::layout::Layout;
 use super::order::Boxes;
 use super::plan::Plan;
+use crate::line::READ_AHEAD;
 use multiversion::multiversion;
+
+/// What a sweep hands each pair of ids whose hulls overlap to.
+pub(crate) trait Found {
+    /// Whether [`Found::ahead`] is to be called.
+    fn reads_ahead(&self) -> bool {
+        false
+    }
+
+    /// Called with a pair a few pairs before [`Found::found`] is, so that
+    /// what that will read can be on its way from memory.
+    fn ahead(&self, _a: u32, _b: u32) {}
+
+    /// Takes the pair `a`, `b`.
+    fn found(&mut self, a: u32, b: u32);
+}
+
+impl<F: FnMut(u32, u32)> Found for F {
+    fn found(&mut self, a: u32, b: u32) {
+        self(a, b)
+    }
+}
+
+/// Hands the noted `pairs` of positions on to `to` as ids, the first of
+/// each pair's id from `first`, the second's from `second`.
+#[inline(always)]
+fn hand_on(pairs: &[(u32, u32)], first: &[u32], second: &[u32], to: &mut impl Found) {
+    if !to.reads_ahead() {
+        for &(i, j) in pairs {
+            to.found(first[i as usize], second[j as usize]);
+        }
+        return;
+    }
+    for (k, &(i, j)) in pairs.iter().enumerate() {
+        if let Some(&(i, j)) = pairs.get(k + READ_AHEAD) {
+            to.ahead(first[i as usize], second[j as usize]);
+        }
+        to.found(first[i as usize], second[j as usize]);
+    }
+}
 
 /// Sweeps the bands `bands` of a plan: with one band, the first `boxed`
 /// of `sorted`; with several, each band's homes in `sorted` among
@@ -19,7 +59,7 @@ pub(crate) fn sweep_bands(
     layout: &Layout,
     plan: &Plan,
     bands: std::ops::Range<usize>,
-    mut found: impl FnMut(u32, u32),
+    mut found: impl Found,
 ) -> u64 {
     // The sweep only notes the pairs (its loops stay small, with nothing
     // else live in registers); they are handed on afterwards.
@@ -37,9 +77,7 @@ pub(crate) fn sweep_bands(
         );
         pairs.clear();
         candidates += sweep(keys, hulls, homes.clone(), plan.along, &mut pairs);
-        for &(i, j) in &pairs {
-            found(sorted.ids[i as usize], sorted.ids[j as usize]);
-        }
+        hand_on(&pairs, &sorted.ids, &sorted.ids, &mut found);
         let (guest_keys, guest_hulls, guest_ids) = layout.guests(band);
         if guest_keys.is_empty() {
             continue;
@@ -51,9 +89,7 @@ pub(crate) fn sweep_bands(
             plan.along,
             &mut pairs,
         );
-        for &(i, j) in &pairs {
-            found(ids[i as usize], guest_ids[j as usize]);
-        }
+        hand_on(&pairs, ids, guest_ids, &mut found);
     }
     candidates
 }
@@ -121,13 +157,11 @@ pub(crate) fn sweep_sorted(
     range: std::ops::Range<usize>,
     along: usize,
     pairs: &mut Vec<(u32, u32)>,
-    mut found: impl FnMut(u32, u32),
+    mut found: impl Found,
 ) -> u64 {
     pairs.clear();
     let candidates = sweep(&sorted.keys, &sorted.hulls, range, along, pairs);
-    for &(i, j) in pairs.iter() {
-        found(sorted.ids[i as usize], sorted.ids[j as usize]);
-    }
+    hand_on(pairs, &sorted.ids, &sorted.ids, &mut found);
     candidates
 }
 
