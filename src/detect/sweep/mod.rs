@@ -71,12 +71,10 @@ const TEAM_MIN_BOXES: usize = 2048;
 /// Boxes a team member sweeps at a time (with one band).
 const TEAM_SWEEP_CHUNK: usize = 256;
 
-/// Steps between two trials of another band count.
-const TRIAL_EVERY: u64 = 16;
-
-/// The same below rayon's grain, where the layout is otherwise kept from
-/// step to step and a trial (and its end) lays every box out anew.
-const TRIAL_EVERY_KEPT: u64 = 128;
+/// Steps between two trials of another band count: a trial (and its end)
+/// lays every box out anew, where the layout is otherwise kept from step
+/// to step.
+const TRIAL_EVERY: u64 = 128;
 
 /// A trial's band count is kept when its work is below this share of the
 /// work with the current count.
@@ -258,26 +256,12 @@ impl Sweep {
         }
     }
 
-    /// Whether a layout in bands is kept from step to step (below rayon's
-    /// grain, on one thread) rather than made anew every step.
-    fn keeps_layout(&self) -> bool {
-        !self.parallel(self.sorted.len())
-    }
-
-    /// The plan's cost of laying boxes out in bands, kept or made anew.
-    fn layout_cost(&self) -> plan::LayoutCost {
-        match self.keeps_layout() {
-            true => plan::LAYOUT_KEPT,
-            false => plan::LAYOUT_ANEW,
-        }
-    }
-
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
     /// them if the direction changed.
     fn make_plan(&mut self) {
         let n = self.sorted.len();
         let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
-        let plan = plan::choose(self.layout_cost(), &sample, boxed, hull::DIRECTIONS);
+        let plan = plan::choose(plan::LAYOUT, &sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
             for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
@@ -299,13 +283,9 @@ impl Sweep {
     /// step across would cost a whole re-sort there and another back. The
     /// plan decides between one band and several.
     fn start_trial(&mut self) {
-        let every = match self.keeps_layout() {
-            true => TRIAL_EVERY_KEPT,
-            false => TRIAL_EVERY,
-        };
         let t = &mut self.tuner;
         t.since_trial += 1;
-        if t.since_trial < every || t.work == 0.0 || self.plan.bands.count == 1 {
+        if t.since_trial < TRIAL_EVERY || t.work == 0.0 || self.plan.bands.count == 1 {
             return;
         }
         t.since_trial = 0;
@@ -330,7 +310,7 @@ impl Sweep {
     fn end_step(&mut self, entries: usize, candidates: u64) {
         let banded = self.plan.bands.count > 1;
         let work = plan::work(
-            self.layout_cost().per_box,
+            plan::LAYOUT.per_box,
             entries as f64,
             candidates as f64,
             banded,
@@ -465,27 +445,26 @@ impl Detector for Sweep {
         let n = lines.len();
         let (boxed, entries) = if bands.count > 1 {
             let parallel = self.parallel(n);
-            // Last step's layout updated in place when it is kept and has
-            // the same bands; otherwise laid out anew.
-            self.lap(Phase::Sort);
-            let kept = match self.keeps_layout() {
-                true => self.layout.keep(&mut self.sorted, n, &bands),
-                false => None,
+            // A handle of its own, as the boxes are about to be borrowed
+            // mutably.
+            let team = self.team_for(n).and(self.team.clone());
+            let groups = match (parallel, team.as_deref()) {
+                (true, _) => self.threads,
+                (false, Some(team)) => team.threads(),
+                (false, None) => 1,
             };
+            // Last step's layout updated when it has the same bands;
+            // otherwise laid out anew.
+            self.lap(Phase::Sort);
+            let kept = self
+                .layout
+                .keep(&mut self.sorted, n, &bands, groups, team.as_deref());
             let boxed = match kept {
                 Some(boxed) => boxed,
                 None => {
-                    // A handle of its own, as the boxes are about to be
-                    // borrowed mutably.
-                    let team = self.team_for(n).and(self.team.clone());
                     self.layout
                         .classify(&self.sorted, n, &bands, parallel, team.as_deref());
                     self.lap(Phase::Sort);
-                    let groups = match (parallel, team.as_deref()) {
-                        (true, _) => self.threads,
-                        (false, Some(team)) => team.threads(),
-                        (false, None) => 1,
-                    };
                     self.layout
                         .lay_out(&mut self.sorted, n, &bands, groups, team.as_deref())
                 }

@@ -44,22 +44,15 @@ pub(crate) struct LayoutCost {
     pub per_guest: f64,
 }
 
-/// A layout made anew every step (above rayon's grain): its home band, its
-/// copy, its share of the band's sort and of its guests, about 230
-/// instructions a box (callgrind, 10^5 generated lines).
-pub(crate) const LAYOUT_ANEW: LayoutCost = LayoutCost {
-    per_box: 16.0,
-    per_guest: 0.0,
-};
-
-/// A layout kept from the step before and updated in place (below rayon's
-/// grain): about 65 instructions a box on `koch` in 22 bands, and a guest,
-/// copied from band to band and met by binary search, several times a
-/// home. Set where the model's choices matched the measured ones: `koch`
-/// is cut into bands (15% faster than one band), and `mit` (whose long
-/// lines make a third of its boxes guests: 6% slower in bands),
-/// `sin_wave` and `smalllines` are not.
-pub(crate) const LAYOUT_KEPT: LayoutCost = LayoutCost {
+/// A layout kept from the step before and updated: about 65 instructions
+/// a box on `koch` in 22 bands (a layout made anew, as on the first step
+/// or after a change of bands, costs about 230), and a guest, copied from
+/// band to band and met by binary search, several times a home. Set where
+/// the model's choices matched the measured ones: `koch` is cut into bands
+/// (15% faster than one band), and `mit` (whose long lines make a third of
+/// its boxes guests: 6% slower in bands), `sin_wave` and `smalllines` are
+/// not.
+pub(crate) const LAYOUT: LayoutCost = LayoutCost {
     per_box: 3.0,
     per_guest: 20.0,
 };
@@ -165,8 +158,7 @@ pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
 /// sweeping along one of the first `directions` directions (2: the axes
 /// only, for boxes without diagonals; 4: the diagonals too), for a sweep
-/// that lays boxes out in bands at `layout` ([`LAYOUT_ANEW`] or
-/// [`LAYOUT_KEPT`]).
+/// that lays boxes out in bands at `layout` ([`LAYOUT`]).
 pub(crate) fn choose(
     layout: LayoutCost,
     sample: &[Packed],
@@ -232,7 +224,7 @@ mod tests {
         // Boxes strung out along x, all at the same height: along y every
         // pair meets, along x only neighbours.
         let sample: Vec<Packed> = (0..200).map(|i| boxed(i as f32, 0.0, 1.5, 1.0)).collect();
-        let plan = choose(LAYOUT_ANEW, &sample, sample.len(), 2);
+        let plan = choose(LAYOUT, &sample, sample.len(), 2);
         assert_eq!(plan.along, 0);
         assert_eq!(plan.bands.count, 1);
     }
@@ -245,11 +237,10 @@ mod tests {
                 boxed(x, y, 1.0, 1.0)
             })
             .collect();
-        let plan = choose(LAYOUT_ANEW, &sample, 1_000_000, 2);
+        let plan = choose(LAYOUT, &sample, 1_000_000, 2);
         assert!(plan.bands.count > 16, "{plan:?}");
         // More bands cost more than they save past the model's optimum.
-        let cost =
-            |total, candidates, share, count| cost(LAYOUT_ANEW, total, candidates, share, count);
+        let cost = |total, candidates, share, count| cost(LAYOUT, total, candidates, share, count);
         assert!(cost(1000, 1e6, 0.001, 1) > cost(1000, 1e6, 0.001, 30));
         assert!(cost(1000, 1e3, 0.1, 1) < cost(1000, 1e3, 0.1, 30));
     }

@@ -9,7 +9,10 @@
 //! band's guests it picks out of the arriving boxes), so the groups are
 //! laid out at once without sharing anything they write.
 
-use super::{finish_band, push_next_guests, set_starts, sort_movers, Group, Layout};
+use super::{
+    finish_band, groups_of_bands, push_next_guests, run_each, set_starts, sort_movers, stretches,
+    Group, Layout, Stretch,
+};
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::hull::{hi, Packed};
 use crate::detect::sweep::order::{Boxes, NO_KEY};
@@ -19,16 +22,6 @@ use std::sync::Mutex;
 
 /// Boxes classified at a time by one thread.
 const CLASSIFY_CHUNK: usize = 1 << 15;
-
-/// One group's stretch of the laid-out arrays: its bands and their boxes.
-struct Stretch<'a> {
-    bands: Range<usize>,
-    /// The first entry of the stretch.
-    offset: usize,
-    keys: &'a mut [f32],
-    hulls: &'a mut [Packed],
-    ids: &'a mut [u32],
-}
 
 /// What every group reads: the arriving boxes and what [`Layout::classify`]
 /// found of them.
@@ -151,11 +144,7 @@ impl Layout {
         self.ids[n] = u32::MAX;
 
         // Groups of bands, the last also holding the boxes without a key.
-        let mut bounds = group_bounds(&self.starts[..=count], groups);
-        match bounds.last_mut() {
-            Some(last) => last.end = count + 1,
-            None => bounds.push(0..count + 1),
-        }
+        let bounds = groups_of_bands(&self.starts, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
         let Layout {
@@ -179,49 +168,12 @@ impl Layout {
             bands,
         };
         let stretches = stretches(starts, keys, hulls, ids, &bounds);
-        let lay = |(s, g): (Stretch, &mut Group)| lay_out_group(s, g, &arrivals);
-        if let Some(team) = team.filter(|_| stretches.len() > 1) {
-            // Stretch `k` to member `k` (there are no more stretches than
-            // members): the boxes whose hulls it made, near enough.
-            let count = stretches.len();
-            let work: Vec<Mutex<Option<(Stretch, &mut Group)>>> = stretches
-                .into_iter()
-                .zip(group_bufs.iter_mut())
-                .map(|w| Mutex::new(Some(w)))
-                .collect();
-            debug_assert!(count <= team.threads());
-            team.run(&|k| {
-                let taken = work
-                    .get(k)
-                    .and_then(|w| w.lock().expect("a stretch").take());
-                if let Some(w) = taken {
-                    lay(w);
-                }
-            });
-        } else if stretches.len() > 1 {
-            use rayon::prelude::*;
-            stretches
-                .into_par_iter()
-                .zip(group_bufs.par_iter_mut())
-                .for_each(lay);
-        } else {
-            stretches
-                .into_iter()
-                .zip(group_bufs.iter_mut())
-                .for_each(lay);
-        }
+        // Stretch `k` to member `k`: the boxes whose hulls it made, near
+        // enough.
+        let work: Vec<_> = stretches.into_iter().zip(group_bufs.iter_mut()).collect();
+        run_each(work, team, |(s, g)| lay_out_group(s, g, &arrivals));
 
-        self.guest_at.clear();
-        for (g, range) in bounds.iter().enumerate() {
-            let gs = &self.groups[g].guest_starts;
-            for b in range.start..range.end.min(count) {
-                let k = b - range.start;
-                self.guest_at.push((g as u32, gs[k]..gs[k + 1]));
-            }
-        }
-        std::mem::swap(&mut slots.keys, &mut self.keys);
-        std::mem::swap(&mut slots.hulls, &mut self.hulls);
-        std::mem::swap(&mut slots.ids, &mut self.ids);
+        self.hand_over(slots, &bounds, count);
         if self.kept != Some(*bands) {
             // The least value of each band, for the layouts kept from this
             // one: a box that stays in its band is told by two comparisons.
@@ -305,37 +257,6 @@ pub(super) fn group_bounds(starts: &[usize], groups: usize) -> Vec<Range<usize>>
     bounds
 }
 
-/// Splits the arrays into stretches of whole bands, one per range of
-/// `bounds`.
-fn stretches<'a>(
-    starts: &[usize],
-    mut keys: &'a mut [f32],
-    mut hulls: &'a mut [Packed],
-    mut ids: &'a mut [u32],
-    bounds: &[Range<usize>],
-) -> Vec<Stretch<'a>> {
-    let mut out = Vec::with_capacity(bounds.len());
-    let mut at = 0;
-    for bands in bounds {
-        let (offset, end) = (starts[bands.start], starts[bands.end]);
-        debug_assert_eq!(offset, at);
-        let len = end - offset;
-        let (k, rest_k) = std::mem::take(&mut keys).split_at_mut(len);
-        let (h, rest_h) = std::mem::take(&mut hulls).split_at_mut(len);
-        let (i, rest_i) = std::mem::take(&mut ids).split_at_mut(len);
-        (keys, hulls, ids) = (rest_k, rest_h, rest_i);
-        out.push(Stretch {
-            bands: bands.clone(),
-            offset,
-            keys: k,
-            hulls: h,
-            ids: i,
-        });
-        at = end;
-    }
-    out
-}
-
 /// Lays out one group's stretch (see the [module docs](self)).
 fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
     let Stretch {
@@ -353,6 +274,7 @@ fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
         movers,
         order,
         spare,
+        ..
     } = group;
     // The lowest band whose homes reach into the group's first band.
     let from = (0..b0).find(|&b| a.reach[b as usize] >= b0).unwrap_or(b0);

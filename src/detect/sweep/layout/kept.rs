@@ -1,25 +1,73 @@
-//! A layout kept from last step and updated in place
-//! ([`Layout::keep`]): below rayon's grain, where a layout made anew would
-//! cost more than the candidates its bands save on the course scenes.
+//! A layout kept from last step and updated ([`Layout::keep`]): only the
+//! boxes that changed band are moved apart and inserted, which costs a
+//! quarter of a layout made anew.
+//!
+//! On one thread the layout is updated in place. With several groups of
+//! bands (a team or rayon's pool) each group first closes up its own
+//! bands, then, once the boxes that left their band are sorted, copies its
+//! bands to their new places in the other arrays and finishes them, each
+//! group writing only its own stretch.
 
-use super::{finish_band, push_next_guests, set_starts, sort_movers, Group, Layout};
+use super::{
+    finish_band, groups_of_bands, push_next_guests, run_each, set_starts, sort_movers, stretches,
+    Group, Layout, Run, Stretch,
+};
 use crate::detect::sweep::bands::Bands;
-use crate::detect::sweep::hull::{lo, Packed};
+use crate::detect::sweep::hull::{hi, lo, Packed};
 use crate::detect::sweep::order::{Boxes, NO_KEY};
+use crate::team::Team;
+use std::ops::Range;
+
+/// One group's bands while they are closed up: last step's boxes of those
+/// bands, and per band what stayed and how far up it reaches.
+struct Arrived<'a> {
+    bands: Range<usize>,
+    /// The first entry of the group's bands, last step.
+    offset: usize,
+    keys: &'a mut [f32],
+    hulls: &'a mut [Packed],
+    ids: &'a mut [u32],
+    /// Per band of the group, the boxes that stayed in it.
+    stayed: &'a mut [usize],
+    /// Per band of the group, the greatest value across the bands that a
+    /// box staying in it reaches.
+    tops: &'a mut [f32],
+}
+
+/// What every group reads while it finishes its bands.
+struct Closed<'a> {
+    /// Last step's boxes, each band's stayers closed up at its front.
+    keys: &'a [f32],
+    hulls: &'a [Packed],
+    ids: &'a [u32],
+    old_starts: &'a [usize],
+    starts: &'a [usize],
+    stayed: &'a [usize],
+    /// Per band, the last band its homes (this step's) reach.
+    reach: &'a [u32],
+    /// The boxes that changed band, sorted by band and then by key.
+    movers: &'a Run,
+    /// Where each band's movers start in `movers`, and their end.
+    mover_starts: &'a [usize],
+    bands: &'a Bands,
+}
 
 impl Layout {
-    /// Lays out the first `n` boxes of `slots` again in place, when they
-    /// arrive in the order of last step's layout in the same `bands` (their
-    /// hulls made anew); returns the boxes with a key (which come first),
-    /// or `None`, changing nothing, when they do not.
+    /// Lays out the first `n` boxes of `slots` again, when they arrive in
+    /// the order of last step's layout in the same `bands` (their hulls
+    /// made anew); returns the boxes with a key (which come first), or
+    /// `None`, changing nothing, when they do not.
     ///
-    /// Each band's boxes that stayed in it are closed up at its front in
-    /// one pass, and the ones that left are held aside; the bands' runs
-    /// then move to their new starts (a copy of whole runs, in the order
-    /// that overwrites nothing unmoved); each band's stayers are finished
-    /// by insertion and its newcomers inserted; and the guests are listed
-    /// band by band. On one thread.
-    pub(crate) fn keep(&mut self, slots: &mut Boxes, n: usize, bands: &Bands) -> Option<usize> {
+    /// With `groups` above one, the work is shared among the groups of
+    /// bands, with `team` if there is one, else on the current rayon pool.
+    pub(crate) fn keep(
+        &mut self,
+        slots: &mut Boxes,
+        n: usize,
+        bands: &Bands,
+        groups: usize,
+        team: Option<&Team>,
+    ) -> Option<usize> {
         let count = bands.count;
         if self.kept != Some(*bands)
             || self.starts.len() != count + 2
@@ -28,6 +76,117 @@ impl Layout {
         {
             return None;
         }
+        if groups <= 1 {
+            return Some(self.keep_in_place(slots, n, bands));
+        }
+        std::mem::swap(&mut self.starts, &mut self.old_starts);
+        // Groups of bands by last step's starts, the last also holding the
+        // boxes without a key.
+        let bounds = groups_of_bands(&self.old_starts, groups);
+        self.groups
+            .resize_with(bounds.len().max(self.groups.len()), Group::default);
+        self.stayed.clear();
+        self.stayed.resize(count + 1, 0);
+        let mut tops = vec![f32::NEG_INFINITY; count + 1];
+
+        // Each group closes up its own bands and holds aside the boxes
+        // that left them.
+        {
+            let arrived = arrivals(
+                &self.old_starts,
+                slots,
+                n,
+                &mut self.stayed,
+                &mut tops,
+                &bounds,
+            );
+            let (edges, old) = (&self.edges, &self.old_starts);
+            let work: Vec<_> = arrived.into_iter().zip(self.groups.iter_mut()).collect();
+            run_each(work, team, |(a, g)| close_up_group(a, g, old, edges, bands));
+        }
+
+        // The movers of all groups, sorted by band and key; the new starts.
+        let mut movers = std::mem::take(&mut self.movers);
+        movers.clear();
+        for g in &self.groups[..bounds.len()] {
+            movers.extend_from(&g.movers, 0..g.movers.len());
+        }
+        self.counts.clear();
+        self.counts.extend(self.stayed.iter().map(|&s| s as u32));
+        for (&b, hull) in movers.ends.iter().zip(&movers.hulls) {
+            self.counts[b as usize] += 1;
+            if (b as usize) < count {
+                let top = &mut tops[b as usize];
+                *top = top.max(hi(hull, bands.across));
+            }
+        }
+        set_starts(&self.counts, &mut self.starts, n);
+        if movers.len() > 0 {
+            let g = &mut self.groups[0];
+            sort_movers(&mut movers, &mut g.order, &mut g.spare);
+        }
+        let mut mover_starts = Vec::with_capacity(count + 2);
+        mover_starts.push(0);
+        for b in 0..=count {
+            let moved = self.counts[b] as usize - self.stayed[b];
+            mover_starts.push(mover_starts[b] + moved);
+        }
+        self.reach.clear();
+        self.reach.extend(
+            tops.iter()
+                .enumerate()
+                .map(|(b, &top)| match top > f32::NEG_INFINITY {
+                    true => bands.of(top).max(b) as u32,
+                    false => b as u32,
+                }),
+        );
+
+        // Each group copies its bands' stayers to their new places in the
+        // other arrays and finishes them there, with their guests.
+        self.keys.resize(n + 1, NO_KEY);
+        self.hulls.resize(n + 1, [0.0; 8]);
+        self.ids.resize(n + 1, u32::MAX);
+        self.keys[n] = NO_KEY;
+        self.ids[n] = u32::MAX;
+        {
+            let closed = Closed {
+                keys: &slots.keys[..n],
+                hulls: &slots.hulls[..n],
+                ids: &slots.ids[..n],
+                old_starts: &self.old_starts,
+                starts: &self.starts,
+                stayed: &self.stayed,
+                reach: &self.reach,
+                movers: &movers,
+                mover_starts: &mover_starts,
+                bands,
+            };
+            let stretches = stretches(
+                &self.starts,
+                &mut self.keys,
+                &mut self.hulls,
+                &mut self.ids,
+                &bounds,
+            );
+            let work: Vec<_> = stretches.into_iter().zip(self.groups.iter_mut()).collect();
+            run_each(work, team, |(s, g)| finish_group(s, g, &closed));
+        }
+        self.movers = movers;
+
+        self.hand_over(slots, &bounds, count);
+        Some(self.starts[count])
+    }
+
+    /// [`Layout::keep`] on one thread, in place.
+    ///
+    /// Each band's boxes that stayed in it are closed up at its front in
+    /// one pass, and the ones that left are held aside; the bands' runs
+    /// then move to their new starts (a copy of whole runs, in the order
+    /// that overwrites nothing unmoved); each band's stayers are finished
+    /// by insertion and its newcomers inserted; and the guests are listed
+    /// band by band.
+    fn keep_in_place(&mut self, slots: &mut Boxes, n: usize, bands: &Bands) -> usize {
+        let count = bands.count;
         if self.groups.is_empty() {
             self.groups.push(Group::default());
         }
@@ -37,51 +196,29 @@ impl Layout {
             movers,
             order,
             spare,
+            gaps,
         } = &mut self.groups[0];
         let (keys, hulls, ids) = (
             &mut slots.keys[..n],
             &mut slots.hulls[..n],
             &mut slots.ids[..n],
         );
-        // The boxes that left their band aside; each band's stayers closed
-        // up at its front, a run at a time.
         std::mem::swap(&mut self.starts, &mut self.old_starts);
         let (old, edges) = (&self.old_starts, &self.edges);
         movers.clear();
         self.stayed.clear();
         for b in 0..=count {
             let band = old[b]..old[b + 1];
-            self.gaps.clear();
-            for k in band.clone() {
-                let key = keys[k];
-                let stays = if b == count {
-                    key == NO_KEY
-                } else {
-                    let v = lo(&hulls[k], bands.across);
-                    key != NO_KEY && edges[b] <= v && v < edges[b + 1]
-                };
-                if !stays {
-                    let home = if key == NO_KEY {
-                        count
-                    } else {
-                        bands.of(lo(&hulls[k], bands.across))
-                    };
-                    movers.push(key, hulls[k], ids[k], home as u32);
-                    self.gaps.push(k);
-                }
-            }
-            let mut w = band.start;
-            let mut r = band.start;
-            for &gap in self.gaps.iter().chain(std::iter::once(&band.end)) {
-                if w != r {
-                    keys.copy_within(r..gap, w);
-                    hulls.copy_within(r..gap, w);
-                    ids.copy_within(r..gap, w);
-                }
-                w += gap - r;
-                r = gap + 1;
-            }
-            self.stayed.push(w - band.start);
+            let (stayed, _) = close_up::<false>(
+                (&mut *keys, &mut *hulls, &mut *ids),
+                band,
+                b,
+                edges,
+                bands,
+                movers,
+                gaps,
+            );
+            self.stayed.push(stayed);
         }
         // The new starts: each band's stayers and newcomers.
         self.counts.clear();
@@ -146,6 +283,196 @@ impl Layout {
             self.guest_at
                 .push((0, guest_starts[b]..guest_starts[b + 1]));
         }
-        Some(self.starts[count])
+        self.starts[count]
+    }
+}
+
+/// Closes up band `b`, the entries `band` of the arrays: the boxes still
+/// in it go to its front in their order, a run at a time, and the ones
+/// that left are pushed to `movers` with their new home band (`gaps` is
+/// working space). Returns the boxes that stayed and, if `TOP`, the
+/// greatest value across the bands they reach.
+fn close_up<const TOP: bool>(
+    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
+    band: Range<usize>,
+    b: usize,
+    edges: &[f32],
+    bands: &Bands,
+    movers: &mut Run,
+    gaps: &mut Vec<usize>,
+) -> (usize, f32) {
+    let count = bands.count;
+    let mut top = f32::NEG_INFINITY;
+    gaps.clear();
+    for k in band.clone() {
+        let key = keys[k];
+        let stays = if b == count {
+            key == NO_KEY
+        } else {
+            let v = lo(&hulls[k], bands.across);
+            key != NO_KEY && edges[b] <= v && v < edges[b + 1]
+        };
+        if stays {
+            if TOP {
+                top = top.max(hi(&hulls[k], bands.across));
+            }
+        } else {
+            let home = if key == NO_KEY {
+                count
+            } else {
+                bands.of(lo(&hulls[k], bands.across))
+            };
+            movers.push(key, hulls[k], ids[k], home as u32);
+            gaps.push(k);
+        }
+    }
+    let mut w = band.start;
+    let mut r = band.start;
+    for &gap in gaps.iter().chain(std::iter::once(&band.end)) {
+        if w != r {
+            keys.copy_within(r..gap, w);
+            hulls.copy_within(r..gap, w);
+            ids.copy_within(r..gap, w);
+        }
+        w += gap - r;
+        r = gap + 1;
+    }
+    (w - band.start, top)
+}
+
+/// Splits last step's arrays (and the per-band counts) into one group's
+/// bands each, for `bounds`.
+fn arrivals<'a>(
+    old_starts: &[usize],
+    slots: &'a mut Boxes,
+    n: usize,
+    mut stayed: &'a mut [usize],
+    mut tops: &'a mut [f32],
+    bounds: &[Range<usize>],
+) -> Vec<Arrived<'a>> {
+    let (mut keys, mut hulls, mut ids) = (
+        &mut slots.keys[..n],
+        &mut slots.hulls[..n],
+        &mut slots.ids[..n],
+    );
+    let mut out = Vec::with_capacity(bounds.len());
+    for range in bounds {
+        let (offset, end) = (old_starts[range.start], old_starts[range.end]);
+        let len = end - offset;
+        let (k, rest_k) = std::mem::take(&mut keys).split_at_mut(len);
+        let (h, rest_h) = std::mem::take(&mut hulls).split_at_mut(len);
+        let (i, rest_i) = std::mem::take(&mut ids).split_at_mut(len);
+        let (s, rest_s) = std::mem::take(&mut stayed).split_at_mut(range.len());
+        let (t, rest_t) = std::mem::take(&mut tops).split_at_mut(range.len());
+        (keys, hulls, ids, stayed, tops) = (rest_k, rest_h, rest_i, rest_s, rest_t);
+        out.push(Arrived {
+            bands: range.clone(),
+            offset,
+            keys: k,
+            hulls: h,
+            ids: i,
+            stayed: s,
+            tops: t,
+        });
+    }
+    out
+}
+
+/// Closes up one group's bands (see [`close_up`]), its movers in the
+/// group's buffer.
+fn close_up_group(a: Arrived, group: &mut Group, old: &[usize], edges: &[f32], bands: &Bands) {
+    group.movers.clear();
+    for (k, b) in a.bands.clone().enumerate() {
+        let band = old[b] - a.offset..old[b + 1] - a.offset;
+        let arrays = (&mut *a.keys, &mut *a.hulls, &mut *a.ids);
+        let (stayed, top) = close_up::<true>(
+            arrays,
+            band,
+            b,
+            edges,
+            bands,
+            &mut group.movers,
+            &mut group.gaps,
+        );
+        a.stayed[k] = stayed;
+        a.tops[k] = top;
+    }
+}
+
+/// Finishes one group's bands in its stretch of the new arrays: each
+/// band's stayers copied in, sorted, its movers inserted; then its guests,
+/// the first band's picked out of the bands below.
+fn finish_group(s: Stretch, group: &mut Group, c: &Closed) {
+    let Stretch {
+        bands: range,
+        offset,
+        keys,
+        hulls,
+        ids,
+    } = s;
+    let count = c.bands.count;
+    let Group {
+        guests,
+        guest_starts,
+        order,
+        spare,
+        ..
+    } = group;
+    // The first band's guests: the boxes of the bands below whose reach
+    // ends in it or above, stayers and movers alike.
+    let b0 = range.start;
+    let from = (0..b0).find(|&b| c.reach[b] as usize >= b0).unwrap_or(b0);
+    guests.clear();
+    let across = c.bands.across;
+    for b in from..b0 {
+        let run = c.old_starts[b]..c.old_starts[b] + c.stayed[b];
+        let moved = c.mover_starts[b]..c.mover_starts[b + 1];
+        let (keys, hulls, ids) = (c.keys, c.hulls, c.ids);
+        let stayers = run.map(|k| (keys[k], &hulls[k], ids[k]));
+        let m = c.movers;
+        let movers = moved.map(|k| (m.keys[k], &m.hulls[k], m.ids[k]));
+        for (key, hull, id) in stayers.chain(movers) {
+            let end = c.bands.of(hi(hull, across)) as u32 + 1;
+            if end as usize > b0 {
+                guests.push(key, *hull, id, end);
+            }
+        }
+    }
+    if guests.len() > 0 {
+        guests.sort(0..guests.len(), order, spare);
+    }
+
+    guest_starts.clear();
+    guest_starts.push(0);
+    for band in range.start..range.end {
+        let out = c.starts[band] - offset..c.starts[band + 1] - offset;
+        let stayed = c.stayed[band];
+        let from = c.old_starts[band]..c.old_starts[band] + stayed;
+        let moved = c.mover_starts[band]..c.mover_starts[band + 1];
+        keys[out.start..out.start + stayed].copy_from_slice(&c.keys[from.clone()]);
+        hulls[out.start..out.start + stayed].copy_from_slice(&c.hulls[from.clone()]);
+        ids[out.start..out.start + stayed].copy_from_slice(&c.ids[from]);
+        if band == count {
+            // The boxes without a key: in any order.
+            let at = out.start + stayed;
+            let m = c.movers;
+            keys[at..out.end].copy_from_slice(&m.keys[moved.clone()]);
+            hulls[at..out.end].copy_from_slice(&m.hulls[moved.clone()]);
+            ids[at..out.end].copy_from_slice(&m.ids[moved]);
+            break;
+        }
+        let band_arrays = (
+            &mut keys[out.clone()],
+            &mut hulls[out.clone()],
+            &mut ids[out.clone()],
+        );
+        finish_band(band_arrays, stayed, c.movers, moved, order, spare);
+        let k = band - range.start;
+        let own = guest_starts[k] as usize..guests.len();
+        guest_starts.push(guests.len() as u32);
+        if band + 1 < range.end.min(count) {
+            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+            push_next_guests(guests, own, homes, band, c.bands, spare);
+        }
     }
 }

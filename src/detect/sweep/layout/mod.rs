@@ -14,10 +14,11 @@
 //! so a step lays out boxes that arrive nearly in place, in one of two
 //! ways:
 //! - [`anew`]: every box's home band found, then each box copied to its
-//!   home band in arrival order, a group of bands per thread (above
-//!   rayon's grain, and whenever the bands change);
-//! - [`kept`]: last step's layout updated in place, only the boxes that
-//!   changed band moved (below rayon's grain, on one thread).
+//!   home band in arrival order, a group of bands per thread (on the first
+//!   step and whenever the bands change);
+//! - [`kept`]: last step's layout updated, only the boxes that changed
+//!   band moved apart (every other step; in place on one thread, copied
+//!   band by band into the other arrays by groups of bands on several).
 //!
 //! Either way a box that stayed in its band arrives nearly sorted and is
 //! finished by an insertion sort in place; the few that moved in are
@@ -30,8 +31,10 @@ mod kept;
 
 use super::bands::Bands;
 use super::hull::{hi, Packed};
-use super::order::insert;
+use super::order::{insert, Boxes};
+use crate::team::Team;
 use std::ops::Range;
+use std::sync::Mutex;
 
 /// Moves an insertion sort of one band may make per entry before the band
 /// is sorted by radix instead.
@@ -67,8 +70,9 @@ pub(crate) struct Layout {
     /// The least value of each band (`-inf` for the first), then `+inf`,
     /// for the bands in `kept`.
     edges: Vec<f32>,
-    /// Where boxes left their band this step, in order.
-    gaps: Vec<usize>,
+    /// The boxes that changed band this step, when a layout kept is
+    /// shared among groups.
+    movers: Run,
     /// The laid-out keys, hulls and ids, exchanged with the arriving
     /// boxes' arrays once laid out.
     keys: Vec<f32>,
@@ -151,6 +155,8 @@ struct Group {
     order: Vec<(f32, u32)>,
     /// Spare entries for sorting.
     spare: Run,
+    /// Where boxes left their band, in order, while a band is closed up.
+    gaps: Vec<usize>,
 }
 
 impl Layout {
@@ -173,6 +179,23 @@ impl Layout {
         (&run.keys[r.clone()], &run.hulls[r.clone()], &run.ids[r])
     }
 
+    /// Lists each band's guests from the groups' buffers (laid out in
+    /// `bounds`, of `count` bands) and hands the laid-out boxes to `slots`,
+    /// taking its arrays as next step's working arrays.
+    fn hand_over(&mut self, slots: &mut Boxes, bounds: &[Range<usize>], count: usize) {
+        self.guest_at.clear();
+        for (g, range) in bounds.iter().enumerate() {
+            let gs = &self.groups[g].guest_starts;
+            for b in range.start..range.end.min(count) {
+                let k = b - range.start;
+                self.guest_at.push((g as u32, gs[k]..gs[k + 1]));
+            }
+        }
+        std::mem::swap(&mut slots.keys, &mut self.keys);
+        std::mem::swap(&mut slots.hulls, &mut self.hulls);
+        std::mem::swap(&mut slots.ids, &mut self.ids);
+    }
+
     /// Forgets last step's layout: the boxes will arrive in another order.
     pub(crate) fn forget(&mut self) {
         self.starts.clear();
@@ -183,6 +206,82 @@ impl Layout {
     /// Guests in all bands.
     pub(crate) fn guest_count(&self) -> usize {
         self.guest_at.iter().map(|(_, r)| r.len()).sum()
+    }
+}
+
+/// One group's stretch of the laid-out arrays: its bands and their boxes.
+struct Stretch<'a> {
+    bands: Range<usize>,
+    /// The first entry of the stretch.
+    offset: usize,
+    keys: &'a mut [f32],
+    hulls: &'a mut [Packed],
+    ids: &'a mut [u32],
+}
+
+/// Splits the arrays into stretches of whole bands, one per range of
+/// `bounds`.
+fn stretches<'a>(
+    starts: &[usize],
+    mut keys: &'a mut [f32],
+    mut hulls: &'a mut [Packed],
+    mut ids: &'a mut [u32],
+    bounds: &[Range<usize>],
+) -> Vec<Stretch<'a>> {
+    let mut out = Vec::with_capacity(bounds.len());
+    let mut at = 0;
+    for bands in bounds {
+        let (offset, end) = (starts[bands.start], starts[bands.end]);
+        debug_assert_eq!(offset, at);
+        let len = end - offset;
+        let (k, rest_k) = std::mem::take(&mut keys).split_at_mut(len);
+        let (h, rest_h) = std::mem::take(&mut hulls).split_at_mut(len);
+        let (i, rest_i) = std::mem::take(&mut ids).split_at_mut(len);
+        (keys, hulls, ids) = (rest_k, rest_h, rest_i);
+        out.push(Stretch {
+            bands: bands.clone(),
+            offset,
+            keys: k,
+            hulls: h,
+            ids: i,
+        });
+        at = end;
+    }
+    out
+}
+
+/// Consecutive ranges of the bands that start at `starts` (`count + 2`
+/// values: the boxes without a key are one more band), at most `groups`
+/// of them with about the same number of homes, the last also holding the
+/// boxes without a key.
+fn groups_of_bands(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
+    let count = starts.len() - 2;
+    let mut bounds = anew::group_bounds(&starts[..=count], groups);
+    match bounds.last_mut() {
+        Some(last) => last.end = count + 1,
+        None => bounds.push(0..count + 1),
+    }
+    bounds
+}
+
+/// Runs `each` on every item of `work`: item `k` on member `k` of `team`
+/// if there is one (there are no more items than members), else on the
+/// current rayon pool when there is more than one, else here.
+fn run_each<W: Send>(work: Vec<W>, team: Option<&Team>, each: impl Fn(W) + Sync) {
+    if let Some(team) = team.filter(|_| work.len() > 1) {
+        debug_assert!(work.len() <= team.threads());
+        let work: Vec<Mutex<Option<W>>> = work.into_iter().map(|w| Mutex::new(Some(w))).collect();
+        team.run(&|k| {
+            let taken = work.get(k).and_then(|w| w.lock().expect("an item").take());
+            if let Some(w) = taken {
+                each(w);
+            }
+        });
+    } else if work.len() > 1 {
+        use rayon::prelude::*;
+        work.into_par_iter().for_each(&each);
+    } else {
+        work.into_iter().for_each(each);
     }
 }
 
@@ -393,7 +492,7 @@ mod tests {
         layout: &mut Layout,
         team: Option<&Team>,
     ) -> (usize, bool) {
-        match layout.keep(b, b.len(), bands) {
+        match layout.keep(b, b.len(), bands, groups, team) {
             Some(boxed) => (boxed, true),
             None => (lay_out(b, bands, groups, layout, team), false),
         }
@@ -444,12 +543,13 @@ mod tests {
         let mut b = slots(&keys, &ys);
         let teams = [Team::new(2).unwrap(), Team::new(3).unwrap()];
         let mut kept = 0;
-        for step in 0..12 {
-            let count = [7, 7, 7, 13, 1000, 7, 7, 7, 7, 7, 3, 3][step];
+        for step in 0..16 {
+            let count = [7, 7, 7, 13, 1000, 7, 7, 7, 7, 7, 3, 3, 9, 9, 9, 9][step];
             let bands = Bands::spanning(1, count, 0.0, 1.0);
-            let groups = [1, 2, 3, 2, 8, 1, 2, 3, 1, 1, 2, 1][step];
-            // Steps 6 and 7 with a team of as many members as groups.
-            let team = (6..8).contains(&step).then(|| &teams[groups - 2]);
+            let groups = [1, 2, 3, 2, 8, 1, 2, 3, 1, 1, 2, 1, 2, 3, 2, 3][step];
+            // Steps 6, 7, 13 and 14 with a team of as many members as
+            // groups; the other steps of several groups on rayon's pool.
+            let team = [6, 7, 13, 14].contains(&step).then(|| &teams[groups - 2]);
             // Boxes move a little (and a few far) between steps, arriving
             // in last step's layout order.
             if step > 0 {
@@ -467,13 +567,22 @@ mod tests {
                     if id == 50 && step >= 9 {
                         keys[id] = if step < 11 { NO_KEY } else { 0.25 };
                     }
+                    // Line 60 the same in layouts kept by groups, steps 13
+                    // to 15.
+                    if id == 60 && step >= 13 {
+                        keys[id] = if step < 15 { NO_KEY } else { 0.75 };
+                    }
                     b.keys[k] = keys[id];
                     b.hulls[k] = hull(keys[id], ys[id].0, ys[id].1);
                 }
             }
             // From step 8 on, the layout is kept where the bands are the
             // same as the step before's.
-            let no_key = if (9..11).contains(&step) { 3 } else { 2 };
+            let no_key = if (9..11).contains(&step) || (13..15).contains(&step) {
+                3
+            } else {
+                2
+            };
             let boxed = if step >= 8 {
                 let (boxed, was_kept) = keep_or_lay_out(&mut b, &bands, groups, &mut layout, team);
                 kept += usize::from(was_kept);
@@ -510,8 +619,8 @@ mod tests {
                 assert_eq!(got, want, "step {step}, band {band}");
             }
         }
-        // Steps 8, 9 and 11.
-        assert_eq!(kept, 3);
+        // Steps 8, 9 and 11 on one thread; 13, 14 and 15 in groups.
+        assert_eq!(kept, 6);
     }
 
     #[test]
