@@ -8,6 +8,7 @@ use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::scene::Scene;
 use crate::team::Team;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -80,6 +81,13 @@ impl std::fmt::Display for Mismatch {
     }
 }
 
+/// Scenes of fewer lines move on one thread even with a team: a member's
+/// share of the move costs less than its hand-off only above this. With
+/// the move shared, `koch` (3,900 lines) ran 1000 steps on two threads in
+/// 0.098 s instead of 0.106, and 10,000 lines 300 steps in 0.121 instead
+/// of 0.139 (medians of interleaved runs).
+const TEAM_MIN_LINES: usize = 2048;
+
 /// The simulated world. Line ids are indices into [`World::lines`].
 pub struct World {
     lines: Vec<Line>,
@@ -94,6 +102,9 @@ pub struct World {
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
+    /// The same number of threads as a team, for phases too small for the
+    /// pool.
+    team: Option<Arc<Team>>,
     /// A detector every step is checked against, and the first mismatch.
     oracle: Option<Box<dyn Detector>>,
     mismatch: Option<Mismatch>,
@@ -131,6 +142,7 @@ impl World {
             grain: DEFAULT_GRAIN,
             timing: None,
             pool: None,
+            team: None,
             oracle: None,
             mismatch: None,
         }
@@ -169,7 +181,8 @@ impl World {
         let team = (threads > 1)
             .then(|| Team::new(threads).ok().map(Arc::new))
             .flatten();
-        self.detector.set_threads(threads, team);
+        self.detector.set_threads(threads, team.clone());
+        self.team = team;
         Ok(())
     }
 
@@ -332,6 +345,21 @@ impl World {
                 .par_chunks_mut(self.grain)
                 .map(advance_and_bounce)
                 .sum()
+        } else if let Some(team) = self
+            .team
+            .as_deref()
+            .filter(|_| self.lines.len() >= TEAM_MIN_LINES)
+        {
+            // Below the pool's grain: a share of the lines (by id) per
+            // member of the team.
+            let threads = team.threads();
+            let shares = crate::team::shares_mut(&mut self.lines, threads);
+            let hits = AtomicU64::new(0);
+            team.run(&|k| {
+                let h = advance_and_bounce(&mut shares[k].lock().expect("a share"));
+                hits.fetch_add(h, Ordering::Relaxed);
+            });
+            hits.into_inner()
         } else {
             advance_and_bounce(&mut self.lines)
         };
