@@ -40,7 +40,7 @@ fn main() {
             let t: Vec<f64> = (0..rounds.min(5))
                 .map(|_| {
                     let start = Instant::now();
-                    draw_in_view(world.lines(), world.colors(), &mut pixmap, &view);
+                    draw_in_view(&world.lines(), world.colors(), &mut pixmap, &view);
                     start.elapsed().as_secs_f64() * 1e3
                 })
                 .collect();
@@ -52,7 +52,7 @@ fn main() {
             .map(|_| {
                 let start = Instant::now();
                 draw_thin(
-                    world.lines(),
+                    &world.lines(),
                     world.colors(),
                     &view,
                     &mut Canvas::new(&mut pixels, w, h),

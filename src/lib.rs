@@ -13,7 +13,8 @@
 //! The modules follow the simulation's concepts: [`geometry`] (vectors and
 //! exact predicates), [`line`](mod@line) (segments and coordinates),
 //! [`scene`] (`.in` files), [`narrow`] (the exact pair test), `response`
-//! (new velocities), [`world`] (one step), [`detect`] (interchangeable broad
+//! (new velocities), [`world`] (one step), `storage` (lines stored in the
+//! detector's order), [`detect`] (interchangeable broad
 //! phases), [`render`] (pictures and the window), [`generate`] (seeded
 //! scenes), [`checkpoint`] (states and resumable checkpoints), [`output`]
 //! (files written whole or not at all), [`stop`] (clean stops on
@@ -33,6 +34,7 @@ pub(crate) mod response;
 pub mod scene;
 #[cfg(feature = "signals")]
 pub mod stop;
+pub(crate) mod storage;
 pub mod team;
 pub mod world;
 

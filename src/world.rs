@@ -7,7 +7,9 @@ use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, BOX_
 use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::scene::Scene;
+use crate::storage::Storage;
 use crate::team::Team;
+use std::borrow::Cow;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -108,6 +110,9 @@ pub struct World {
     /// A detector every step is checked against, and the first mismatch.
     oracle: Option<Box<dyn Detector>>,
     mismatch: Option<Mismatch>,
+    /// The lines' ids by slot, once the detector has had them stored in
+    /// its own order (see [`crate::storage`]); until then slots are ids.
+    storage: Option<Storage>,
 }
 
 /// The events `oracle` finds in `lines`, sorted.
@@ -145,6 +150,7 @@ impl World {
             team: None,
             oracle: None,
             mismatch: None,
+            storage: None,
         }
     }
 
@@ -237,9 +243,14 @@ impl World {
         Self::from_scene(scene, kind.build())
     }
 
-    /// The lines, indexed by id.
-    pub fn lines(&self) -> &[Line] {
-        &self.lines
+    /// The lines, indexed by id: borrowed while they are stored by id, a
+    /// copy in id order once the detector has had them stored in its own
+    /// ([`Detector::storage_order`]).
+    pub fn lines(&self) -> Cow<'_, [Line]> {
+        match &self.storage {
+            Some(st) => Cow::Owned(st.by_id(&self.lines)),
+            None => Cow::Borrowed(&self.lines),
+        }
     }
 
     /// The colour of each line, indexed by id.
@@ -304,34 +315,58 @@ impl World {
     /// where it pays if `parallel`.
     fn step_here(&mut self, parallel: bool) {
         let expected = match (&mut self.oracle, &self.mismatch) {
-            (Some(oracle), None) => Some(oracle_events(oracle.as_mut(), &self.lines)),
+            (Some(oracle), None) => {
+                let lines = match &self.storage {
+                    Some(st) => Cow::Owned(st.by_id(&self.lines)),
+                    None => Cow::Borrowed(&self.lines[..]),
+                };
+                Some(oracle_events(oracle.as_mut(), &lines))
+            }
             _ => None,
         };
         let t0 = self.timing.map(|_| Instant::now());
 
         self.events.clear();
-        self.detector.detect(&self.lines, DT, &mut self.events);
-        self.counters.line += self.events.len() as u64;
+        match &mut self.storage {
+            Some(st) => {
+                let (ids, found) = st.for_detector();
+                self.detector.detect_stored(&self.lines, ids, DT, found);
+            }
+            None => self.detector.detect(&self.lines, DT, &mut self.events),
+        }
         let t1 = self.lap(t0, |t, d| t.detect += d);
 
         // Pairs are unique, so an unstable sort gives the one sorted order.
-        if parallel && self.events.len() >= self.grain {
+        if let Some(st) = &mut self.storage {
+            let parallel = parallel && st.found() >= self.grain;
+            st.sort_events(&mut self.events, parallel);
+        } else if parallel && self.events.len() >= self.grain {
             use rayon::slice::ParallelSliceMut;
             self.events.par_sort_unstable_by_key(Event::order_key);
         } else {
             self.events.sort_unstable_by_key(Event::order_key);
         }
+        self.counters.line += self.events.len() as u64;
         if let Some(expected) = expected {
             // Counted as the step it belongs to.
             self.steps += 1;
             self.mismatch = self.compare(expected).err();
             self.steps -= 1;
         }
-        self.resolver.resolve_all(
-            &mut self.lines,
-            &self.events,
-            parallel.then_some(self.grain),
-        );
+        match &mut self.storage {
+            Some(st) => {
+                self.resolver.resolve_all(
+                    &mut self.lines,
+                    st.events_by_slot(),
+                    parallel.then_some(self.grain),
+                );
+            }
+            None => self.resolver.resolve_all(
+                &mut self.lines,
+                &self.events,
+                parallel.then_some(self.grain),
+            ),
+        }
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
         // Moving and the wall check in one pass over the lines: each line
@@ -339,7 +374,15 @@ impl World {
         // reads only the line's own new position).
         let parallel = parallel && self.lines.len() >= 4 * self.grain;
         // The wall counter is a sum, the same in any order.
-        let hits = if parallel {
+        let n = self.lines.len();
+        let hits = if let Some(order) = self.detector.storage_order() {
+            // The lines stored in the detector's order as they move (see
+            // `crate::storage`), a share per member of the team.
+            let team = self.team.as_deref().filter(|_| n >= TEAM_MIN_LINES);
+            self.storage
+                .get_or_insert_with(|| Storage::new(n))
+                .advance_in_order(&mut self.lines, order, team)
+        } else if parallel {
             use rayon::prelude::*;
             self.lines
                 .par_chunks_mut(self.grain)
@@ -374,7 +417,7 @@ impl World {
     /// that reads back to the same `f64` (see [`crate::checkpoint`]).
     pub fn state_text(&self) -> String {
         let mut out = String::with_capacity(self.lines.len() * 120);
-        for (id, l) in self.lines.iter().enumerate() {
+        for (id, l) in self.lines().iter().enumerate() {
             checkpoint::push_row(&mut out, id, l);
             out.push('\n');
         }
@@ -384,7 +427,7 @@ impl World {
     /// Writes the state (as [`World::state_text`]) to `out`, a block at a
     /// time.
     pub fn write_state(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
-        checkpoint::write_state(out, &self.lines)
+        checkpoint::write_state(out, &self.lines())
     }
 
     /// Writes a checkpoint of the run so far to `out`; `scene_digest` is
@@ -399,7 +442,7 @@ impl World {
             scene_digest,
             self.steps,
             self.counters,
-            &self.lines,
+            &self.lines(),
             &self.colors,
         )
     }
@@ -408,7 +451,7 @@ impl World {
     /// two detectors' events differ, returns both lists (the step has been
     /// taken all the same).
     pub fn step_verified(&mut self, oracle: &mut dyn Detector) -> Result<(), Mismatch> {
-        let expected = oracle_events(oracle, &self.lines);
+        let expected = oracle_events(oracle, &self.lines());
         self.step();
         self.compare(expected)
     }

@@ -48,6 +48,25 @@ pub trait Detector: Send {
     /// line, and must find exactly the all-pairs detector's events.
     fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>);
 
+    /// [`Detector::detect`] on lines the world stores in another order:
+    /// `lines[slot]` is the line with id `ids[slot]`, and each event names
+    /// its lines by slot, the one with the lower id first. A detector that
+    /// never gives a [`Detector::storage_order`] is only called with the
+    /// lines in id order (slots are ids), as the default takes them.
+    fn detect_stored(&mut self, lines: &[Line], ids: &[u32], dt: f64, events: &mut Vec<Event>) {
+        debug_assert!(ids.iter().enumerate().all(|(k, &id)| id as usize == k));
+        self.detect(lines, dt, events);
+    }
+
+    /// The slots of the lines in the order this detector reads them next
+    /// step, when it pays for the world to store them in that order. The
+    /// world may then do so, writing each position's own index in its
+    /// place (the slots the detector holds become the new ones); `None`
+    /// (the default) keeps the lines where they are.
+    fn storage_order(&mut self) -> Option<&mut [u32]> {
+        None
+    }
+
     /// What the detector has done so far.
     fn stats(&self) -> DetectorStats;
 

@@ -206,6 +206,21 @@ pub fn test_pair(
     counts: &mut PairCounts,
 ) {
     let ((l1, first), (l2, second)) = if a.1 < b.1 { (a, b) } else { (b, a) };
+    test_ordered(l1, l2, (first, second), dt, events, counts);
+}
+
+/// [`test_pair`] of lines already in order (`l1` has the lower id), the
+/// event labelled `(first, second)`: their ids, or the slots the world
+/// stores them at.
+#[inline]
+pub fn test_ordered(
+    l1: &Line,
+    l2: &Line,
+    (first, second): (u32, u32),
+    dt: f64,
+    events: &mut Vec<Event>,
+    counts: &mut PairCounts,
+) {
     let bound = max(magnitude(l1, dt), magnitude(l2, dt));
     if !may_intersect(l1, l2, dt, bound) {
         return;
@@ -226,6 +241,7 @@ pub fn test_pair(
 /// line whose velocity turned NaN is inert a step later.
 pub fn test_wild(
     lines: &[Line],
+    id_of: impl Fn(u32) -> u32,
     wild: &[u32],
     others: impl Iterator<Item = u32> + Clone,
     dt: f64,
@@ -236,7 +252,11 @@ pub fn test_wild(
         for other in others.clone().chain(wild[k + 1..].iter().copied()) {
             counts.candidates += 1;
             counts.exact += 1;
-            let (first, second) = if w < other { (w, other) } else { (other, w) };
+            let (first, second) = if id_of(w) < id_of(other) {
+                (w, other)
+            } else {
+                (other, w)
+            };
             if let Some(kind) = intersect(&lines[first as usize], &lines[second as usize], dt) {
                 events.push(Event {
                     first,
@@ -318,6 +338,7 @@ mod tests {
         let (mut events, mut counts) = (Vec::new(), PairCounts::default());
         test_wild(
             &lines,
+            |k| k,
             &[0, 3],
             [1].into_iter(),
             0.5,

@@ -186,7 +186,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
                     .expect("no panics while holding the lock"),
             );
             lines.clear();
-            lines.extend_from_slice(world.lines());
+            lines.extend_from_slice(&world.lines());
             let snapshot = Snapshot {
                 lines,
                 colors: Arc::clone(colors),
@@ -211,7 +211,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             let due = scene_start.elapsed() >= cycle;
             let dead = last_check.elapsed() >= DEATH_CHECK_EVERY && {
                 last_check = Instant::now();
-                died_out(world.lines())
+                died_out(&world.lines())
             };
             if due || dead {
                 scene += 1;

@@ -172,7 +172,7 @@ pub fn draw_in_view(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap, view:
 pub fn frame(world: &World, size: Size) -> Pixmap {
     let mut pixmap =
         Pixmap::new(size.width, size.height).expect("sizes are checked to be non-zero");
-    draw(world.lines(), world.colors(), &mut pixmap);
+    draw(&world.lines(), world.colors(), &mut pixmap);
     pixmap
 }
 

@@ -139,7 +139,7 @@ pub fn check_world(dir: &Path, scene: &str, mut world: World, max_steps: Option<
         );
         if checkpoints.contains(&step) {
             let path = dir.join("expected").join(format!("{scene}.{step}.state"));
-            if let Err(e) = compare_state(world.lines(), &path) {
+            if let Err(e) = compare_state(&world.lines(), &path) {
                 panic!("{label} {scene}: state differs after step {step}: {e}");
             }
             checked_states += 1;

@@ -360,7 +360,7 @@ impl Quadtree {
             .zip(&self.boxed)
             .filter(|(_, &b)| b)
             .map(|(&id, _)| id);
-        test_wild(lines, &self.wild, boxed_ids, dt, events, counts);
+        test_wild(lines, |k| k, &self.wild, boxed_ids, dt, events, counts);
     }
 
     /// Sets `order` to the tree's order of the boxed slots, then the others.

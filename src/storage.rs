@@ -1,0 +1,248 @@
+//! Lines stored in the order the detector reads them, rather than by id.
+//!
+//! The sweep reads lines in its own order: it makes their hulls box by box
+//! in last step's layout, and each exact test reads two neighbours in that
+//! layout. Stored by id, every one of those reads lands anywhere among the
+//! lines; on two threads, half of them land on lines the other thread
+//! wrote last. So when the detector asks ([`Detector::storage_order`]),
+//! the world stores the lines in its order as it moves them: each line is
+//! copied to its place in that order and moved there, in one pass split
+//! into contiguous shares, one per thread, and next step each thread makes
+//! the hulls of the lines it moved.
+//!
+//! A line's place is its *slot*; `ids[slot]` is its id. The detector is
+//! handed the lines by slot with their ids and names each event's lines by
+//! slot, the one with the lower id first; the events are put in the order
+//! of their ids (the contract's order of resolution) and resolved on the
+//! lines by slot. The results are the same bits in any order: moving and
+//! the wall check touch one line at a time, and the events are resolved in
+//! the same order on the same lines.
+//!
+//! [`Detector::storage_order`]: crate::detect::Detector::storage_order
+
+use crate::line::Line;
+use crate::narrow::Event;
+use crate::team::{self, Team};
+use crate::world::advance_and_bounce;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// The slots' ids and the buffers that reorder lines and events.
+#[derive(Debug, Default)]
+pub(crate) struct Storage {
+    /// The id of the line in each slot.
+    ids: Vec<u32>,
+    /// The next order's lines and ids, exchanged with the current ones.
+    spare: Vec<Line>,
+    spare_ids: Vec<u32>,
+    /// This step's events by slot, as the detector found them and then in
+    /// the order of `events`.
+    slot_events: Vec<Event>,
+    /// Each event by id beside the same by slot, to sort them together.
+    paired: Vec<(Event, Event)>,
+}
+
+impl Storage {
+    /// Lines stored in id order: slot `k` holds line `k`, `n` in all.
+    pub(crate) fn new(n: usize) -> Self {
+        Storage {
+            ids: (0..n as u32).collect(),
+            ..Storage::default()
+        }
+    }
+
+    /// The id of the line in each slot.
+    #[cfg(test)]
+    pub(crate) fn ids(&self) -> &[u32] {
+        &self.ids
+    }
+
+    /// What the detector is handed: the id of the line in each slot, and
+    /// the events of this step by slot to fill (emptied).
+    pub(crate) fn for_detector(&mut self) -> (&[u32], &mut Vec<Event>) {
+        self.slot_events.clear();
+        (&self.ids, &mut self.slot_events)
+    }
+
+    /// Events found this step.
+    pub(crate) fn found(&self) -> usize {
+        self.slot_events.len()
+    }
+
+    /// Appends the events the detector found, by id, to `events` in the
+    /// order they are resolved in ([`Event::order_key`]), on rayon's pool
+    /// when `parallel`; [`Storage::events_by_slot`] then holds them by slot
+    /// in the same order.
+    pub(crate) fn sort_events(&mut self, events: &mut Vec<Event>, parallel: bool) {
+        let ids = &self.ids;
+        self.paired.clear();
+        self.paired.extend(self.slot_events.iter().map(|e| {
+            let by_id = Event {
+                first: ids[e.first as usize],
+                second: ids[e.second as usize],
+                kind: e.kind,
+            };
+            (by_id, *e)
+        }));
+        // Pairs are unique, so an unstable sort gives the one sorted order.
+        if parallel {
+            use rayon::slice::ParallelSliceMut;
+            self.paired.par_sort_unstable_by_key(|p| p.0.order_key());
+        } else {
+            self.paired.sort_unstable_by_key(|p| p.0.order_key());
+        }
+        events.extend(self.paired.iter().map(|p| p.0));
+        self.slot_events.clear();
+        self.slot_events.extend(self.paired.iter().map(|p| p.1));
+    }
+
+    /// This step's events by slot, in the order [`Storage::sort_events`]
+    /// put them.
+    pub(crate) fn events_by_slot(&self) -> &[Event] {
+        &self.slot_events
+    }
+
+    /// Moves every line and bounces it off the walls, storing it in the
+    /// order `order` gives by slot (`order[k]` is the slot of the line to
+    /// store at `k`), shared among `team` if there is one; then sets
+    /// `order[k] = k`, as the lines' slots are now their places. Returns
+    /// the lines that hit a wall.
+    ///
+    /// # Panics
+    /// If `order` is not as long as `lines`; a slot repeated or left out
+    /// in `order` would lose a line, which a debug build checks.
+    pub(crate) fn advance_in_order(
+        &mut self,
+        lines: &mut Vec<Line>,
+        order: &mut [u32],
+        team: Option<&Team>,
+    ) -> u64 {
+        let n = lines.len();
+        assert_eq!(order.len(), n, "one slot for every line");
+        debug_assert!(is_permutation(order), "every slot once");
+        self.spare.resize(n, Line::default());
+        self.spare_ids.resize(n, 0);
+        let (from, from_ids) = (&lines[..], &self.ids[..]);
+        let fill = |first: usize, order: &mut [u32], to: &mut [Line], to_ids: &mut [u32]| {
+            for (k, ((slot, line), id)) in order.iter_mut().zip(&mut *to).zip(to_ids).enumerate() {
+                *line = from[*slot as usize];
+                *id = from_ids[*slot as usize];
+                *slot = (first + k) as u32;
+            }
+            advance_and_bounce(to)
+        };
+        let hits = match team {
+            Some(team) => {
+                let threads = team.threads();
+                let orders = team::shares_mut(order, threads);
+                let to = team::shares_mut(&mut self.spare, threads);
+                let to_ids = team::shares_mut(&mut self.spare_ids, threads);
+                let hits = AtomicU64::new(0);
+                team.run(&|k| {
+                    let h = fill(
+                        team::share(n, threads, k).start,
+                        &mut orders[k].lock().expect("a share"),
+                        &mut to[k].lock().expect("a share"),
+                        &mut to_ids[k].lock().expect("a share"),
+                    );
+                    hits.fetch_add(h, Ordering::Relaxed);
+                });
+                hits.into_inner()
+            }
+            None => fill(0, order, &mut self.spare, &mut self.spare_ids),
+        };
+        std::mem::swap(lines, &mut self.spare);
+        std::mem::swap(&mut self.ids, &mut self.spare_ids);
+        hits
+    }
+
+    /// The lines, stored by slot in `lines`, by id.
+    pub(crate) fn by_id(&self, lines: &[Line]) -> Vec<Line> {
+        let mut out = vec![Line::default(); lines.len()];
+        for (line, &id) in lines.iter().zip(&self.ids) {
+            out[id as usize] = *line;
+        }
+        out
+    }
+}
+
+/// Whether `order` holds each of `0..order.len()` once.
+fn is_permutation(order: &[u32]) -> bool {
+    let mut seen = vec![false; order.len()];
+    order
+        .iter()
+        .all(|&k| !std::mem::replace(&mut seen[k as usize], true))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::narrow::IntersectionKind;
+    use crate::test_util::line;
+
+    fn lines(n: usize) -> Vec<Line> {
+        (0..n)
+            .map(|k| {
+                let x = k as f64 / n as f64;
+                line((x, 0.5), (x + 0.001, 0.6), (0.01, -0.02))
+            })
+            .collect()
+    }
+
+    #[test]
+    fn lines_stored_in_any_order_move_as_by_id_and_read_back_by_id() {
+        let n = 5000;
+        let start = lines(n);
+        let mut by_id = start.clone();
+        let expected_hits = advance_and_bounce(&mut by_id);
+        let teams = [
+            None,
+            Some(Team::new(2).unwrap()),
+            Some(Team::new(3).unwrap()),
+        ];
+        for team in &teams {
+            let mut stored = start.clone();
+            let mut storage = Storage::new(n);
+            // Two reorderings in a row: reversed, then odd slots first.
+            let mut order: Vec<u32> = (0..n as u32).rev().collect();
+            let hits = storage.advance_in_order(&mut stored, &mut order, team.as_ref());
+            assert_eq!(hits, expected_hits);
+            assert_eq!(order, (0..n as u32).collect::<Vec<_>>());
+            assert_eq!(storage.ids()[0], n as u32 - 1);
+            assert_eq!(storage.by_id(&stored), by_id);
+            let mut order: Vec<u32> = (1..n as u32)
+                .step_by(2)
+                .chain((0..n as u32).step_by(2))
+                .collect();
+            storage.advance_in_order(&mut stored, &mut order, team.as_ref());
+            let mut twice = by_id.clone();
+            advance_and_bounce(&mut twice);
+            assert_eq!(storage.by_id(&stored), twice);
+            for (slot, &id) in storage.ids().iter().enumerate() {
+                assert_eq!(stored[slot], twice[id as usize]);
+            }
+        }
+    }
+
+    #[test]
+    fn events_by_slot_are_sorted_by_id() {
+        let mut stored = lines(6);
+        let mut storage = Storage::new(6);
+        let mut order = vec![5, 4, 3, 2, 1, 0];
+        storage.advance_in_order(&mut stored, &mut order, None);
+        // Slot k now holds line 5 - k; events name the lower id first.
+        let kind = IntersectionKind::L1WithL2;
+        let e = |first, second| Event {
+            first,
+            second,
+            kind,
+        };
+        let mut events = Vec::new();
+        for parallel in [false, true] {
+            storage.for_detector().1.extend([e(1, 0), e(4, 2), e(5, 1)]);
+            events.clear();
+            storage.sort_events(&mut events, parallel);
+            assert_eq!(events, vec![e(0, 4), e(1, 3), e(4, 5)]);
+            assert_eq!(storage.events_by_slot(), &[e(5, 1), e(4, 2), e(1, 0)]);
+        }
+    }
+}
