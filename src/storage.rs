@@ -26,6 +26,9 @@ use crate::team::{self, Team};
 use crate::world::advance_and_bounce;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// Lines copied and moved at a time (6 KB of them).
+const BLOCK: usize = 128;
+
 /// The slots' ids and the buffers that reorder lines and events.
 #[derive(Debug, Default)]
 pub(crate) struct Storage {
@@ -122,13 +125,20 @@ impl Storage {
         self.spare.resize(n, Line::default());
         self.spare_ids.resize(n, 0);
         let (from, from_ids) = (&lines[..], &self.ids[..]);
+        // A block at a time, moved while its copies are at hand.
         let fill = |first: usize, order: &mut [u32], to: &mut [Line], to_ids: &mut [u32]| {
-            for (k, ((slot, line), id)) in order.iter_mut().zip(&mut *to).zip(to_ids).enumerate() {
-                *line = from[*slot as usize];
-                *id = from_ids[*slot as usize];
-                *slot = (first + k) as u32;
+            let mut hits = 0;
+            let blocks = order.chunks_mut(BLOCK).zip(to.chunks_mut(BLOCK));
+            for (b, ((order, to), to_ids)) in blocks.zip(to_ids.chunks_mut(BLOCK)).enumerate() {
+                let at = first + b * BLOCK;
+                for (k, ((slot, line), id)) in order.iter_mut().zip(&mut *to).zip(to_ids).enumerate() {
+                    *line = from[*slot as usize];
+                    *id = from_ids[*slot as usize];
+                    *slot = (at + k) as u32;
+                }
+                hits += advance_and_bounce(to);
             }
-            advance_and_bounce(to)
+            hits
         };
         let hits = match team {
             Some(team) => {
