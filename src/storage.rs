@@ -131,7 +131,9 @@ impl Storage {
             let blocks = order.chunks_mut(BLOCK).zip(to.chunks_mut(BLOCK));
             for (b, ((order, to), to_ids)) in blocks.zip(to_ids.chunks_mut(BLOCK)).enumerate() {
                 let at = first + b * BLOCK;
-                for (k, ((slot, line), id)) in order.iter_mut().zip(&mut *to).zip(to_ids).enumerate() {
+                for (k, ((slot, line), id)) in
+                    order.iter_mut().zip(&mut *to).zip(to_ids).enumerate()
+                {
                     *line = from[*slot as usize];
                     *id = from_ids[*slot as usize];
                     *slot = (at + k) as u32;

@@ -115,6 +115,15 @@ pub struct World {
     storage: Option<Storage>,
 }
 
+/// The lines by id: `lines` themselves while they are stored by id, else
+/// a copy put back in id order through `storage`.
+fn lines_by_id<'a>(lines: &'a [Line], storage: Option<&Storage>) -> Cow<'a, [Line]> {
+    match storage {
+        Some(st) => Cow::Owned(st.by_id(lines)),
+        None => Cow::Borrowed(lines),
+    }
+}
+
 /// The events `oracle` finds in `lines`, sorted.
 fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
     let mut events = Vec::new();
@@ -247,10 +256,7 @@ impl World {
     /// copy in id order once the detector has had them stored in its own
     /// ([`Detector::storage_order`]).
     pub fn lines(&self) -> Cow<'_, [Line]> {
-        match &self.storage {
-            Some(st) => Cow::Owned(st.by_id(&self.lines)),
-            None => Cow::Borrowed(&self.lines),
-        }
+        lines_by_id(&self.lines, self.storage.as_ref())
     }
 
     /// The colour of each line, indexed by id.
@@ -316,10 +322,7 @@ impl World {
     fn step_here(&mut self, parallel: bool) {
         let expected = match (&mut self.oracle, &self.mismatch) {
             (Some(oracle), None) => {
-                let lines = match &self.storage {
-                    Some(st) => Cow::Owned(st.by_id(&self.lines)),
-                    None => Cow::Borrowed(&self.lines[..]),
-                };
+                let lines = lines_by_id(&self.lines, self.storage.as_ref());
                 Some(oracle_events(oracle.as_mut(), &lines))
             }
             _ => None,
