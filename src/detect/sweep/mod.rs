@@ -45,19 +45,6 @@ use std::time::{Duration, Instant};
 /// Steps between two plans (the first step always makes one).
 const PLAN_EVERY: u64 = 256;
 
-/// Scenes of [`LARGE_SCENE`] lines or more wait on lines read in no order
-/// of memory's in two places:
-/// - the hulls, which gather their lines a block at a time first
-///   ([`hull::make_gathered`]): a million lines make their hulls in 17 ms
-///   a step instead of 39 (two threads);
-/// - the exact tests, which read each pair's lines a few pairs ahead
-///   ([`Tester`]): a million lines sweep and test in 26 ms a step instead
-///   of 36 (two threads).
-///
-/// In a scene that fits the cache either only adds instructions (the
-/// gather: `koch` 6% more in all).
-const LARGE_FROM: usize = LARGE_SCENE;
-
 /// Scenes of this many lines or more have the world store their lines in
 /// the sweep's order ([`crate::storage`]) even on one thread, as do scenes
 /// that a team shares: each thread then moves and makes the hulls of the
@@ -67,6 +54,15 @@ const LARGE_FROM: usize = LARGE_SCENE;
 /// threads, 10,000 lines ran 11% faster, 100,000 lines the same and a
 /// million 16% faster (medians of interleaved runs).
 const STORE_FROM: usize = LARGE_SCENE;
+
+// Scenes of `LARGE_SCENE` lines or more also wait on lines read in no
+// order of memory's in two places, when they are not stored in the
+// sweep's order: the hulls, which gather their lines a block at a time
+// first ([`hull::make_gathered`]: a million lines made their hulls in 17
+// ms a step instead of 39, two threads), and the exact tests, which read
+// each pair's lines a few pairs ahead ([`Tester`]: a million lines swept
+// and tested in 26 ms a step instead of 36). In a scene that fits the
+// cache either only adds instructions (the gather: `koch` 6% more).
 
 /// Groups of bands per thread in a parallel sweep: more groups than
 /// threads even out bands that meet more pairs than others.
@@ -163,8 +159,10 @@ pub struct Sweep {
     team: Option<Arc<Team>>,
     /// The team's findings, a chunk of boxes each.
     chunks: Vec<Mutex<Chunk>>,
-    /// The ids `0..n`, for lines stored in id order.
-    identity: Vec<u32>,
+    /// Whether the world stored the lines in the boxes' order after the
+    /// last step ([`Detector::storage_order`]), so that the boxes' slots
+    /// are their places.
+    in_order: bool,
 }
 
 impl Sweep {
@@ -187,7 +185,7 @@ impl Sweep {
             clock: None,
             team: None,
             chunks: Vec::new(),
-            identity: Vec::new(),
+            in_order: false,
         }
     }
 
@@ -224,11 +222,12 @@ impl Sweep {
             .filter(|_| !self.parallel(work) && work >= TEAM_MIN_BOXES)
     }
 
-    /// Makes every line's packed hull and key, in last step's order.
-    fn make_hulls(&mut self, lines: &[Line], dt: f64) {
+    /// Makes every line's packed hull and key, in last step's order; with
+    /// `in_order`, the lines are stored in that order too.
+    fn make_hulls(&mut self, lines: &[Line], dt: f64, in_order: bool) {
         let along = self.plan.along;
         let n = self.sorted.len();
-        let gather = n >= LARGE_FROM;
+        let gather = n >= LARGE_SCENE && !in_order;
         let fill = |ids: &[u32], hulls: &mut [Packed], keys: &mut [f32]| {
             if gather {
                 hull::make_gathered(lines, ids, hulls, keys, along, dt);
@@ -357,115 +356,13 @@ impl Sweep {
         counts.candidates = candidates;
         counts
     }
-}
 
-/// The lines as the world stores them: `lines[slot]` has id `ids[slot]`.
-#[derive(Clone, Copy, Debug)]
-struct Stored<'a> {
-    lines: &'a [Line],
-    ids: &'a [u32],
-}
-
-/// What a sweep hands each pair of slots whose hulls overlap to: the exact
-/// test, appending to `events` and counting in `counts`.
-fn tester<'a>(
-    lines: Stored<'a>,
-    dt: f64,
-    events: &'a mut Vec<Event>,
-    counts: &'a mut PairCounts,
-) -> Tester<'a> {
-    Tester {
-        lines,
-        ahead: lines.lines.len() >= LARGE_FROM,
-        dt,
-        events,
-        counts,
-    }
-}
-
-/// The exact test of the pairs a sweep finds (see [`tester`]).
-struct Tester<'a> {
-    lines: Stored<'a>,
-    /// Whether to read each pair's lines ahead of its test.
-    ahead: bool,
-    dt: f64,
-    events: &'a mut Vec<Event>,
-    counts: &'a mut PairCounts,
-}
-
-impl scan::Found for Tester<'_> {
-    /// In scenes larger than the cache.
-    fn reads_ahead(&self) -> bool {
-        self.ahead
-    }
-
-    /// Reads both lines ahead.
-    #[inline(always)]
-    fn ahead(&self, a: u32, b: u32) {
-        for id in [a, b] {
-            if let Some(line) = self.lines.lines.get(id as usize) {
-                read_ahead(line);
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn found(&mut self, a: u32, b: u32) {
-        let Stored { lines, ids } = self.lines;
-        let (a, b) = if ids[a as usize] < ids[b as usize] {
-            (a, b)
-        } else {
-            (b, a)
-        };
-        test_ordered(
-            &lines[a as usize],
-            &lines[b as usize],
-            (a, b),
-            self.dt,
-            self.events,
-            self.counts,
-        )
-    }
-}
-
-/// One chunk's findings when a team sweeps, kept from step to step so
-/// that its buffers are not allocated anew every step.
-#[derive(Debug, Default)]
-struct Chunk {
-    events: Vec<Event>,
-    counts: PairCounts,
-    pairs: Vec<(u32, u32)>,
-}
-
-impl Default for Sweep {
-    fn default() -> Self {
-        Self::new(&DetectorConfig::default())
-    }
-}
-
-impl Detector for Sweep {
-    fn name(&self) -> &'static str {
-        "sweep"
-    }
-
-    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
-        let mut identity = std::mem::take(&mut self.identity);
-        identity.clear();
-        identity.extend(0..lines.len() as u32);
-        self.detect_stored(lines, &identity, dt, events);
-        self.identity = identity;
-    }
-
-    /// The boxes' order, band by band, where the lines are read by more
-    /// than one thread or do not fit the cache (see `STORE_FROM`).
-    fn storage_order(&mut self) -> Option<&mut [u32]> {
-        let n = self.sorted.len();
-        let shared = self.threads > 1 && n >= TEAM_MIN_BOXES;
-        (shared || n >= STORE_FROM).then(|| &mut self.sorted.ids[..n])
-    }
-
-    fn detect_stored(&mut self, lines: &[Line], ids: &[u32], dt: f64, events: &mut Vec<Event>) {
-        let stored = Stored { lines, ids };
+    /// Finds the events among `stored`'s lines (see [`Detector::detect`]
+    /// and [`Detector::detect_stored`]).
+    fn detect_lines(&mut self, stored: Stored, dt: f64, events: &mut Vec<Event>) {
+        let lines = stored.lines;
+        // Consumed here: the layout reorders the boxes again.
+        let in_order = std::mem::take(&mut self.in_order) && stored.ids.is_some();
         let before = events.len();
         if let Some(clock) = &mut self.clock {
             clock.start(Instant::now());
@@ -476,7 +373,7 @@ impl Detector for Sweep {
             self.until_plan = 0;
         }
 
-        self.make_hulls(lines, dt);
+        self.make_hulls(lines, dt, in_order);
         if self.until_plan == 0 {
             self.make_plan();
         }
@@ -619,7 +516,7 @@ impl Detector for Sweep {
         }
         test_wild(
             lines,
-            |k| ids[k as usize],
+            |k| stored.id(k),
             &self.wild,
             self.sorted.ids[..boxed].iter().copied(),
             dt,
@@ -632,6 +529,126 @@ impl Detector for Sweep {
         self.stats.candidate_pairs += counts.candidates;
         self.stats.exact_tests += counts.exact;
         self.stats.events += (events.len() - before) as u64;
+    }
+}
+
+/// The lines as the world stores them: `lines[slot]` has id `ids[slot]`,
+/// or id `slot` without `ids`.
+#[derive(Clone, Copy, Debug)]
+struct Stored<'a> {
+    lines: &'a [Line],
+    ids: Option<&'a [u32]>,
+}
+
+impl Stored<'_> {
+    /// The id of the line in `slot`.
+    #[inline(always)]
+    fn id(self, slot: u32) -> u32 {
+        match self.ids {
+            Some(ids) => ids[slot as usize],
+            None => slot,
+        }
+    }
+}
+
+/// What a sweep hands each pair of slots whose hulls overlap to: the exact
+/// test, appending to `events` and counting in `counts`.
+fn tester<'a>(
+    lines: Stored<'a>,
+    dt: f64,
+    events: &'a mut Vec<Event>,
+    counts: &'a mut PairCounts,
+) -> Tester<'a> {
+    Tester {
+        lines,
+        ahead: lines.lines.len() >= LARGE_SCENE,
+        dt,
+        events,
+        counts,
+    }
+}
+
+/// The exact test of the pairs a sweep finds (see [`tester`]).
+struct Tester<'a> {
+    lines: Stored<'a>,
+    /// Whether to read each pair's lines ahead of its test.
+    ahead: bool,
+    dt: f64,
+    events: &'a mut Vec<Event>,
+    counts: &'a mut PairCounts,
+}
+
+impl scan::Found for Tester<'_> {
+    /// In scenes larger than the cache.
+    fn reads_ahead(&self) -> bool {
+        self.ahead
+    }
+
+    /// Reads both lines ahead.
+    #[inline(always)]
+    fn ahead(&self, a: u32, b: u32) {
+        for id in [a, b] {
+            if let Some(line) = self.lines.lines.get(id as usize) {
+                read_ahead(line);
+            }
+        }
+    }
+
+    #[inline(always)]
+    fn found(&mut self, a: u32, b: u32) {
+        let stored = self.lines;
+        let (a, b) = if stored.id(a) < stored.id(b) {
+            (a, b)
+        } else {
+            (b, a)
+        };
+        test_ordered(
+            &stored.lines[a as usize],
+            &stored.lines[b as usize],
+            (a, b),
+            self.dt,
+            self.events,
+            self.counts,
+        )
+    }
+}
+
+/// One chunk's findings when a team sweeps, kept from step to step so
+/// that its buffers are not allocated anew every step.
+#[derive(Debug, Default)]
+struct Chunk {
+    events: Vec<Event>,
+    counts: PairCounts,
+    pairs: Vec<(u32, u32)>,
+}
+
+impl Default for Sweep {
+    fn default() -> Self {
+        Self::new(&DetectorConfig::default())
+    }
+}
+
+impl Detector for Sweep {
+    fn name(&self) -> &'static str {
+        "sweep"
+    }
+
+    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
+        self.detect_lines(Stored { lines, ids: None }, dt, events);
+    }
+
+    fn detect_stored(&mut self, lines: &[Line], ids: &[u32], dt: f64, events: &mut Vec<Event>) {
+        let ids = Some(ids);
+        self.detect_lines(Stored { lines, ids }, dt, events);
+    }
+
+    /// The boxes' order, band by band, where the lines are read by more
+    /// than one thread or do not fit the cache (see `STORE_FROM`).
+    fn storage_order(&mut self) -> Option<&mut [u32]> {
+        let n = self.sorted.len();
+        let shared = self.threads > 1 && n >= TEAM_MIN_BOXES;
+        self.in_order = shared || n >= STORE_FROM;
+        self.in_order.then(|| &mut self.sorted.ids[..n])
     }
 
     fn stats(&self) -> DetectorStats {
