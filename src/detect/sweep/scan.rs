@@ -12,22 +12,14 @@ use multiversion::multiversion;
 /// What a sweep hands each pair of ids whose hulls overlap to.
 pub(crate) trait Found {
     /// Whether [`Found::ahead`] is to be called.
-    fn reads_ahead(&self) -> bool {
-        false
-    }
+    fn reads_ahead(&self) -> bool;
 
     /// Called with a pair a few pairs before [`Found::found`] is, so that
     /// what that will read can be on its way from memory.
-    fn ahead(&self, _a: u32, _b: u32) {}
+    fn ahead(&self, a: u32, b: u32);
 
     /// Takes the pair `a`, `b`.
     fn found(&mut self, a: u32, b: u32);
-}
-
-impl<F: FnMut(u32, u32)> Found for F {
-    fn found(&mut self, a: u32, b: u32) {
-        self(a, b)
-    }
 }
 
 /// Hands the noted `pairs` of positions on to `to` as ids, the first of
