@@ -24,7 +24,6 @@ use crate::line::Line;
 use crate::narrow::Event;
 use crate::team::{self, Team};
 use crate::world::advance_and_bounce;
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Lines copied and moved at a time (6 KB of them).
 const BLOCK: usize = 128;
@@ -148,17 +147,14 @@ impl Storage {
                 let orders = team::shares_mut(order, threads);
                 let to = team::shares_mut(&mut self.spare, threads);
                 let to_ids = team::shares_mut(&mut self.spare_ids, threads);
-                let hits = AtomicU64::new(0);
-                team.run(&|k| {
-                    let h = fill(
+                team.run_sum(&|k| {
+                    fill(
                         team::share(n, threads, k).start,
                         &mut orders[k].lock().expect("a share"),
                         &mut to[k].lock().expect("a share"),
                         &mut to_ids[k].lock().expect("a share"),
-                    );
-                    hits.fetch_add(h, Ordering::Relaxed);
-                });
-                hits.into_inner()
+                    )
+                })
             }
             None => fill(0, order, &mut self.spare, &mut self.spare_ids),
         };

@@ -148,6 +148,18 @@ impl Team {
     }
 }
 
+impl Team {
+    /// [`Team::run`] of a job whose parts each count something: returns
+    /// the sum of the counts (the same in any order).
+    pub fn run_sum(&self, job: &(dyn Fn(usize) -> u64 + Sync)) -> u64 {
+        let sum = AtomicU64::new(0);
+        self.run(&|k| {
+            sum.fetch_add(job(k), Ordering::Relaxed);
+        });
+        sum.into_inner()
+    }
+}
+
 impl Drop for Team {
     fn drop(&mut self) {
         self.shared.quit.store(true, Ordering::SeqCst);
@@ -247,7 +259,18 @@ pub fn share(n: usize, parts: usize, k: usize) -> std::ops::Range<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::atomic::AtomicU64;
+
+    #[test]
+    fn summed_jobs_add_every_members_count() {
+        for threads in [1, 2, 3, 8] {
+            let team = Team::new(threads).unwrap();
+            for round in 0..200u64 {
+                let sum = team.run_sum(&|k| round * 10 + k as u64);
+                let t = threads as u64;
+                assert_eq!(sum, round * 10 * t + t * (t - 1) / 2);
+            }
+        }
+    }
 
     #[test]
     fn every_member_runs_its_part_of_every_job() {

@@ -10,7 +10,6 @@ use crate::scene::Scene;
 use crate::storage::Storage;
 use crate::team::Team;
 use std::borrow::Cow;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -356,20 +355,13 @@ impl World {
             self.mismatch = self.compare(expected).err();
             self.steps -= 1;
         }
-        match &mut self.storage {
-            Some(st) => {
-                self.resolver.resolve_all(
-                    &mut self.lines,
-                    st.events_by_slot(),
-                    parallel.then_some(self.grain),
-                );
-            }
-            None => self.resolver.resolve_all(
-                &mut self.lines,
-                &self.events,
-                parallel.then_some(self.grain),
-            ),
-        }
+        // By slot, the lines' places, once they are stored in another order.
+        let to_resolve = match &self.storage {
+            Some(st) => st.events_by_slot(),
+            None => &self.events,
+        };
+        self.resolver
+            .resolve_all(&mut self.lines, to_resolve, parallel.then_some(self.grain));
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
         // Moving and the wall check in one pass over the lines: each line
@@ -378,10 +370,10 @@ impl World {
         let parallel = parallel && self.lines.len() >= 4 * self.grain;
         // The wall counter is a sum, the same in any order.
         let n = self.lines.len();
+        let team = self.team.as_deref().filter(|_| n >= TEAM_MIN_LINES);
         let hits = if let Some(order) = self.detector.storage_order() {
             // The lines stored in the detector's order as they move (see
             // `crate::storage`), a share per member of the team.
-            let team = self.team.as_deref().filter(|_| n >= TEAM_MIN_LINES);
             self.storage
                 .get_or_insert_with(|| Storage::new(n))
                 .advance_in_order(&mut self.lines, order, team)
@@ -391,21 +383,11 @@ impl World {
                 .par_chunks_mut(self.grain)
                 .map(advance_and_bounce)
                 .sum()
-        } else if let Some(team) = self
-            .team
-            .as_deref()
-            .filter(|_| self.lines.len() >= TEAM_MIN_LINES)
-        {
+        } else if let Some(team) = team {
             // Below the pool's grain: a share of the lines (by id) per
             // member of the team.
-            let threads = team.threads();
-            let shares = crate::team::shares_mut(&mut self.lines, threads);
-            let hits = AtomicU64::new(0);
-            team.run(&|k| {
-                let h = advance_and_bounce(&mut shares[k].lock().expect("a share"));
-                hits.fetch_add(h, Ordering::Relaxed);
-            });
-            hits.into_inner()
+            let shares = crate::team::shares_mut(&mut self.lines, team.threads());
+            team.run_sum(&|k| advance_and_bounce(&mut shares[k].lock().expect("a share")))
         } else {
             advance_and_bounce(&mut self.lines)
         };
