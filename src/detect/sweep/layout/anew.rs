@@ -10,8 +10,8 @@
 //! laid out at once without sharing anything they write.
 
 use super::{
-    finish_band, groups_of_bands, push_next_guests, run_each, set_starts, sort_movers, stretches,
-    Group, Layout, Stretch,
+    end_guests, finish_band, groups_of_bands, run_each, set_starts, sort_movers, stretches, Group,
+    Layout, Stretch,
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::hull::{hi, Packed};
@@ -354,12 +354,9 @@ fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
         mover_at = moved.end;
         // The next band's guests: this band's homes and guests that reach
         // into it, merged in key order, after this band's guests.
-        let own = guest_starts[k] as usize..guests.len();
-        guest_starts.push(guests.len() as u32);
-        if band + 1 < range.end.min(count) {
-            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
-            push_next_guests(guests, own, homes, band, a.bands, spare);
-        }
+        let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+        let next = band + 1 < range.end.min(count);
+        end_guests((guests, guest_starts), homes, band, next, a.bands, spare);
     }
 }
 

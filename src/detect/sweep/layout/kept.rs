@@ -9,8 +9,8 @@
 //! group writing only its own stretch.
 
 use super::{
-    finish_band, groups_of_bands, push_next_guests, run_each, set_starts, sort_movers, stretches,
-    Group, Layout, Run, Stretch,
+    end_guests, finish_band, groups_of_bands, run_each, set_starts, sort_movers, stretches, Group,
+    Layout, Run, Stretch,
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::hull::{hi, lo, Packed};
@@ -271,12 +271,15 @@ impl Layout {
                 &mut ids[out.clone()],
             );
             finish_band(band_arrays, stayed.len(), movers, moved, order, spare);
-            let own = guest_starts[b] as usize..guests.len();
-            guest_starts.push(guests.len() as u32);
-            if b + 1 < count {
-                let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
-                push_next_guests(guests, own, homes, b, bands, spare);
-            }
+            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+            end_guests(
+                (guests, guest_starts),
+                homes,
+                b,
+                b + 1 < count,
+                bands,
+                spare,
+            );
         }
         self.guest_at.clear();
         for b in 0..count {
@@ -467,12 +470,8 @@ fn finish_group(s: Stretch, group: &mut Group, c: &Closed) {
             &mut ids[out.clone()],
         );
         finish_band(band_arrays, stayed, c.movers, moved, order, spare);
-        let k = band - range.start;
-        let own = guest_starts[k] as usize..guests.len();
-        guest_starts.push(guests.len() as u32);
-        if band + 1 < range.end.min(count) {
-            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
-            push_next_guests(guests, own, homes, band, c.bands, spare);
-        }
+        let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
+        let next = band + 1 < range.end.min(count);
+        end_guests((guests, guest_starts), homes, band, next, c.bands, spare);
     }
 }

@@ -298,6 +298,25 @@ fn set_starts(counts: &[u32], starts: &mut Vec<usize>, n: usize) {
     debug_assert_eq!(total, n);
 }
 
+/// Ends band `band`'s guests (the last run of `guests`, which started at
+/// the last of `guest_starts`) and, if the band after it is in the same
+/// group (`next`), lists that band's guests after them: `band`'s homes
+/// (`homes`, sorted) and guests that reach beyond it.
+fn end_guests(
+    (guests, guest_starts): (&mut Run, &mut Vec<u32>),
+    homes: (&[f32], &[Packed], &[u32]),
+    band: usize,
+    next: bool,
+    bands: &Bands,
+    spare: &mut Run,
+) {
+    let own = *guest_starts.last().expect("the band's start") as usize..guests.len();
+    guest_starts.push(guests.len() as u32);
+    if next {
+        push_next_guests(guests, own, homes, band, bands, spare);
+    }
+}
+
 /// Appends to `guests` the guests of the band after `band`: the homes of
 /// `band` (sorted) and its guests `own` (a range of `guests`, sorted) that
 /// reach beyond it, merged in key order (through `spare`).
