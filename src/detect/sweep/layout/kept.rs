@@ -18,22 +18,6 @@ use crate::detect::sweep::order::{Boxes, NO_KEY};
 use crate::team::Team;
 use std::ops::Range;
 
-/// One group's bands while they are closed up: last step's boxes of those
-/// bands, and per band what stayed and how far up it reaches.
-struct Arrived<'a> {
-    bands: Range<usize>,
-    /// The first entry of the group's bands, last step.
-    offset: usize,
-    keys: &'a mut [f32],
-    hulls: &'a mut [Packed],
-    ids: &'a mut [u32],
-    /// Per band of the group, the boxes that stayed in it.
-    stayed: &'a mut [usize],
-    /// Per band of the group, the greatest value across the bands that a
-    /// box staying in it reaches.
-    tops: &'a mut [f32],
-}
-
 /// What every group reads while it finishes its bands.
 struct Closed<'a> {
     /// Last step's boxes, each band's stayers closed up at its front.
@@ -92,17 +76,17 @@ impl Layout {
         // Each group closes up its own bands and holds aside the boxes
         // that left them.
         {
-            let arrived = arrivals(
-                &self.old_starts,
-                slots,
-                n,
-                &mut self.stayed,
-                &mut tops,
-                &bounds,
-            );
             let (edges, old) = (&self.edges, &self.old_starts);
-            let work: Vec<_> = arrived.into_iter().zip(self.groups.iter_mut()).collect();
-            run_each(work, team, |(a, g)| close_up_group(a, g, old, edges, bands));
+            let (keys, hulls, ids) = (&mut slots.keys, &mut slots.hulls, &mut slots.ids);
+            let work: Vec<_> = stretches(old, keys, hulls, ids, &bounds)
+                .into_iter()
+                .zip(per_group(&mut self.stayed, &bounds))
+                .zip(per_group(&mut tops, &bounds))
+                .zip(self.groups.iter_mut())
+                .collect();
+            run_each(work, team, |(((arrived, stayed), tops), g)| {
+                close_up_group(arrived, (stayed, tops), g, old, edges, bands)
+            });
         }
 
         // The movers of all groups, sorted by band and key; the new starts.
@@ -343,47 +327,31 @@ fn close_up<const TOP: bool>(
     (w - band.start, top)
 }
 
-/// Splits last step's arrays (and the per-band counts) into one group's
-/// bands each, for `bounds`.
-fn arrivals<'a>(
-    old_starts: &[usize],
-    slots: &'a mut Boxes,
-    n: usize,
-    mut stayed: &'a mut [usize],
-    mut tops: &'a mut [f32],
-    bounds: &[Range<usize>],
-) -> Vec<Arrived<'a>> {
-    let (mut keys, mut hulls, mut ids) = (
-        &mut slots.keys[..n],
-        &mut slots.hulls[..n],
-        &mut slots.ids[..n],
-    );
-    let mut out = Vec::with_capacity(bounds.len());
-    for range in bounds {
-        let (offset, end) = (old_starts[range.start], old_starts[range.end]);
-        let len = end - offset;
-        let (k, rest_k) = std::mem::take(&mut keys).split_at_mut(len);
-        let (h, rest_h) = std::mem::take(&mut hulls).split_at_mut(len);
-        let (i, rest_i) = std::mem::take(&mut ids).split_at_mut(len);
-        let (s, rest_s) = std::mem::take(&mut stayed).split_at_mut(range.len());
-        let (t, rest_t) = std::mem::take(&mut tops).split_at_mut(range.len());
-        (keys, hulls, ids, stayed, tops) = (rest_k, rest_h, rest_i, rest_s, rest_t);
-        out.push(Arrived {
-            bands: range.clone(),
-            offset,
-            keys: k,
-            hulls: h,
-            ids: i,
-            stayed: s,
-            tops: t,
-        });
-    }
-    out
+/// Splits per-band `items` into one part per group of bands in `bounds`.
+fn per_group<'a, T>(mut items: &'a mut [T], bounds: &[Range<usize>]) -> Vec<&'a mut [T]> {
+    bounds
+        .iter()
+        .map(|range| {
+            let (part, rest) = std::mem::take(&mut items).split_at_mut(range.len());
+            items = rest;
+            part
+        })
+        .collect()
 }
 
-/// Closes up one group's bands (see [`close_up`]), its movers in the
-/// group's buffer.
-fn close_up_group(a: Arrived, group: &mut Group, old: &[usize], edges: &[f32], bands: &Bands) {
+/// Closes up one group's bands (see [`close_up`]), last step's boxes of
+/// those bands in `arrived`, its movers in the group's buffer; notes per
+/// band the boxes that stayed and the greatest value across the bands
+/// that one of them reaches.
+fn close_up_group(
+    arrived: Stretch,
+    (stayed_in, tops): (&mut [usize], &mut [f32]),
+    group: &mut Group,
+    old: &[usize],
+    edges: &[f32],
+    bands: &Bands,
+) {
+    let a = arrived;
     group.movers.clear();
     for (k, b) in a.bands.clone().enumerate() {
         let band = old[b] - a.offset..old[b + 1] - a.offset;
@@ -397,8 +365,7 @@ fn close_up_group(a: Arrived, group: &mut Group, old: &[usize], edges: &[f32], b
             &mut group.movers,
             &mut group.gaps,
         );
-        a.stayed[k] = stayed;
-        a.tops[k] = top;
+        (stayed_in[k], tops[k]) = (stayed, top);
     }
 }
 
