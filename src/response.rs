@@ -249,6 +249,29 @@ mod tests {
         assert_eq!(lines[1].v, Vec2::new(0.0, 0.0));
     }
 
+    /// Events in resolution order, each pair once.
+    fn sort_unique(events: &mut Vec<Event>) {
+        events.sort_unstable_by_key(Event::order_key);
+        events.dedup_by_key(|e| e.order_key());
+    }
+
+    /// `lines` after resolving `events` one by one.
+    fn one_by_one(lines: &[Line], events: &[Event]) -> Vec<Line> {
+        let mut out = lines.to_vec();
+        for e in events {
+            resolve(&mut out, e);
+        }
+        out
+    }
+
+    /// The bits of every line's velocity.
+    fn velocity_bits(lines: &[Line]) -> Vec<u64> {
+        lines
+            .iter()
+            .flat_map(|l| [l.v.x.to_bits(), l.v.y.to_bits()])
+            .collect()
+    }
+
     /// In a scene larger than the cache the events' lines are read ahead;
     /// the lines end exactly as resolving the events one by one leaves
     /// them, chained events included.
@@ -285,20 +308,11 @@ mod tests {
                 kind: IntersectionKind::L1WithL2,
             }])
             .collect();
-        events.sort_unstable_by_key(Event::order_key);
-        events.dedup_by_key(|e| e.order_key());
-        let mut expected = lines.clone();
-        for e in &events {
-            resolve(&mut expected, e);
-        }
+        sort_unique(&mut events);
+        let expected = one_by_one(&lines, &events);
         let mut got = lines;
         Resolver::default().resolve_all(&mut got, &events, None);
-        let bits = |ls: &[Line]| -> Vec<u64> {
-            ls.iter()
-                .flat_map(|l| [l.v.x.to_bits(), l.v.y.to_bits()])
-                .collect()
-        };
-        assert!(bits(&got) == bits(&expected));
+        assert!(velocity_bits(&got) == velocity_bits(&expected));
         assert_ne!(got[0].v, Vec2::new(0.1, 0.0), "the first line was resolved");
     }
 
@@ -335,21 +349,13 @@ mod tests {
                     kind: kinds[k as usize],
                 })
                 .collect();
-            events.sort_unstable_by_key(Event::order_key);
-            events.dedup_by_key(|e| e.order_key());
-
-            let mut expected = lines.clone();
-            for e in &events {
-                resolve(&mut expected, e);
-            }
+            sort_unique(&mut events);
+            let expected = one_by_one(&lines, &events);
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut got = lines;
             let mut resolver = Resolver::default();
             pool.install(|| resolver.resolve_all(&mut got, &events, Some(grain)));
-            let bits = |ls: &[Line]| -> Vec<u64> {
-                ls.iter().flat_map(|l| [l.v.x.to_bits(), l.v.y.to_bits()]).collect()
-            };
-            proptest::prop_assert_eq!(bits(&got), bits(&expected));
+            proptest::prop_assert_eq!(velocity_bits(&got), velocity_bits(&expected));
         }
     }
 }
