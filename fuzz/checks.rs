@@ -395,7 +395,7 @@ pub fn step(bytes: &[u8]) {
                 "step {step}: events out of order: {pair:?}"
             );
         }
-        for e in events {
+        for e in events.iter() {
             assert!(
                 e.first < e.second && (e.second as usize) < n,
                 "step {step}: bad ids in {e:?} among {n} lines"
@@ -407,7 +407,7 @@ pub fn step(bytes: &[u8]) {
             if *parted {
                 continue;
             }
-            *parted = compare_events(step, name, &before, events, w.last_events());
+            *parted = compare_events(step, name, &before, &events, &w.last_events());
             if *parted {
                 continue;
             }

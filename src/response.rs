@@ -3,6 +3,7 @@
 use crate::geometry::{crossing_point, Vec2};
 use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::{Event, IntersectionKind};
+use std::mem::take;
 
 /// Applies the response to one event. Only velocities change; positions are
 /// read as they are at the start of the step.
@@ -54,6 +55,13 @@ pub struct Resolver {
     grouped: Vec<Event>,
     /// A wave's new velocities, by event.
     velocities: Vec<(Vec2, Vec2)>,
+    /// Per line: how many of the step's events it takes part in, up to
+    /// two (zero between steps), for [`Resolver::resolve_found`].
+    shares: Vec<u8>,
+    /// There, the events that share no line with another, and the others
+    /// with their order key by id.
+    free: Vec<Event>,
+    tied: Vec<(u64, Event)>,
 }
 
 impl Resolver {
@@ -66,38 +74,100 @@ impl Resolver {
             return;
         };
         self.group_by_wave(lines.len(), events);
+        let grouped = std::mem::take(&mut self.grouped);
         for w in 1..self.starts.len() - 1 {
-            let wave = &self.grouped[self.starts[w]..self.starts[w + 1]];
-            if wave.len() < (grain / 4).max(1) {
-                resolve_each(lines, wave);
-                continue;
-            }
-            use rayon::prelude::*;
-            self.velocities.resize(wave.len(), Default::default());
-            let shared: &[Line] = lines;
-            wave.par_chunks(WAVE_CHUNK)
-                .zip(self.velocities.par_chunks_mut(WAVE_CHUNK))
-                .for_each_init(
-                    || Vec::with_capacity(WAVE_CHUNK),
-                    |pairs, (events, out)| {
-                        // Copy the lines first, in a loop whose scattered
-                        // reads can all be in flight at once.
-                        pairs.clear();
-                        pairs.extend(
-                            events
-                                .iter()
-                                .map(|e| (shared[e.first as usize], shared[e.second as usize])),
-                        );
-                        for ((v, (l1, l2)), e) in out.iter_mut().zip(pairs.iter()).zip(events) {
-                            *v = respond(l1, l2, e.kind);
-                        }
-                    },
-                );
-            for (e, &(v1, v2)) in wave.iter().zip(&self.velocities) {
-                lines[e.first as usize].v = v1;
-                lines[e.second as usize].v = v2;
+            let wave = &grouped[self.starts[w]..self.starts[w + 1]];
+            self.resolve_wave(lines, wave, grain);
+        }
+        self.grouped = grouped;
+    }
+
+    /// Resolves `wave`, events that share no line, in any order: on the
+    /// current rayon pool when it holds at least a quarter of `grain`.
+    fn resolve_wave(&mut self, lines: &mut [Line], wave: &[Event], grain: usize) {
+        if wave.len() < (grain / 4).max(1) {
+            resolve_each(lines, wave);
+            return;
+        }
+        use rayon::prelude::*;
+        self.velocities.resize(wave.len(), Default::default());
+        let shared: &[Line] = lines;
+        wave.par_chunks(WAVE_CHUNK)
+            .zip(self.velocities.par_chunks_mut(WAVE_CHUNK))
+            .for_each_init(
+                || Vec::with_capacity(WAVE_CHUNK),
+                |pairs, (events, out)| {
+                    // Copy the lines first, in a loop whose scattered reads
+                    // can all be in flight at once.
+                    pairs.clear();
+                    pairs.extend(
+                        events
+                            .iter()
+                            .map(|e| (shared[e.first as usize], shared[e.second as usize])),
+                    );
+                    for ((v, (l1, l2)), e) in out.iter_mut().zip(pairs.iter()).zip(events) {
+                        *v = respond(l1, l2, e.kind);
+                    }
+                },
+            );
+        for (e, &(v1, v2)) in wave.iter().zip(&self.velocities) {
+            lines[e.first as usize].v = v1;
+            lines[e.second as usize].v = v2;
+        }
+    }
+
+    /// Resolves `events` as a detector found them, in any order, naming
+    /// lines by place in `lines`; `by_id` holds the same events naming the
+    /// lines by id. Given a `grain`, as [`Resolver::resolve_all`] does.
+    ///
+    /// An event whose lines take part in no other event commutes with
+    /// every other, so those (most) are resolved as found, at once, in the
+    /// order of memory when the events come in the order the lines are
+    /// stored. The others are put in the order of their ids and resolved
+    /// after. Each line's events are thus applied in the contract's order,
+    /// and the lines end bit for bit as resolving every event in id order
+    /// would leave them, without a sort of every event or a read of the
+    /// lines in the order of their ids.
+    pub fn resolve_found(
+        &mut self,
+        lines: &mut [Line],
+        events: &[Event],
+        by_id: &[Event],
+        grain: Option<usize>,
+    ) {
+        debug_assert_eq!(events.len(), by_id.len());
+        let shares = &mut self.shares;
+        shares.resize(lines.len(), 0);
+        for e in events {
+            for line in [e.first, e.second] {
+                let s = &mut shares[line as usize];
+                *s = (*s + 1).min(2);
             }
         }
+        let (mut free, mut tied) = (take(&mut self.free), take(&mut self.tied));
+        free.clear();
+        tied.clear();
+        for (e, named) in events.iter().zip(by_id) {
+            let (a, b) = (e.first as usize, e.second as usize);
+            if shares[a] == 2 || shares[b] == 2 {
+                tied.push((named.order_key(), *e));
+            } else {
+                free.push(*e);
+            }
+        }
+        for e in events {
+            (shares[e.first as usize], shares[e.second as usize]) = (0, 0);
+        }
+        match grain {
+            Some(grain) => self.resolve_wave(lines, &free, grain),
+            None => resolve_each(lines, &free),
+        }
+        // Pairs are unique, so an unstable sort gives the one sorted order.
+        tied.sort_unstable_by_key(|t| t.0);
+        free.clear();
+        free.extend(tied.iter().map(|t| t.1));
+        self.resolve_all(lines, &free, grain);
+        (self.free, self.tied) = (free, tied);
     }
 
     /// Sets `grouped` to the events by wave (and in order within each) and
@@ -249,6 +319,14 @@ mod tests {
         assert_eq!(lines[1].v, Vec2::new(0.0, 0.0));
     }
 
+    fn gcd(a: u32, b: u32) -> u32 {
+        if b == 0 {
+            a
+        } else {
+            gcd(b, a % b)
+        }
+    }
+
     /// Events in resolution order, each pair once.
     fn sort_unique(events: &mut Vec<Event>) {
         events.sort_unstable_by_key(Event::order_key);
@@ -317,6 +395,74 @@ mod tests {
     }
 
     proptest::proptest! {
+        /// Events found in any order on lines stored in any order leave
+        /// every line exactly as resolving them one by one in id order
+        /// does, however they chain, on one thread or several.
+        #[test]
+        fn found_events_resolve_like_the_plain_loop(
+            lines in proptest::collection::vec(
+                (0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0, 0.0f64..1.0, -1.0f64..1.0, -1.0f64..1.0),
+                2..40,
+            ),
+            pairs in proptest::collection::vec((0u32..40, 0u32..40, 0u8..3), 0..200),
+            stride in 1u32..40,
+            grain in proptest::option::of(1usize..8),
+        ) {
+            let lines: Vec<Line> = lines
+                .iter()
+                .map(|&(a, b, c, d, e, f)| line((a, b), (c, d), (e, f)))
+                .collect();
+            let n = lines.len() as u32;
+            let kinds = [
+                IntersectionKind::L1WithL2,
+                IntersectionKind::L2WithL1,
+                IntersectionKind::AlreadyIntersected,
+            ];
+            let mut by_id: Vec<Event> = pairs
+                .iter()
+                .map(|&(a, b, k)| (a % n, b % n, k))
+                .filter(|(a, b, _)| a != b)
+                .map(|(a, b, k)| Event {
+                    first: a.min(b),
+                    second: a.max(b),
+                    kind: kinds[k as usize],
+                })
+                .collect();
+            sort_unique(&mut by_id);
+            let expected = one_by_one(&lines, &by_id);
+            // Slot k holds the line that a stride through the ids meets
+            // k-th (a permutation when the stride and n share no factor).
+            let ids: Vec<u32> = if gcd(stride, n) == 1 {
+                (0..n).map(|k| (k * stride) % n).collect()
+            } else {
+                (0..n).rev().collect()
+            };
+            let mut slot = vec![0; n as usize];
+            for (k, &id) in ids.iter().enumerate() {
+                slot[id as usize] = k as u32;
+            }
+            // Found in another order: the events reversed, by slot.
+            by_id.reverse();
+            let found: Vec<Event> = by_id
+                .iter()
+                .map(|e| Event {
+                    first: slot[e.first as usize],
+                    second: slot[e.second as usize],
+                    kind: e.kind,
+                })
+                .collect();
+            let mut stored: Vec<Line> = ids.iter().map(|&id| lines[id as usize]).collect();
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
+            let mut resolver = Resolver::default();
+            pool.install(|| resolver.resolve_found(&mut stored, &found, &by_id, grain));
+            let mut got = lines.clone();
+            for (k, &id) in ids.iter().enumerate() {
+                got[id as usize] = stored[k];
+            }
+            proptest::prop_assert_eq!(velocity_bits(&got), velocity_bits(&expected));
+            proptest::prop_assert!(resolver.shares.iter().all(|&s| s == 0));
+        }
+
         /// Events in waves, on several threads, leave every line exactly as
         /// resolving them one by one does, however they chain.
         #[test]

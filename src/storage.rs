@@ -12,16 +12,19 @@
 //!
 //! A line's place is its *slot*; `ids[slot]` is its id. The detector is
 //! handed the lines by slot with their ids and names each event's lines by
-//! slot, the one with the lower id first; the events are put in the order
-//! of their ids (the contract's order of resolution) and resolved on the
-//! lines by slot. The results are the same bits in any order: moving and
-//! the wall check touch one line at a time, and the events are resolved in
-//! the same order on the same lines.
+//! slot, the one with the lower id first; the events are resolved on the
+//! lines by slot, those that share a line with another in the order of
+//! their ids (the contract's order of resolution) and the rest, which
+//! commute with every other, as found
+//! ([`crate::response::Resolver::resolve_found`]). The results are the same
+//! bits in any order: moving and the wall check touch one line at a time,
+//! and each line's events are resolved in the same order.
 //!
 //! [`Detector::storage_order`]: crate::detect::Detector::storage_order
 
 use crate::line::Line;
 use crate::narrow::Event;
+use crate::response::Resolver;
 use crate::team::{self, Team};
 use crate::world::advance_and_bounce;
 
@@ -36,11 +39,8 @@ pub(crate) struct Storage {
     /// The next order's lines and ids, exchanged with the current ones.
     spare: Vec<Line>,
     spare_ids: Vec<u32>,
-    /// This step's events by slot, as the detector found them and then in
-    /// the order of `events`.
+    /// This step's events by slot, as the detector found them.
     slot_events: Vec<Event>,
-    /// Each event by id beside the same by slot, to sort them together.
-    paired: Vec<(Event, Event)>,
 }
 
 impl Storage {
@@ -65,42 +65,28 @@ impl Storage {
         (&self.ids, &mut self.slot_events)
     }
 
-    /// Events found this step.
-    pub(crate) fn found(&self) -> usize {
-        self.slot_events.len()
-    }
-
-    /// Appends the events the detector found, by id, to `events` in the
-    /// order they are resolved in ([`Event::order_key`]), on rayon's pool
-    /// when `parallel`; [`Storage::events_by_slot`] then holds them by slot
-    /// in the same order.
-    pub(crate) fn sort_events(&mut self, events: &mut Vec<Event>, parallel: bool) {
+    /// Appends the events the detector found to `events`, naming the
+    /// lines by id, in the order found.
+    pub(crate) fn name_by_id(&self, events: &mut Vec<Event>) {
         let ids = &self.ids;
-        self.paired.clear();
-        self.paired.extend(self.slot_events.iter().map(|e| {
-            let by_id = Event {
-                first: ids[e.first as usize],
-                second: ids[e.second as usize],
-                kind: e.kind,
-            };
-            (by_id, *e)
+        events.extend(self.slot_events.iter().map(|e| Event {
+            first: ids[e.first as usize],
+            second: ids[e.second as usize],
+            kind: e.kind,
         }));
-        // Pairs are unique, so an unstable sort gives the one sorted order.
-        if parallel {
-            use rayon::slice::ParallelSliceMut;
-            self.paired.par_sort_unstable_by_key(|p| p.0.order_key());
-        } else {
-            self.paired.sort_unstable_by_key(|p| p.0.order_key());
-        }
-        events.extend(self.paired.iter().map(|p| p.0));
-        self.slot_events.clear();
-        self.slot_events.extend(self.paired.iter().map(|p| p.1));
     }
 
-    /// This step's events by slot, in the order [`Storage::sort_events`]
-    /// put them.
-    pub(crate) fn events_by_slot(&self) -> &[Event] {
-        &self.slot_events
+    /// Resolves the events the detector found on `lines`, by slot, with
+    /// `resolver` (see [`Resolver::resolve_found`]); `by_id` holds them as
+    /// [`Storage::name_by_id`] named them.
+    pub(crate) fn resolve(
+        &self,
+        lines: &mut [Line],
+        resolver: &mut Resolver,
+        by_id: &[Event],
+        grain: Option<usize>,
+    ) {
+        resolver.resolve_found(lines, &self.slot_events, by_id, grain);
     }
 
     /// Moves every line and bounces it off the walls, storing it in the
@@ -232,11 +218,14 @@ mod tests {
     }
 
     #[test]
-    fn events_by_slot_are_sorted_by_id() {
-        let mut stored = lines(6);
+    fn events_by_slot_are_named_by_id_and_resolved_on_their_slots() {
+        let start = lines(6);
+        let mut stored = start.clone();
         let mut storage = Storage::new(6);
         let mut order = vec![5, 4, 3, 2, 1, 0];
         storage.advance_in_order(&mut stored, &mut order, None);
+        let mut by_id = start;
+        advance_and_bounce(&mut by_id);
         // Slot k now holds line 5 - k; events name the lower id first.
         let kind = IntersectionKind::L1WithL2;
         let e = |first, second| Event {
@@ -244,13 +233,18 @@ mod tests {
             second,
             kind,
         };
+        storage.for_detector().1.extend([e(1, 0), e(4, 2), e(5, 1)]);
         let mut events = Vec::new();
-        for parallel in [false, true] {
-            storage.for_detector().1.extend([e(1, 0), e(4, 2), e(5, 1)]);
-            events.clear();
-            storage.sort_events(&mut events, parallel);
-            assert_eq!(events, vec![e(0, 4), e(1, 3), e(4, 5)]);
-            assert_eq!(storage.events_by_slot(), &[e(5, 1), e(4, 2), e(1, 0)]);
+        storage.name_by_id(&mut events);
+        assert_eq!(events, vec![e(4, 5), e(1, 3), e(0, 4)]);
+        // Line 4 meets 0 and then 5, in the order of their ids.
+        let mut resolver = Resolver::default();
+        storage.resolve(&mut stored, &mut resolver, &events, None);
+        let mut sorted = events.clone();
+        sorted.sort_unstable_by_key(Event::order_key);
+        for e in &sorted {
+            crate::response::resolve(&mut by_id, e);
         }
+        assert_eq!(storage.by_id(&stored), by_id);
     }
 }

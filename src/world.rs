@@ -96,6 +96,8 @@ pub struct World {
     counters: Counters,
     steps: u64,
     detector: Box<dyn Detector>,
+    /// The last step's events by id: sorted in the order of resolution,
+    /// or in the order found once the lines are stored by slot.
     events: Vec<Event>,
     resolver: Resolver,
     /// The smallest piece of work handed to a thread, in lines or events.
@@ -283,9 +285,18 @@ impl World {
         self.detector.stats()
     }
 
-    /// Events of the last step, sorted in the order they were resolved.
-    pub fn last_events(&self) -> &[Event] {
-        &self.events
+    /// Events of the last step, sorted in the contract's order of
+    /// resolution (ascending ids).
+    pub fn last_events(&self) -> Cow<'_, [Event]> {
+        match &self.storage {
+            // Kept in the order found (see `crate::storage`).
+            Some(_) => {
+                let mut events = self.events.clone();
+                events.sort_unstable_by_key(Event::order_key);
+                Cow::Owned(events)
+            }
+            None => Cow::Borrowed(&self.events),
+        }
     }
 
     /// Turns per-phase timing on or off, the detector's own phases included
@@ -338,15 +349,16 @@ impl World {
         }
         let t1 = self.lap(t0, |t, d| t.detect += d);
 
-        // Pairs are unique, so an unstable sort gives the one sorted order.
-        if let Some(st) = &mut self.storage {
-            let parallel = parallel && st.found() >= self.grain;
-            st.sort_events(&mut self.events, parallel);
-        } else if parallel && self.events.len() >= self.grain {
-            use rayon::slice::ParallelSliceMut;
-            self.events.par_sort_unstable_by_key(Event::order_key);
-        } else {
-            self.events.sort_unstable_by_key(Event::order_key);
+        match &self.storage {
+            // Named by id in the order found: resolved without a sort.
+            Some(st) => st.name_by_id(&mut self.events),
+            // Pairs are unique, so an unstable sort gives the one sorted
+            // order.
+            None if parallel && self.events.len() >= self.grain => {
+                use rayon::slice::ParallelSliceMut;
+                self.events.par_sort_unstable_by_key(Event::order_key);
+            }
+            None => self.events.sort_unstable_by_key(Event::order_key),
         }
         self.counters.line += self.events.len() as u64;
         if let Some(expected) = expected {
@@ -355,13 +367,13 @@ impl World {
             self.mismatch = self.compare(expected).err();
             self.steps -= 1;
         }
-        // By slot, the lines' places, once they are stored in another order.
-        let to_resolve = match &self.storage {
-            Some(st) => st.events_by_slot(),
-            None => &self.events,
-        };
-        self.resolver
-            .resolve_all(&mut self.lines, to_resolve, parallel.then_some(self.grain));
+        let grain = parallel.then_some(self.grain);
+        match &self.storage {
+            Some(st) => st.resolve(&mut self.lines, &mut self.resolver, &self.events, grain),
+            None => self
+                .resolver
+                .resolve_all(&mut self.lines, &self.events, grain),
+        }
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
         // Moving and the wall check in one pass over the lines: each line
@@ -454,13 +466,14 @@ impl World {
     }
 
     fn compare(&self, expected: Vec<Event>) -> Result<(), Mismatch> {
-        if expected == self.events {
+        let found = self.last_events();
+        if expected[..] == found[..] {
             return Ok(());
         }
         Err(Mismatch {
             step: self.steps,
             expected,
-            found: self.events.clone(),
+            found: found.into_owned(),
         })
     }
 
