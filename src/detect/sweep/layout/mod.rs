@@ -71,8 +71,11 @@ pub(crate) struct Layout {
     /// for the bands in `kept`.
     edges: Vec<f32>,
     /// The boxes that changed band this step, when a layout kept is
-    /// shared among groups.
+    /// shared among groups, and where they were: ascending, each band's
+    /// from the start `gap_starts` gives.
     movers: Run,
+    gaps: Vec<usize>,
+    gap_starts: Vec<usize>,
     /// The laid-out keys, hulls and ids, exchanged with the arriving
     /// boxes' arrays once laid out.
     keys: Vec<f32>,
@@ -155,7 +158,8 @@ struct Group {
     order: Vec<(f32, u32)>,
     /// Spare entries for sorting.
     spare: Run,
-    /// Where boxes left their band, in order, while a band is closed up.
+    /// Where boxes left the group's bands (or, on one thread, the band
+    /// being closed up), in order.
     gaps: Vec<usize>,
 }
 
