@@ -29,6 +29,8 @@
 mod anew;
 mod kept;
 
+pub(crate) use kept::Leavers;
+
 use super::bands::Bands;
 use super::hull::{hi, Packed};
 use super::order::{insert, Boxes};
@@ -76,6 +78,11 @@ pub(crate) struct Layout {
     movers: Run,
     gaps: Vec<usize>,
     gap_starts: Vec<usize>,
+    /// What shares of the arriving boxes noted as their hulls were made
+    /// (the first `noted_shares`), and the bands they were noted for.
+    noted: Vec<kept::Leavers>,
+    noted_shares: usize,
+    noted_for: Option<Bands>,
     /// The laid-out keys, hulls and ids, exchanged with the arriving
     /// boxes' arrays once laid out.
     keys: Vec<f32>,
@@ -158,9 +165,6 @@ struct Group {
     order: Vec<(f32, u32)>,
     /// Spare entries for sorting.
     spare: Run,
-    /// Where boxes left the group's bands (or, on one thread, the band
-    /// being closed up), in order.
-    gaps: Vec<usize>,
 }
 
 impl Layout {
@@ -644,6 +648,62 @@ mod tests {
         }
         // Steps 8, 9 and 11 on one thread; 13, 14 and 15 in groups.
         assert_eq!(kept, 6);
+    }
+
+    /// Leavers noted in shares as the hulls are made, many bands empty
+    /// and shares cutting bands anywhere, give the layout that keeping it
+    /// without them does, on one thread and in groups.
+    #[test]
+    fn leavers_noted_in_shares_keep_the_same_layout() {
+        let n = 2000usize;
+        // Boxes in a few of 40 bands across y (most bands empty).
+        let key = |k: usize| (k * 7919 % n) as f32 / n as f32;
+        let ys: Vec<(f32, f32)> = (0..n)
+            .map(|k| {
+                let y = [0.05, 0.3, 0.31, 0.8][k % 4] + (k % 13) as f32 * 1e-3;
+                (y, y + (k % 5) as f32 * 0.01)
+            })
+            .collect();
+        let keys: Vec<f32> = (0..n).map(key).collect();
+        let bands = Bands::spanning(1, 40, 0.0, 1.0);
+        let team = Team::new(3).unwrap();
+        for (groups, team) in [(1, None), (2, None), (3, Some(&team))] {
+            let mut laid = Vec::new();
+            for noted in [false, true] {
+                let mut b = slots(&keys, &ys);
+                let mut layout = Layout::default();
+                lay_out(&mut b, &bands, groups, &mut layout, team);
+                // A few boxes move to other bands, one loses its key.
+                for k in 0..n {
+                    let id = b.ids[k] as usize - 10;
+                    if id % 37 == 0 {
+                        let (lo, hi) = (ys[id].0 + 0.25, ys[id].1 + 0.25);
+                        b.hulls[k] = hull(b.keys[k], lo.min(0.99), hi.min(0.99));
+                    }
+                    if id == 100 {
+                        b.keys[k] = NO_KEY;
+                    }
+                }
+                if noted {
+                    let shares = [0, 333, 1000, 1001, n];
+                    let (check, into) = layout.leaver_check(n, &bands, 4).unwrap();
+                    for (s, leavers) in shares.windows(2).zip(into.iter_mut()) {
+                        let range = s[0]..s[1];
+                        check.start(leavers);
+                        let arrays = (
+                            &b.keys[range.clone()],
+                            &b.hulls[range.clone()],
+                            &b.ids[range.clone()],
+                        );
+                        check.note(range.start, arrays, leavers);
+                    }
+                }
+                assert_eq!(layout.keep(&mut b, n, &bands, groups, team), Some(n - 1));
+                let guests: Vec<u32> = (0..40).flat_map(|g| layout.guests(g).2.to_vec()).collect();
+                laid.push((b.ids.clone(), b.keys.clone(), layout.starts.clone(), guests));
+            }
+            assert!(laid[0] == laid[1], "{groups} groups");
+        }
     }
 
     #[test]
