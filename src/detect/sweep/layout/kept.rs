@@ -461,19 +461,16 @@ fn close_up(
     }
     let (low, high) = (edges[b], edges[b + 1]);
     let mut top = f32::NEG_INFINITY;
-    for k in band {
-        let v = lo(&hulls[k], across);
+    let (first, band_keys, band_hulls) = (band.start, &keys[band.clone()], &hulls[band]);
+    for (k, (&key, hull)) in band_keys.iter().zip(band_hulls).enumerate() {
+        let v = lo(hull, across);
         // Without branches but the rare one for a box that leaves.
-        let stays = (keys[k] != NO_KEY) & (low <= v) & (v < high);
-        let h = hi(&hulls[k], across);
+        let stays = (key != NO_KEY) & (low <= v) & (v < high);
+        let h = hi(hull, across);
         top = if stays & (h > top) { h } else { top };
         if !stays {
-            let home = if keys[k] == NO_KEY {
-                count
-            } else {
-                bands.of(v)
-            };
-            leave(k, home);
+            let home = if key == NO_KEY { count } else { bands.of(v) };
+            leave(first + k, home);
         }
     }
     top
