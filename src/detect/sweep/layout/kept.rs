@@ -460,11 +460,35 @@ fn close_up(
         return f32::NEG_INFINITY;
     }
     let (low, high) = (edges[b], edges[b + 1]);
-    let mut top = f32::NEG_INFINITY;
     let (first, band_keys, band_hulls) = (band.start, &keys[band.clone()], &hulls[band]);
-    for (k, (&key, hull)) in band_keys.iter().zip(band_hulls).enumerate() {
+    // Eight boxes at a time, in arrays the compiler works on as vectors:
+    // which stay, and the greatest value across that those reach; the rare
+    // box that leaves is taken on its own.
+    let mut tops = [f32::NEG_INFINITY; 8];
+    let blocks = band_keys.chunks_exact(8).zip(band_hulls.chunks_exact(8));
+    for (c, (keys8, hulls8)) in blocks.enumerate() {
+        let v: [f32; 8] = std::array::from_fn(|j| lo(&hulls8[j], across));
+        let mut stays = [false; 8];
+        for j in 0..8 {
+            stays[j] = (keys8[j] != NO_KEY) & (low <= v[j]) & (v[j] < high);
+            let h = hi(&hulls8[j], across);
+            tops[j] = if stays[j] & (h > tops[j]) { h } else { tops[j] };
+        }
+        if stays != [true; 8] {
+            for j in (0..8).filter(|&j| !stays[j]) {
+                let home = if keys8[j] == NO_KEY {
+                    count
+                } else {
+                    bands.of(v[j])
+                };
+                leave(first + c * 8 + j, home);
+            }
+        }
+    }
+    let mut top = tops.into_iter().fold(f32::NEG_INFINITY, f32::max);
+    let whole = band_keys.len() - band_keys.len() % 8;
+    for (k, (&key, hull)) in band_keys.iter().zip(band_hulls).enumerate().skip(whole) {
         let v = lo(hull, across);
-        // Without branches but the rare one for a box that leaves.
         let stays = (key != NO_KEY) & (low <= v) & (v < high);
         let h = hi(hull, across);
         top = if stays & (h > top) { h } else { top };
