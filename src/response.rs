@@ -74,7 +74,7 @@ impl Resolver {
             return;
         };
         self.group_by_wave(lines.len(), events);
-        let grouped = std::mem::take(&mut self.grouped);
+        let grouped = take(&mut self.grouped);
         for w in 1..self.starts.len() - 1 {
             let wave = &grouped[self.starts[w]..self.starts[w + 1]];
             self.resolve_wave(lines, wave, grain);

@@ -4,7 +4,8 @@
 //!
 //! A step runs down this folder's files in order:
 //! 1. [`hull`]: every line's padded swept hull, packed as eight `f32`
-//!    lanes, made in last step's order;
+//!    lanes, made in last step's order (with several bands, the boxes
+//!    that left their band noted as they are made);
 //! 2. [`plan`]: now and then, the direction to sweep along and the bands
 //!    to cut the plane into, chosen on a sample;
 //! 3. with one band, [`order`]: the boxes sorted in place by their least
@@ -102,7 +103,8 @@ const TRIAL_GAIN: f64 = 0.97;
 /// The sweep's phases, as [`Detector::phase_times`] names them.
 #[derive(Clone, Copy, Debug)]
 enum Phase {
-    /// Making the packed hulls (and, now and then, the plan).
+    /// Making the packed hulls, noting the boxes that left their band
+    /// (and, now and then, the plan).
     Hulls,
     /// With one band, sorting them along the sweep direction; with
     /// several, finding each one's home band.
