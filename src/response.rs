@@ -327,6 +327,38 @@ mod tests {
         }
     }
 
+    /// Lines from generated values, and events between them from pairs of
+    /// numbers (taken modulo the lines) and a kind, in resolution order,
+    /// each pair once.
+    #[allow(clippy::type_complexity)]
+    fn lines_and_events(
+        values: &[(f64, f64, f64, f64, f64, f64)],
+        pairs: &[(u32, u32, u8)],
+    ) -> (Vec<Line>, Vec<Event>) {
+        let lines: Vec<Line> = values
+            .iter()
+            .map(|&(a, b, c, d, e, f)| line((a, b), (c, d), (e, f)))
+            .collect();
+        let n = lines.len() as u32;
+        let kinds = [
+            IntersectionKind::L1WithL2,
+            IntersectionKind::L2WithL1,
+            IntersectionKind::AlreadyIntersected,
+        ];
+        let mut events: Vec<Event> = pairs
+            .iter()
+            .map(|&(a, b, k)| (a % n, b % n, k))
+            .filter(|(a, b, _)| a != b)
+            .map(|(a, b, k)| Event {
+                first: a.min(b),
+                second: a.max(b),
+                kind: kinds[k as usize],
+            })
+            .collect();
+        sort_unique(&mut events);
+        (lines, events)
+    }
+
     /// Events in resolution order, each pair once.
     fn sort_unique(events: &mut Vec<Event>) {
         events.sort_unstable_by_key(Event::order_key);
@@ -408,27 +440,8 @@ mod tests {
             stride in 1u32..40,
             grain in proptest::option::of(1usize..8),
         ) {
-            let lines: Vec<Line> = lines
-                .iter()
-                .map(|&(a, b, c, d, e, f)| line((a, b), (c, d), (e, f)))
-                .collect();
+            let (lines, mut by_id) = lines_and_events(&lines, &pairs);
             let n = lines.len() as u32;
-            let kinds = [
-                IntersectionKind::L1WithL2,
-                IntersectionKind::L2WithL1,
-                IntersectionKind::AlreadyIntersected,
-            ];
-            let mut by_id: Vec<Event> = pairs
-                .iter()
-                .map(|&(a, b, k)| (a % n, b % n, k))
-                .filter(|(a, b, _)| a != b)
-                .map(|(a, b, k)| Event {
-                    first: a.min(b),
-                    second: a.max(b),
-                    kind: kinds[k as usize],
-                })
-                .collect();
-            sort_unique(&mut by_id);
             let expected = one_by_one(&lines, &by_id);
             // Slot k holds the line that a stride through the ids meets
             // k-th (a permutation when the stride and n share no factor).
@@ -475,27 +488,7 @@ mod tests {
             grain in 1usize..8,
             threads in 1usize..4,
         ) {
-            let lines: Vec<Line> = lines
-                .iter()
-                .map(|&(a, b, c, d, e, f)| line((a, b), (c, d), (e, f)))
-                .collect();
-            let n = lines.len() as u32;
-            let kinds = [
-                IntersectionKind::L1WithL2,
-                IntersectionKind::L2WithL1,
-                IntersectionKind::AlreadyIntersected,
-            ];
-            let mut events: Vec<Event> = pairs
-                .iter()
-                .map(|&(a, b, k)| (a % n, b % n, k))
-                .filter(|(a, b, _)| a != b)
-                .map(|(a, b, k)| Event {
-                    first: a.min(b),
-                    second: a.max(b),
-                    kind: kinds[k as usize],
-                })
-                .collect();
-            sort_unique(&mut events);
+            let (lines, events) = lines_and_events(&lines, &pairs);
             let expected = one_by_one(&lines, &events);
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let mut got = lines;

@@ -112,12 +112,13 @@ pub(crate) fn make(
     let line = |k: usize| &lines[ids[k] as usize];
     multiversion::target::match_target! {
         "x86_64+avx2" => avx2::make_each(line, &mut hulls[..n], &mut keys[..n], along, dt),
-        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt),
+        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, make_batch),
     }
 }
 
 /// Makes the packed hull and key of each line `line(k)` into `hulls[k]`
-/// and `keys[k]`: [`LANES`] lines at a time, the rest one at a time.
+/// and `keys[k]`: [`LANES`] lines at a time by `batch`, the rest one at a
+/// time.
 #[inline(always)]
 fn make_each<'a>(
     line: impl Fn(usize) -> &'a Line,
@@ -125,14 +126,15 @@ fn make_each<'a>(
     keys: &mut [f32],
     along: usize,
     dt: f64,
+    batch: impl Fn([&'a Line; LANES], f64, usize, &mut [Packed], &mut [f32]),
 ) {
     let n = hulls.len().min(keys.len());
     let whole = n - n % LANES;
     for start in (0..whole).step_by(LANES) {
-        let batch = std::array::from_fn(|k| line(start + k));
+        let lines = std::array::from_fn(|k| line(start + k));
         let range = start..start + LANES;
-        make_batch(
-            batch,
+        batch(
+            lines,
             dt,
             along,
             &mut hulls[range.clone()],
@@ -241,7 +243,7 @@ pub(crate) fn make_gathered(
         let line = |k: usize| &block[k];
         multiversion::target::match_target! {
             "x86_64+avx2" => avx2::make_each(line, hulls, keys, along, dt),
-            _ => make_each(line, hulls, keys, along, dt),
+            _ => make_each(line, hulls, keys, along, dt, make_batch),
         }
     }
 }
@@ -265,7 +267,7 @@ mod avx2 {
         _mm_xor_ps, _CMP_LE_OQ, _CMP_LT_OQ,
     };
 
-    /// [`super::make_each`].
+    /// [`super::make_each`] with [`make_batch`].
     #[inline]
     #[target_feature(enable = "avx2")]
     pub(super) fn make_each<'a>(
@@ -275,27 +277,11 @@ mod avx2 {
         along: usize,
         dt: f64,
     ) {
-        let n = hulls.len().min(keys.len());
-        let whole = n - n % LANES;
-        for start in (0..whole).step_by(LANES) {
-            let batch = [
-                line(start),
-                line(start + 1),
-                line(start + 2),
-                line(start + 3),
-            ];
-            let range = start..start + LANES;
-            make_batch(
-                batch,
-                dt,
-                along,
-                &mut hulls[range.clone()],
-                &mut keys[range],
-            );
-        }
-        for k in whole..n {
-            keys[k] = super::make_one(line(k), dt, along, &mut hulls[k]);
-        }
+        // The closure is compiled with AVX2, as the function it is in.
+        let batch = |lines, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
+            make_batch(lines, dt, along, hulls, keys)
+        };
+        super::make_each(line, hulls, keys, along, dt, batch);
     }
 
     /// The four directions of points whose coordinates are `x` and `y`,

@@ -115,30 +115,43 @@ fn sweep_across(
             let end = hi(&hulls[i], along).min(f32::MAX);
             if guest_key <= end {
                 let reach_i = reach(&hulls[i]);
-                let mut g = j;
-                while guest_keys.get(g).is_some_and(|&k| k <= end) {
-                    if overlaps(&guest_hulls[g], &reach_i) {
-                        found.push((i as u32, g as u32));
-                    }
-                    g += 1;
-                }
-                candidates += (g - j) as u64;
+                let guests = (guest_keys, guest_hulls);
+                let met = meet(guests, j, end, &reach_i, |g| found.push((i as u32, g)));
+                candidates += (met - j) as u64;
             }
             i += 1;
         }
         // The guest meets the homes beyond its key within its extent.
         let end = hi(guest_hull, along).min(f32::MAX);
         let reach_j = reach(guest_hull);
-        let mut h = i;
-        while keys.get(h).is_some_and(|&k| k <= end) {
-            if overlaps(&hulls[h], &reach_j) {
-                found.push((h as u32, j as u32));
-            }
-            h += 1;
-        }
-        candidates += (h - i) as u64;
+        let met = meet((keys, hulls), i, end, &reach_j, |h| {
+            found.push((h, j as u32))
+        });
+        candidates += (met - i) as u64;
     }
     candidates
+}
+
+/// Meets the boxes from `from` on (keys and hulls, sorted by key) whose
+/// key is at most `end`, one at a time, calling `hit` with each one whose
+/// hull overlaps the box whose reach is `reach`; returns the first box
+/// past them.
+#[inline(always)]
+fn meet(
+    (keys, hulls): (&[f32], &[Packed]),
+    from: usize,
+    end: f32,
+    reach: &Packed,
+    mut hit: impl FnMut(u32),
+) -> usize {
+    let mut j = from;
+    while keys.get(j).is_some_and(|&k| k <= end) {
+        if overlaps(&hulls[j], reach) {
+            hit(j as u32);
+        }
+        j += 1;
+    }
+    j
 }
 
 /// With one band: sweeps the boxes `range` of `sorted` (each against the
@@ -182,57 +195,52 @@ pub(crate) fn sweep(
     found: &mut Vec<(u32, u32)>,
 ) -> u64 {
     let mut candidates = 0;
-    for i in range {
+    let from = multiversion::target::match_target! {
+        "x86_64+avx2+popcnt+bmi1" => {
+            // In a dense scene every box with a whole block after it takes
+            // one, with no branch on how many candidates it has.
+            let whole = range.end.min(keys.len().saturating_sub(8));
+            let mut i = range.start;
+            while dense && i < whole {
+                let hull = &hulls[i];
+                let end = hi(hull, along).min(f32::MAX);
+                let reach = reach(hull);
+                let start = blocks::sweep_box(keys, hulls, i, i + 1, end, &reach, found, &mut candidates);
+                let met = meet((keys, hulls), start, end, &reach, |j| found.push((i as u32, j)));
+                candidates += (met - start) as u64;
+                i += 1;
+            }
+            i
+        }
+        _ => {
+            let _ = dense;
+            range.start
+        }
+    };
+    for i in from..range.end {
         let hull = &hulls[i];
         // Keys are at most f32::MAX, so a box reaching to +inf still
         // stops at the sentinel.
         let end = hi(hull, along).min(f32::MAX);
-        multiversion::target::match_target! {
-            "x86_64+avx2+popcnt+bmi1" => {
-                // In a dense scene every box takes a block of eight, with
-                // no branch on how many candidates it has.
-                if dense && i + 1 + 8 <= keys.len() {
-                    let reach = reach(hull);
-                    let start = blocks::sweep_box(keys, hulls, i, i + 1, end, &reach, found, &mut candidates);
-                    let mut j = start;
-                    while keys.get(j).is_some_and(|&k| k <= end) {
-                        if overlaps(&hulls[j], &reach) {
-                            found.push((i as u32, j as u32));
-                        }
-                        j += 1;
-                    }
-                    candidates += (j - start) as u64;
-                    continue;
-                }
-            }
-            _ => {
-                let _ = dense;
-            }
-        }
         if keys.get(i + 1).is_none_or(|&k| k > end) {
             // Most boxes of sparse scenes: nothing within the extent (keys
             // are never NaN).
             continue;
         }
         let reach = reach(hull);
-        let mut j = i + 1;
-        multiversion::target::match_target! {
+        let j = multiversion::target::match_target! {
             "x86_64+avx2+popcnt+bmi1" => {
                 // A box with a single candidate is quicker one at a time.
                 if keys.get(i + 2).is_some_and(|&k| k <= end) {
-                    j = blocks::sweep_box(keys, hulls, i, j, end, &reach, found, &mut candidates);
+                    blocks::sweep_box(keys, hulls, i, i + 1, end, &reach, found, &mut candidates)
+                } else {
+                    i + 1
                 }
             }
-            _ => {}
-        }
-        let start = j;
-        while keys.get(j).is_some_and(|&k| k <= end) {
-            if overlaps(&hulls[j], &reach) {
-                found.push((i as u32, j as u32));
-            }
-            j += 1;
-        }
-        candidates += (j - start) as u64;
+            _ => { i + 1 }
+        };
+        let met = meet((keys, hulls), j, end, &reach, |j| found.push((i as u32, j)));
+        candidates += (met - j) as u64;
     }
     candidates
 }
