@@ -164,6 +164,7 @@ impl Resolver {
         }
         // Pairs are unique, so an unstable sort gives the one sorted order.
         tied.sort_unstable_by_key(|t| t.0);
+        // The free events' buffer, now for the tied ones in order.
         free.clear();
         free.extend(tied.iter().map(|t| t.1));
         self.resolve_all(lines, &free, grain);

@@ -261,23 +261,14 @@ impl Sweep {
             (None, true) => n.div_ceil(chunk),
             (None, false) => 1,
         };
-        let mut unused = Vec::new();
-        let (check, noted) = match self.layout.leaver_check(n, &self.plan.bands, shares) {
-            Some((check, noted)) => (Some(check), noted),
-            None => {
-                unused.resize_with(shares, Leavers::default);
-                (None, &mut unused[..])
-            }
-        };
+        let (check, noted) = self.layout.leaver_check(n, &self.plan.bands, shares);
         // The boxes from `at` on: `ids`' hulls and keys, noted in `noted`.
         let fill = |at: usize,
                     ids: &[u32],
                     hulls: &mut [Packed],
                     keys: &mut [f32],
                     noted: &mut Leavers| {
-            if let Some(check) = &check {
-                check.start(noted);
-            }
+            noted.clear();
             let blocks = ids.chunks(NOTE_BLOCK).zip(hulls.chunks_mut(NOTE_BLOCK));
             for (k, ((ids, hulls), keys)) in blocks.zip(keys.chunks_mut(NOTE_BLOCK)).enumerate() {
                 if gather {

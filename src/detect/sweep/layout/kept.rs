@@ -77,7 +77,8 @@ pub(crate) struct Leavers {
 }
 
 impl Leavers {
-    fn clear(&mut self) {
+    /// Empties it for a share's boxes.
+    pub(crate) fn clear(&mut self) {
         self.first_band = 0;
         self.left.clear();
         self.tops.clear();
@@ -114,7 +115,7 @@ pub(crate) struct LeaverCheck<'a> {
 impl LeaverCheck<'_> {
     /// Notes into `into` which of the boxes `at..` (`keys`, `hulls` and
     /// `ids`, just made) left their band; the boxes of a share are noted in
-    /// order, from a cleared `into` (see [`LeaverCheck::start`]).
+    /// order, from a cleared `into` ([`Leavers::clear`]).
     pub(crate) fn note(
         &self,
         at: usize,
@@ -132,50 +133,39 @@ impl LeaverCheck<'_> {
             let run = k - at..self.starts[b + 1].min(end) - at;
             let before = into.gaps.len();
             let arrays = (keys, hulls, ids);
-            let top = close_up(arrays, run.clone(), b, self.edges, &self.bands, into);
-            for gap in &mut into.gaps[before..] {
-                *gap += at;
-            }
+            let top = close_up(arrays, at, run.clone(), b, self.edges, &self.bands, into);
             into.add(b, into.gaps.len() - before, top);
             k = at + run.end;
         }
-    }
-
-    /// Empties `into` for a share's boxes.
-    pub(crate) fn start(&self, into: &mut Leavers) {
-        into.clear();
     }
 }
 
 impl Layout {
     /// Last step's layout, to note the boxes that leave their band as the
     /// hulls of the `n` boxes are made, if the layout of `bands` may be
-    /// kept this step; and `shares` buffers to note them in, one per share
-    /// of the boxes in order. [`Layout::keep`] then takes what they hold.
+    /// kept this step (else `None`); and `shares` buffers to note them in,
+    /// one per share of the boxes in order. [`Layout::keep`] then takes
+    /// what they hold.
     pub(crate) fn leaver_check(
         &mut self,
         n: usize,
         bands: &Bands,
         shares: usize,
-    ) -> Option<(LeaverCheck<'_>, &mut [Leavers])> {
+    ) -> (Option<LeaverCheck<'_>>, &mut [Leavers]) {
         let count = bands.count;
-        self.noted_for = None;
-        if self.kept != Some(*bands)
-            || self.starts.len() != count + 2
-            || self.starts[count + 1] != n
-        {
-            return None;
-        }
-        self.noted_for = Some(*bands);
+        let keeps = self.kept == Some(*bands)
+            && self.starts.len() == count + 2
+            && self.starts[count + 1] == n;
+        self.noted_for = keeps.then_some(*bands);
         self.noted
             .resize_with(shares.max(self.noted.len()), Leavers::default);
         self.noted_shares = shares;
-        let check = LeaverCheck {
+        let check = keeps.then_some(LeaverCheck {
             starts: &self.starts,
             edges: &self.edges,
             bands: *bands,
-        };
-        Some((check, &mut self.noted[..shares]))
+        });
+        (check, &mut self.noted[..shares])
     }
 
     /// Lays out the first `n` boxes of `slots` again, when they arrive in
@@ -204,13 +194,14 @@ impl Layout {
         }
         if !noted {
             // Not noted as the hulls were made: the boxes are read here.
-            let (check, noted) = self.leaver_check(n, bands, 1).expect("a layout to keep");
-            check.start(&mut noted[0]);
+            let (check, noted) = self.leaver_check(n, bands, 1);
+            let check = check.expect("a layout to keep");
+            noted[0].clear();
             let arrays = (&slots.keys[..n], &slots.hulls[..n], &slots.ids[..n]);
             check.note(0, arrays, &mut noted[0]);
             self.noted_for = None;
         }
-        let tops = self.gather_leavers(count);
+        let mut tops = self.gather_leavers(count);
         if groups <= 1 {
             return Some(self.keep_in_place(slots, n, bands));
         }
@@ -220,7 +211,6 @@ impl Layout {
         let bounds = groups_of_bands(&self.old_starts, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
-        let mut tops = tops;
 
         // The new starts; the movers sorted by band and key.
         let (mut movers, gaps, gap_starts) = (
@@ -434,12 +424,13 @@ impl Layout {
     }
 }
 
-/// Finds the boxes of band `b` (the entries `band` of the arrays) that
-/// left it: pushes each to `into`'s movers with its new home band and its
-/// place to its gaps. Returns the greatest value across the bands that the
-/// boxes that stayed reach.
+/// Finds the boxes of band `b` (the entries `band` of the arrays, which
+/// start at place `at`) that left it: pushes each to `into`'s movers with
+/// its new home band and its place to its gaps. Returns the greatest value
+/// across the bands that the boxes that stayed reach.
 fn close_up(
     (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
+    at: usize,
     band: Range<usize>,
     b: usize,
     edges: &[f32],
@@ -450,7 +441,7 @@ fn close_up(
     let across = bands.across;
     let mut leave = |k: usize, home: usize| {
         into.movers.push(keys[k], hulls[k], ids[k], home as u32);
-        into.gaps.push(k);
+        into.gaps.push(at + k);
     };
     if b == count {
         // The boxes without a key: those that have one now leave.
@@ -577,8 +568,8 @@ fn copy_run(
 }
 
 /// Finishes one group's bands in its stretch of the new arrays: each
-/// band's stayers copied in, sorted, its movers inserted; then its guests,
-/// the first band's picked out of the bands below.
+/// band's stayers copied in with its newcomers merged in, then sorted;
+/// then its guests, the first band's picked out of the bands below.
 fn finish_group(s: Stretch, group: &mut Group, c: &Closed) {
     let Stretch {
         bands: range,

@@ -686,10 +686,11 @@ mod tests {
                 }
                 if noted {
                     let shares = [0, 333, 1000, 1001, n];
-                    let (check, into) = layout.leaver_check(n, &bands, 4).unwrap();
+                    let (check, into) = layout.leaver_check(n, &bands, 4);
+                    let check = check.unwrap();
                     for (s, leavers) in shares.windows(2).zip(into.iter_mut()) {
                         let range = s[0]..s[1];
-                        check.start(leavers);
+                        leavers.clear();
                         let arrays = (
                             &b.keys[range.clone()],
                             &b.hulls[range.clone()],
