@@ -385,21 +385,8 @@ mod tests {
                 })
                 .collect();
             hulls.sort_by(|a, b| a[along].total_cmp(&b[along]));
-            let keys: Vec<f32> = hulls.iter().map(|h| h[along]).collect();
-            let mut found = [Vec::new(), Vec::new()];
-            for dense in [false, true] {
-                let out = &mut found[usize::from(dense)];
-                sweep(&keys, &hulls, 0..keys.len(), along, dense, out);
-                out.sort_unstable();
-            }
-            let mut want = Vec::new();
-            for i in 0..hulls.len() {
-                for j in i + 1..hulls.len() {
-                    if overlaps(&hulls[j], &reach(&hulls[i])) {
-                        want.push((i as u32, j as u32));
-                    }
-                }
-            }
+            let (found, _) = swept_sparse_and_dense(&hulls, along);
+            let want = all_overlapping(&hulls);
             proptest::prop_assert_eq!(&found[0], &want);
             proptest::prop_assert_eq!(&found[1], &want);
         }
@@ -422,25 +409,37 @@ mod tests {
                 .iter()
                 .map(|&(x, w, y, h)| [x, y, n, n, -(x + w), -(y + h), n, n])
                 .collect();
-            let keys: Vec<f32> = hulls.iter().map(|h| h[along]).collect();
-            let mut found = [Vec::new(), Vec::new()];
-            let mut met = [0, 0];
-            for dense in [false, true] {
-                let out = &mut found[usize::from(dense)];
-                met[usize::from(dense)] = sweep(&keys, &hulls, 0..keys.len(), along, dense, out);
-                out.sort_unstable();
-            }
+            let (found, met) = swept_sparse_and_dense(&hulls, along);
             proptest::prop_assert_eq!(met[0], met[1]);
             proptest::prop_assert_eq!(&found[0], &found[1]);
-            let mut want = Vec::new();
-            for i in 0..hulls.len() {
-                for j in i + 1..hulls.len() {
-                    if overlaps(&hulls[j], &reach(&hulls[i])) {
-                        want.push((i as u32, j as u32));
-                    }
+            proptest::prop_assert_eq!(&found[1], &all_overlapping(&hulls));
+        }
+    }
+
+    /// The pairs `hulls` (sorted by key along `along`) swept sparse and
+    /// dense find, each list sorted, and the candidates each met.
+    fn swept_sparse_and_dense(hulls: &[Packed], along: usize) -> ([Vec<(u32, u32)>; 2], [u64; 2]) {
+        let keys: Vec<f32> = hulls.iter().map(|h| h[along]).collect();
+        let mut found = [Vec::new(), Vec::new()];
+        let mut met = [0, 0];
+        for dense in [false, true] {
+            let out = &mut found[usize::from(dense)];
+            met[usize::from(dense)] = sweep(&keys, hulls, 0..keys.len(), along, dense, out);
+            out.sort_unstable();
+        }
+        (found, met)
+    }
+
+    /// Every pair of `hulls` that overlap, by the all-pairs loop.
+    fn all_overlapping(hulls: &[Packed]) -> Vec<(u32, u32)> {
+        let mut want = Vec::new();
+        for i in 0..hulls.len() {
+            for j in i + 1..hulls.len() {
+                if overlaps(&hulls[j], &reach(&hulls[i])) {
+                    want.push((i as u32, j as u32));
                 }
             }
-            proptest::prop_assert_eq!(&found[1], &want);
         }
+        want
     }
 }
