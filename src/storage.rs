@@ -8,7 +8,8 @@
 //! the world stores the lines in its order as it moves them: each line is
 //! copied to its place in that order and moved there, in one pass split
 //! into contiguous shares, one per thread, and next step each thread makes
-//! the hulls of the lines it moved.
+//! the hulls of the lines it moved. The sweep asks every few steps; in
+//! between, the lines move where they are, still nearly in its order.
 //!
 //! A line's place is its *slot*; `ids[slot]` is its id. The detector is
 //! handed the lines by slot with their ids and names each event's lines by
