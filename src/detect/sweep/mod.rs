@@ -62,9 +62,9 @@ const STORE_FROM: usize = LARGE_SCENE;
 /// the hulls and the exact tests still read lines near each other, while
 /// the move works in place instead of copying every line. Against storing
 /// every step, on two threads (medians of 9 interleaved rounds): `koch`
-/// 1000 frames 0.095 s against 0.105, 10,000 lines 0.338 s against 0.377,
-/// a million lines 100 steps 4.75 s against 4.97 (5 rounds); 8 and 32
-/// steps did no better.
+/// 1000 frames 0.094 s against 0.099, 10,000 lines 0.343 s against 0.373,
+/// a million lines 100 steps 4.75 s against 5.02; 8 and 32 steps did no
+/// better in a trial.
 const STORE_EVERY: u64 = 16;
 
 // Scenes of `LARGE_SCENE` lines or more also wait on lines read in no
@@ -736,5 +736,38 @@ impl Detector for Sweep {
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
         Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_util::line;
+
+    /// A scene shared between threads has its lines stored in the sweep's
+    /// order at the first step's end and every `STORE_EVERY` steps after;
+    /// a small scene on one thread never.
+    #[test]
+    fn the_lines_are_stored_in_order_every_few_steps_where_it_pays() {
+        let lines: Vec<Line> = (0..3000)
+            .map(|k| {
+                let (x, y) = ((k % 60) as f64 / 60.0, (k / 60) as f64 / 50.0);
+                line((x, y), (x + 0.005, y + 0.005), (0.001, 0.0))
+            })
+            .collect();
+        let mut events = Vec::new();
+        let shared = DetectorConfig {
+            threads: 2,
+            ..DetectorConfig::default()
+        };
+        let mut sweep = Sweep::new(&shared);
+        sweep.detect(&lines, 0.5, &mut events);
+        let steps: Vec<u64> = (0..40u64)
+            .filter(|_| sweep.storage_order().is_some())
+            .collect();
+        assert_eq!(steps, [0, STORE_EVERY, 2 * STORE_EVERY]);
+        let mut alone = Sweep::new(&DetectorConfig::default());
+        alone.detect(&lines, 0.5, &mut events);
+        assert!((0..40).all(|_| alone.storage_order().is_none()));
     }
 }
