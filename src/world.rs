@@ -105,8 +105,9 @@ pub struct World {
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
-    /// The same number of threads as a team, for phases too small for the
-    /// pool.
+    /// The same number of threads as a team, for the sweep's phases and
+    /// the move of the lines it stores, at every size from a few thousand
+    /// lines.
     team: Option<Arc<Team>>,
     /// A detector every step is checked against, and the first mismatch.
     oracle: Option<Box<dyn Detector>>,
@@ -191,9 +192,9 @@ impl World {
         } else {
             None
         };
-        // The same number of threads as a team, for the detector's phases
-        // too small for the pool's hand-offs to pay; without one (threads
-        // could not be started) those phases stay on one thread.
+        // The same number of threads as a team, for the sweep's phases,
+        // which the pool's hand-offs and chunks serve less well; without one
+        // (threads could not be started) the sweep uses the pool.
         let team = (threads > 1)
             .then(|| Team::new(threads).ok().map(Arc::new))
             .flatten();

@@ -14,12 +14,22 @@ fn run(
     threads: usize,
     steps: u64,
 ) -> (Vec<Line>, (u64, u64)) {
-    let scene = generate(kind, lines, seed);
     let config = DetectorConfig {
         threads,
         ..DetectorConfig::default()
     };
-    let mut world = World::with_config(&scene, detector, &config).expect("a thread pool");
+    run_with(detector, (kind, lines, seed), &config, steps)
+}
+
+/// [`run`] with the whole of `config`.
+fn run_with(
+    detector: DetectorKind,
+    (kind, lines, seed): (SceneKind, usize, u64),
+    config: &DetectorConfig,
+    steps: u64,
+) -> (Vec<Line>, (u64, u64)) {
+    let scene = generate(kind, lines, seed);
+    let mut world = World::with_config(&scene, detector, config).expect("a thread pool");
     world.run(steps);
     let c = world.counters();
     (world.lines().to_vec(), (c.wall, c.line))
@@ -44,17 +54,26 @@ fn any_thread_count_gives_the_same_bits() {
     }
 }
 
+/// The sweep shares its phases among the team at this size with the
+/// default grain, and on rayon's pool with a grain of a few hundred lines.
 #[test]
 fn the_sweep_gives_the_same_bits_on_any_thread_count() {
-    let run = |threads| {
+    let run = |threads, grain| {
         let scene = (SceneKind::Clustered, 100_000, 7);
-        run(DetectorKind::Sweep, scene, threads, 4)
+        let config = DetectorConfig {
+            threads,
+            grain,
+            ..DetectorConfig::default()
+        };
+        run_with(DetectorKind::Sweep, scene, &config, 4)
     };
-    let (lines, counts) = run(1);
-    for threads in [2, 3, 8] {
-        let (other, other_counts) = run(threads);
-        assert_eq!(counts, other_counts, "sweep on {threads} threads");
-        assert!(same_bits(&lines, &other), "sweep on {threads} threads");
+    let default = DetectorConfig::default().grain;
+    let (lines, counts) = run(1, default);
+    for (threads, grain) in [(2, default), (3, default), (8, default), (2, 256)] {
+        let (other, other_counts) = run(threads, grain);
+        let on = format!("sweep on {threads} threads, grain {grain}");
+        assert_eq!(counts, other_counts, "{on}");
+        assert!(same_bits(&lines, &other), "{on}");
     }
 }
 
@@ -72,8 +91,8 @@ fn the_sweep_gives_the_quadtrees_bits_beyond_the_cache() {
 }
 
 /// Scenes of thousands of lines share their phases among the world's team
-/// of threads (rayon's pool is kept for larger ones): the same bits on
-/// any number of threads, over enough steps for events and wall bounces.
+/// of threads: the same bits on any number of threads, over enough steps
+/// for events and wall bounces.
 #[test]
 fn the_team_gives_the_same_bits_on_any_thread_count() {
     for (kind, lines, steps) in [
