@@ -89,6 +89,12 @@ impl std::fmt::Display for Mismatch {
 /// of 0.139 (medians of interleaved runs).
 const TEAM_MIN_LINES: usize = 2048;
 
+/// Grains up to which the move is shared by the team rather than on the
+/// pool, as the sweep's phases are ([`crate::team::TEAM_GRAINS`]): at
+/// 100,000 lines the pool's pieces of a grain gave one thread four of
+/// seven.
+const TEAM_GRAINS: usize = crate::team::TEAM_GRAINS;
+
 /// The simulated world. Line ids are indices into [`World::lines`].
 pub struct World {
     lines: Vec<Line>,
@@ -380,27 +386,27 @@ impl World {
         // Moving and the wall check in one pass over the lines: each line
         // is moved, then checked, as the contract orders (the wall check
         // reads only the line's own new position).
-        let parallel = parallel && self.lines.len() >= 4 * self.grain;
         // The wall counter is a sum, the same in any order.
         let n = self.lines.len();
-        let team = self.team.as_deref().filter(|_| n >= TEAM_MIN_LINES);
+        let team_limit = TEAM_GRAINS.saturating_mul(self.grain);
+        let team = (self.team.as_deref()).filter(|_| (TEAM_MIN_LINES..team_limit).contains(&n));
+        let parallel = parallel && n >= 4 * self.grain;
         let hits = if let Some(order) = self.detector.storage_order() {
             // The lines stored in the detector's order as they move (see
             // `crate::storage`), a share per member of the team.
             self.storage
                 .get_or_insert_with(|| Storage::new(n))
                 .advance_in_order(&mut self.lines, order, team)
+        } else if let Some(team) = team {
+            // A share of the lines (by slot) per member of the team.
+            let shares = crate::team::shares_mut(&mut self.lines, team.threads());
+            team.run_sum(&|k| advance_and_bounce(&mut shares[k].lock().expect("a share")))
         } else if parallel {
             use rayon::prelude::*;
             self.lines
                 .par_chunks_mut(self.grain)
                 .map(advance_and_bounce)
                 .sum()
-        } else if let Some(team) = team {
-            // Below the pool's grain: a share of the lines (by id) per
-            // member of the team.
-            let shares = crate::team::shares_mut(&mut self.lines, team.threads());
-            team.run_sum(&|k| advance_and_bounce(&mut shares[k].lock().expect("a share")))
         } else {
             advance_and_bounce(&mut self.lines)
         };
