@@ -30,6 +30,15 @@ impl<const N: usize> PhaseClock<N> {
         self.since = now;
     }
 
+    /// Adds the time from the last lap (or the start) to `at` to phase
+    /// `phase`, and goes on from `at` (as when a phase ended on another
+    /// clock, a thread's own, before the next began).
+    pub(crate) fn lap_at(&mut self, phase: usize, at: Instant) {
+        let at = at.max(self.since);
+        self.times[phase] += at - self.since;
+        self.since = at;
+    }
+
     /// Each phase's name, from `names`, with its time so far.
     pub(crate) fn report(&self, names: [&'static str; N]) -> Vec<(&'static str, Duration)> {
         names.into_iter().zip(self.times).collect()

@@ -36,7 +36,7 @@ use crate::narrow::Event;
 use crate::team::{self, Team};
 use bands::Bands;
 use hull::{lo, Packed};
-use layout::{Layout, Leavers};
+use layout::{GroupView, Layout, Leavers};
 use order::{Boxes, NO_KEY};
 use plan::Plan;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -133,7 +133,9 @@ enum Phase {
     /// several, finding each one's home band.
     Sort,
     /// With several bands, laying them out band by band, each sorted, with
-    /// their guests; listing the wild lines.
+    /// their guests; listing the wild lines. (On a team, with the layout
+    /// kept, each member sweeps its bands as soon as it has laid them out:
+    /// the layout then ends where the caller's own part of it ended.)
     Layout,
     /// Sweeping the bands and testing the pairs that overlap; testing the
     /// wild lines.
@@ -455,6 +457,10 @@ impl Sweep {
         self.start_trial();
         let bands = self.plan.bands;
         let n = lines.len();
+        // On a team, with the layout kept, each member sweeps its group of
+        // bands as soon as it has laid it out, into its chunk's findings:
+        // then `swept` holds when the caller's own layout ended.
+        let mut swept = None;
         let (boxed, entries) = if bands.count > 1 {
             let parallel = self.parallel(n);
             // A handle of its own, as the boxes are about to be borrowed
@@ -468,9 +474,42 @@ impl Sweep {
             // Last step's layout updated when it has the same bands;
             // otherwise laid out anew.
             self.lap(Phase::Sort);
-            let kept = self
-                .layout
-                .keep(&mut self.sorted, n, &bands, groups, team.as_deref());
+            let mut found = std::mem::take(&mut self.chunks);
+            let kept = match team.as_deref() {
+                Some(team) => {
+                    // Each member sweeps the bands it laid out while they are
+                    // at hand, with no wait for the others in between.
+                    found.resize_with(team.threads().max(found.len()), Mutex::default);
+                    let layout_end = Mutex::new(None);
+                    let (along, dense) = (self.plan.along, self.dense);
+                    let sweep_each = |group: GroupView| {
+                        if group.index == 0 {
+                            *layout_end.lock().expect("the layout's end") = Some(Instant::now());
+                        }
+                        let mut chunk = found[group.index].lock().expect("a group's findings");
+                        let Chunk {
+                            events,
+                            counts,
+                            pairs,
+                        } = &mut *chunk;
+                        *counts = PairCounts::default();
+                        let test = tester(stored, dt, events, counts);
+                        let candidates = scan::sweep_group(&group, along, dense, pairs, test);
+                        counts.candidates = candidates;
+                    };
+                    let then = Some(&sweep_each as layout::ThenEach);
+                    let kept =
+                        (self.layout).keep(&mut self.sorted, n, &bands, groups, Some(team), then);
+                    if kept.is_some() {
+                        swept = Some(layout_end.into_inner().expect("the layout's end"));
+                    }
+                    kept
+                }
+                None => self
+                    .layout
+                    .keep(&mut self.sorted, n, &bands, groups, None, None),
+            };
+            self.chunks = found;
             let boxed = match kept {
                 Some(boxed) => boxed,
                 None => {
@@ -498,12 +537,28 @@ impl Sweep {
                 .copied()
                 .filter(|&slot| !lines[slot as usize].is_inert()),
         );
-        self.lap(Phase::Layout);
+        match (&mut self.clock, swept) {
+            (Some(clock), Some(layout_end)) => clock.lap_at(
+                Phase::Layout as usize,
+                layout_end.unwrap_or_else(Instant::now),
+            ),
+            _ => self.lap(Phase::Layout),
+        }
 
         let mut counts = PairCounts::default();
         // A handle of its own: the chunks' buffers are taken from `self`.
         let team = self.team_for(entries).and(self.team.clone());
-        if self.parallel(entries) && bands.count > 1 {
+        if swept.is_some() {
+            // Swept as laid out: the findings put together in group order
+            // (a member without a group found nothing).
+            let threads = self.team.as_deref().map_or(1, Team::threads);
+            for chunk in &mut self.chunks[..threads] {
+                let chunk = chunk.get_mut().expect("a group's findings");
+                events.append(&mut chunk.events);
+                counts.add(&chunk.counts);
+                chunk.counts = PairCounts::default();
+            }
+        } else if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
             let groups = self
                 .layout

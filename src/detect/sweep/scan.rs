@@ -3,7 +3,7 @@
 //! ones its packed hull overlaps are reported.
 
 use super::hull::{hi, overlaps, reach, Packed};
-use super::layout::Layout;
+use super::layout::{GroupView, Layout};
 use super::order::Boxes;
 use super::plan::Plan;
 use crate::line::READ_AHEAD;
@@ -60,30 +60,64 @@ pub(crate) fn sweep_bands(
     if plan.bands.count == 1 {
         return sweep_sorted(sorted, 0..boxed, plan.along, dense, &mut pairs, found);
     }
-    let mut candidates = 0;
-    for band in bands {
-        let homes = layout.homes(band);
-        let (keys, hulls, ids) = (
-            &sorted.keys[..homes.end],
-            &sorted.hulls[..homes.end],
-            &sorted.ids[homes.clone()],
-        );
-        pairs.clear();
-        candidates += sweep(keys, hulls, homes.clone(), plan.along, dense, &mut pairs);
-        hand_on(&pairs, &sorted.ids, &sorted.ids, &mut found);
-        let (guest_keys, guest_hulls, guest_ids) = layout.guests(band);
-        if guest_keys.is_empty() {
-            continue;
-        }
-        pairs.clear();
-        candidates += sweep_across(
-            (&keys[homes.clone()], &hulls[homes.clone()]),
-            (guest_keys, guest_hulls),
-            plan.along,
-            &mut pairs,
-        );
-        hand_on(&pairs, ids, guest_ids, &mut found);
+    let all = (&sorted.keys[..], &sorted.hulls[..], &sorted.ids[..]);
+    bands
+        .map(|band| {
+            let guests = layout.guests(band);
+            let homes = layout.homes(band);
+            sweep_band(
+                all, homes, guests, plan.along, dense, &mut pairs, &mut found,
+            )
+        })
+        .sum()
+}
+
+/// [`sweep_bands`] of the bands of one group, as its member laid it out
+/// ([`GroupView`]).
+pub(crate) fn sweep_group(
+    group: &GroupView,
+    along: usize,
+    dense: bool,
+    pairs: &mut Vec<(u32, u32)>,
+    mut found: impl Found,
+) -> u64 {
+    let all = (group.keys, group.hulls, group.ids);
+    (group.bands.clone())
+        .map(|band| {
+            let (homes, guests) = (group.homes(band), group.guests(band));
+            sweep_band(all, homes, guests, along, dense, pairs, &mut found)
+        })
+        .sum()
+}
+
+/// Sweeps one band, its `homes` among the boxes `all` (keys, hulls and
+/// ids), among themselves and against its `guests`; hands every pair whose
+/// hulls overlap to `found` by ids, through `pairs`. Returns the
+/// candidates met.
+fn sweep_band(
+    (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
+    homes: std::ops::Range<usize>,
+    (guest_keys, guest_hulls, guest_ids): (&[f32], &[Packed], &[u32]),
+    along: usize,
+    dense: bool,
+    pairs: &mut Vec<(u32, u32)>,
+    found: &mut impl Found,
+) -> u64 {
+    let (keys, hulls) = (&keys[..homes.end], &hulls[..homes.end]);
+    pairs.clear();
+    let mut candidates = sweep(keys, hulls, homes.clone(), along, dense, pairs);
+    hand_on(pairs, ids, ids, found);
+    if guest_keys.is_empty() {
+        return candidates;
     }
+    pairs.clear();
+    candidates += sweep_across(
+        (&keys[homes.clone()], &hulls[homes.clone()]),
+        (guest_keys, guest_hulls),
+        along,
+        pairs,
+    );
+    hand_on(pairs, &ids[homes], guest_ids, found);
     candidates
 }
 

@@ -21,7 +21,7 @@
 
 use super::{
     end_guests, finish_band, groups_of_bands, run_each, set_starts, sort_in_place, sort_movers,
-    stretches, Group, Layout, Run, Stretch,
+    stretches, Group, GroupView, Layout, Run, Stretch, ThenEach,
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::hull::{hi, lo, Packed};
@@ -174,7 +174,10 @@ impl Layout {
     /// `None`, changing nothing, when they do not.
     ///
     /// With `groups` above one, the work is shared among the groups of
-    /// bands, with `team` if there is one, else on the current rayon pool.
+    /// bands, with `team` if there is one, else on the current rayon pool;
+    /// and `then_each`, if given, is called with each group as soon as it
+    /// is laid out, by the thread that laid it out (with one group, not at
+    /// all).
     pub(crate) fn keep(
         &mut self,
         slots: &mut Boxes,
@@ -182,6 +185,7 @@ impl Layout {
         bands: &Bands,
         groups: usize,
         team: Option<&Team>,
+        then_each: Option<ThenEach>,
     ) -> Option<usize> {
         let count = bands.count;
         let noted = self.noted_for.take() == Some(*bands);
@@ -276,8 +280,28 @@ impl Layout {
                 &mut self.ids,
                 &bounds,
             );
-            let work: Vec<_> = stretches.into_iter().zip(self.groups.iter_mut()).collect();
-            run_each(work, team, |(s, g)| finish_group(s, g, &closed));
+            let work: Vec<_> = stretches
+                .into_iter()
+                .zip(self.groups.iter_mut())
+                .enumerate()
+                .collect();
+            run_each(work, team, |(index, (s, g))| {
+                let (range, offset) = (s.bands.clone(), s.offset);
+                let (keys, hulls, ids) = finish_group(s, g, &closed);
+                if let Some(then_each) = then_each {
+                    then_each(GroupView {
+                        index,
+                        bands: range.start..range.end.min(count),
+                        keys,
+                        hulls,
+                        ids,
+                        offset,
+                        starts: closed.starts,
+                        guests: &g.guests,
+                        guest_starts: &g.guest_starts,
+                    });
+                }
+            });
         }
         (self.movers, self.gaps, self.gap_starts) = (movers, gaps, gap_starts);
 
@@ -570,7 +594,12 @@ fn copy_run(
 /// Finishes one group's bands in its stretch of the new arrays: each
 /// band's stayers copied in with its newcomers merged in, then sorted;
 /// then its guests, the first band's picked out of the bands below.
-fn finish_group(s: Stretch, group: &mut Group, c: &Closed) {
+/// Returns the stretch's keys, hulls and ids, finished.
+fn finish_group<'a>(
+    s: Stretch<'a>,
+    group: &mut Group,
+    c: &Closed,
+) -> (&'a [f32], &'a [Packed], &'a [u32]) {
     let Stretch {
         bands: range,
         offset,
@@ -642,4 +671,5 @@ fn finish_group(s: Stretch, group: &mut Group, c: &Closed) {
         let next = band + 1 < range.end.min(count);
         end_guests((guests, guest_starts), homes, band, next, c.bands, spare);
     }
+    (keys, hulls, ids)
 }

@@ -150,6 +150,44 @@ impl Run {
     }
 }
 
+/// One group of bands as its member laid it out: its homes (the group's
+/// stretch of the laid-out boxes) and its guests, band by band, for the
+/// member to go on with ([`Layout::keep`]) before the others finish.
+pub(crate) struct GroupView<'a> {
+    /// The group's number, in band order.
+    pub index: usize,
+    /// The group's bands (without the boxes that have no key).
+    pub bands: Range<usize>,
+    /// The group's stretch: keys, hulls and ids.
+    pub keys: &'a [f32],
+    pub hulls: &'a [Packed],
+    pub ids: &'a [u32],
+    /// Where the stretch starts among all the boxes, and where each band
+    /// starts there.
+    offset: usize,
+    starts: &'a [usize],
+    guests: &'a Run,
+    guest_starts: &'a [u32],
+}
+
+impl GroupView<'_> {
+    /// Where the homes of band `band` lie in the stretch.
+    pub(crate) fn homes(&self, band: usize) -> Range<usize> {
+        self.starts[band] - self.offset..self.starts[band + 1] - self.offset
+    }
+
+    /// The guests of band `band`: keys, hulls and ids, sorted by key.
+    pub(crate) fn guests(&self, band: usize) -> (&[f32], &[Packed], &[u32]) {
+        let k = band - self.bands.start;
+        let r = self.guest_starts[k] as usize..self.guest_starts[k + 1] as usize;
+        let g = self.guests;
+        (&g.keys[r.clone()], &g.hulls[r.clone()], &g.ids[r])
+    }
+}
+
+/// What a member does with its group once laid out ([`Layout::keep`]).
+pub(crate) type ThenEach<'a> = &'a (dyn Fn(GroupView<'_>) + Sync);
+
 /// One group's guests and working buffers.
 #[derive(Debug, Default)]
 struct Group {
@@ -519,7 +557,7 @@ mod tests {
         layout: &mut Layout,
         team: Option<&Team>,
     ) -> (usize, bool) {
-        match layout.keep(b, b.len(), bands, groups, team) {
+        match layout.keep(b, b.len(), bands, groups, team, None) {
             Some(boxed) => (boxed, true),
             None => (lay_out(b, bands, groups, layout, team), false),
         }
@@ -699,7 +737,38 @@ mod tests {
                         check.note(range.start, arrays, leavers);
                     }
                 }
-                assert_eq!(layout.keep(&mut b, n, &bands, groups, team), Some(n - 1));
+                // Each group as handed on once laid out: its bands' homes
+                // and guests as the layout ends up.
+                let handed = Mutex::new(Vec::new());
+                let collect = |g: GroupView| {
+                    let per_band: Vec<_> = (g.bands.clone())
+                        .map(|band| {
+                            (
+                                band,
+                                g.ids[g.homes(band)].to_vec(),
+                                g.guests(band).2.to_vec(),
+                            )
+                        })
+                        .collect();
+                    handed.lock().unwrap().push((g.index, per_band));
+                };
+                let then = Some(&collect as ThenEach);
+                assert_eq!(
+                    layout.keep(&mut b, n, &bands, groups, team, then),
+                    Some(n - 1)
+                );
+                let mut handed = handed.into_inner().unwrap();
+                assert_eq!(handed.len(), if groups > 1 { groups } else { 0 });
+                handed.sort_by_key(|h| h.0);
+                let handed: Vec<_> = handed.into_iter().flat_map(|h| h.1).collect();
+                if groups > 1 {
+                    let bands_handed: Vec<usize> = handed.iter().map(|h| h.0).collect();
+                    assert_eq!(bands_handed, (0..40).collect::<Vec<_>>(), "{groups} groups");
+                }
+                for (band, homes, guests) in handed {
+                    assert_eq!(homes, b.ids[layout.homes(band)], "band {band}");
+                    assert_eq!(guests, layout.guests(band).2, "band {band}");
+                }
                 let guests: Vec<u32> = (0..40).flat_map(|g| layout.guests(g).2.to_vec()).collect();
                 laid.push((b.ids.clone(), b.keys.clone(), layout.starts.clone(), guests));
             }
