@@ -3,6 +3,7 @@
 use crate::geometry::{crossing_point, Vec2};
 use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::{Event, IntersectionKind};
+use crate::team::{self, Team};
 use std::mem::take;
 
 /// Applies the response to one event. Only velocities change; positions are
@@ -19,15 +20,31 @@ pub fn resolve(lines: &mut [Line], event: &Event) {
 /// the lines of the event [`READ_AHEAD`] places on are read ahead, as the
 /// events' lines lie anywhere in memory.
 fn resolve_each(lines: &mut [Line], events: &[Event]) {
-    let ahead = lines.len() >= LARGE_SCENE;
+    resolve_each_in(lines, 0, lines.len(), events);
+}
+
+/// [`resolve_each`] on the lines from `first` on of a scene of `n`
+/// lines, which `lines` holds.
+fn resolve_each_in(lines: &mut [Line], first: usize, n: usize, events: &[Event]) {
+    let ahead = n >= LARGE_SCENE;
+    let first = first as u32;
     for (k, event) in events.iter().enumerate() {
         if let Some(next) = events.get(k + READ_AHEAD).filter(|_| ahead) {
-            read_ahead(&lines[next.first as usize]);
-            read_ahead(&lines[next.second as usize]);
+            read_ahead(&lines[(next.first - first) as usize]);
+            read_ahead(&lines[(next.second - first) as usize]);
         }
-        resolve(lines, event);
+        let here = Event {
+            first: event.first - first,
+            second: event.second - first,
+            kind: event.kind,
+        };
+        resolve(lines, &here);
     }
 }
+
+/// Free events (see [`Resolver::resolve_found`]) a step must have before
+/// a team shares them.
+const TEAM_MIN_FREE: usize = 128;
 
 /// Events per task in a parallel wave.
 const WAVE_CHUNK: usize = 256;
@@ -62,6 +79,13 @@ pub struct Resolver {
     /// with their order key by id.
     free: Vec<Event>,
     tied: Vec<(u64, Event)>,
+    /// There, with a team, the free events whose lines both lie in one
+    /// member's share of the lines, by share; and the others.
+    by_share: Vec<Vec<Event>>,
+    across: Vec<Event>,
+    /// Free events a step must have before a team shares them, if not
+    /// `TEAM_MIN_FREE` (tests share fewer).
+    team_min: Option<usize>,
 }
 
 impl Resolver {
@@ -128,12 +152,19 @@ impl Resolver {
     /// and the lines end bit for bit as resolving every event in id order
     /// would leave them, without a sort of every event or a read of the
     /// lines in the order of their ids.
+    ///
+    /// Given a `team`, the free events (when there are many, and not so
+    /// many that the grain sends them to the pool) are resolved in place,
+    /// each by the member whose share of the lines (as
+    /// [`team::shares_mut`] splits them) holds both its lines; the few
+    /// whose lines lie in two shares after, on this thread.
     pub fn resolve_found(
         &mut self,
         lines: &mut [Line],
         events: &[Event],
         by_id: &[Event],
         grain: Option<usize>,
+        team: Option<&Team>,
     ) {
         debug_assert_eq!(events.len(), by_id.len());
         let shares = &mut self.shares;
@@ -158,9 +189,13 @@ impl Resolver {
         for e in events {
             (shares[e.first as usize], shares[e.second as usize]) = (0, 0);
         }
-        match grain {
-            Some(grain) => self.resolve_wave(lines, &free, grain),
-            None => resolve_each(lines, &free),
+        let min = self.team_min.unwrap_or(TEAM_MIN_FREE).max(1);
+        match (grain, team) {
+            (Some(grain), _) if free.len() >= (grain / 4).max(1) => {
+                self.resolve_wave(lines, &free, grain)
+            }
+            (_, Some(team)) if free.len() >= min => self.resolve_by_share(team, lines, &free),
+            _ => resolve_each(lines, &free),
         }
         // Pairs are unique, so an unstable sort gives the one sorted order.
         tied.sort_unstable_by_key(|t| t.0);
@@ -169,6 +204,34 @@ impl Resolver {
         free.extend(tied.iter().map(|t| t.1));
         self.resolve_all(lines, &free, grain);
         (self.free, self.tied) = (free, tied);
+    }
+
+    /// Resolves `free` events, which share no line, on `team`: see
+    /// [`Resolver::resolve_found`].
+    fn resolve_by_share(&mut self, team: &Team, lines: &mut [Line], free: &[Event]) {
+        let (n, threads) = (lines.len(), team.threads());
+        let starts: Vec<usize> = (0..=threads).map(|k| n * k / threads).collect();
+        debug_assert!((0..threads).all(|k| starts[k] == team::share(n, threads, k).start));
+        let share_of = |line: u32| starts.partition_point(|&s| s <= line as usize) - 1;
+        self.by_share.resize_with(threads, Vec::new);
+        self.by_share.iter_mut().for_each(Vec::clear);
+        self.across.clear();
+        for e in free {
+            let share = share_of(e.first);
+            match share == share_of(e.second) {
+                true => self.by_share[share].push(*e),
+                false => self.across.push(*e),
+            }
+        }
+        {
+            let parts = team::shares_mut(lines, threads);
+            let by_share = &self.by_share;
+            team.run(&|k| {
+                let mut part = parts[k].lock().expect("a share");
+                resolve_each_in(&mut part, starts[k], n, &by_share[k]);
+            });
+        }
+        resolve_each(lines, &self.across);
     }
 
     /// Sets `grouped` to the events by wave (and in order within each) and
@@ -430,7 +493,8 @@ mod tests {
     proptest::proptest! {
         /// Events found in any order on lines stored in any order leave
         /// every line exactly as resolving them one by one in id order
-        /// does, however they chain, on one thread or several.
+        /// does, however they chain, on one thread or several (a rayon
+        /// pool, with a grain; a team, sharing every step's free events).
         #[test]
         fn found_events_resolve_like_the_plain_loop(
             lines in proptest::collection::vec(
@@ -440,6 +504,7 @@ mod tests {
             pairs in proptest::collection::vec((0u32..40, 0u32..40, 0u8..3), 0..200),
             stride in 1u32..40,
             grain in proptest::option::of(1usize..8),
+            team in proptest::option::of(2usize..5),
         ) {
             let (lines, mut by_id) = lines_and_events(&lines, &pairs);
             let n = lines.len() as u32;
@@ -467,8 +532,14 @@ mod tests {
                 .collect();
             let mut stored: Vec<Line> = ids.iter().map(|&id| lines[id as usize]).collect();
             let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
-            let mut resolver = Resolver::default();
-            pool.install(|| resolver.resolve_found(&mut stored, &found, &by_id, grain));
+            let team = team.map(|threads| Team::new(threads).unwrap());
+            let mut resolver = Resolver {
+                team_min: Some(1),
+                ..Resolver::default()
+            };
+            pool.install(|| {
+                resolver.resolve_found(&mut stored, &found, &by_id, grain, team.as_ref())
+            });
             let mut got = lines.clone();
             for (k, &id) in ids.iter().enumerate() {
                 got[id as usize] = stored[k];

@@ -86,8 +86,9 @@ impl Storage {
         resolver: &mut Resolver,
         by_id: &[Event],
         grain: Option<usize>,
+        team: Option<&Team>,
     ) {
-        resolver.resolve_found(lines, &self.slot_events, by_id, grain);
+        resolver.resolve_found(lines, &self.slot_events, by_id, grain, team);
     }
 
     /// Moves every line and bounces it off the walls, storing it in the
@@ -240,7 +241,7 @@ mod tests {
         assert_eq!(events, vec![e(4, 5), e(1, 3), e(0, 4)]);
         // Line 4 meets 0 and then 5, in the order of their ids.
         let mut resolver = Resolver::default();
-        storage.resolve(&mut stored, &mut resolver, &events, None);
+        storage.resolve(&mut stored, &mut resolver, &events, None, None);
         let mut sorted = events.clone();
         sorted.sort_unstable_by_key(Event::order_key);
         for e in &sorted {

@@ -375,8 +375,20 @@ impl World {
             self.steps -= 1;
         }
         let grain = parallel.then_some(self.grain);
+        // The team, for scenes it shares (as the sweep does).
+        let n = self.lines.len();
+        let team_limit = TEAM_GRAINS.saturating_mul(self.grain);
+        // (A handle of its own: `self` is borrowed mutably below.)
+        let team = (self.team.clone()).filter(|_| (TEAM_MIN_LINES..team_limit).contains(&n));
+        let team = team.as_deref();
         match &self.storage {
-            Some(st) => st.resolve(&mut self.lines, &mut self.resolver, &self.events, grain),
+            Some(st) => st.resolve(
+                &mut self.lines,
+                &mut self.resolver,
+                &self.events,
+                grain,
+                team,
+            ),
             None => self
                 .resolver
                 .resolve_all(&mut self.lines, &self.events, grain),
@@ -387,9 +399,6 @@ impl World {
         // is moved, then checked, as the contract orders (the wall check
         // reads only the line's own new position).
         // The wall counter is a sum, the same in any order.
-        let n = self.lines.len();
-        let team_limit = TEAM_GRAINS.saturating_mul(self.grain);
-        let team = (self.team.as_deref()).filter(|_| (TEAM_MIN_LINES..team_limit).contains(&n));
         let parallel = parallel && n >= 4 * self.grain;
         let hits = if let Some(order) = self.detector.storage_order() {
             // The lines stored in the detector's order as they move (see
