@@ -21,13 +21,14 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// Grains of work up to which the step shares a phase among its team rather
-/// than on rayon's pool: 4,194,304 boxes at the default grain. The team's fixed
-/// shares and spinning hand-offs did as well as the pool's or better at
-/// every size measured (two threads, medians of interleaved rounds, per-round
-/// ratio): 100,000 lines 100 frames 0.344 s against 0.420 (1.08x), 300,000
-/// lines 1.231 against 1.266 (1.01x), a million 50 frames 3.09 against
-/// 3.08 (1.08x), two million 20 frames 2.49 against 2.61 (1.04x). With a
-/// grain of a few lines (as in tests) every phase goes to the pool.
+/// than on rayon's pool: 4,194,304 boxes or lines at the default grain.
+/// The team's fixed shares and spinning hand-offs did as well as the
+/// pool's or better at every size measured (two threads, medians of
+/// interleaved rounds, and the median of each round's ratio): 100,000
+/// lines 100 frames 0.344 s against 0.420 (1.08x), 300,000 lines 1.231
+/// against 1.266 (1.01x), a million 50 frames 3.09 against 3.08 (1.08x by
+/// rounds), two million 20 frames 2.49 against 2.61 (1.04x). With a grain
+/// of a few lines (as in tests) every phase goes to the pool.
 pub const TEAM_GRAINS: usize = 256;
 
 /// How long an idle member spins before it parks.

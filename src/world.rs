@@ -89,10 +89,10 @@ impl std::fmt::Display for Mismatch {
 /// of 0.139 (medians of interleaved runs).
 const TEAM_MIN_LINES: usize = 2048;
 
-/// Grains up to which the move is shared by the team rather than on the
-/// pool, as the sweep's phases are ([`crate::team::TEAM_GRAINS`]): at
-/// 100,000 lines the pool's pieces of a grain gave one thread four of
-/// seven.
+/// Grains up to which the move and the resolution are shared by the team
+/// rather than on the pool, as the sweep's phases are
+/// ([`crate::team::TEAM_GRAINS`]): at 100,000 lines the pool's pieces of a
+/// grain gave one thread four of seven.
 const TEAM_GRAINS: usize = crate::team::TEAM_GRAINS;
 
 /// The simulated world. Line ids are indices into [`World::lines`].
