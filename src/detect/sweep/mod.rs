@@ -268,6 +268,16 @@ impl Sweep {
             .filter(|_| (TEAM_MIN_BOXES..limit).contains(&work))
     }
 
+    /// The groups of bands the layout of `n` boxes is shared in: one per
+    /// thread of the team or the pool, if either shares it.
+    fn layout_groups(&self, n: usize) -> usize {
+        match (self.parallel(n), self.team_for(n)) {
+            (true, _) => self.threads,
+            (false, Some(team)) => team.threads(),
+            (false, None) => 1,
+        }
+    }
+
     /// Makes every line's packed hull and key, in last step's order; with
     /// `by_id`, the lines are stored in the order of their ids rather than
     /// (nearly) in that order. When last step's layout may be kept, notes
@@ -290,7 +300,10 @@ impl Sweep {
             (None, true) => n.div_ceil(chunk),
             (None, false) => 1,
         };
-        let (check, noted) = self.layout.leaver_check(n, &self.plan.bands, shares);
+        let groups = self.layout_groups(n);
+        let (check, noted) = self
+            .layout
+            .leaver_check(n, &self.plan.bands, shares, groups);
         // The boxes from `at` on: `ids`' hulls and keys, noted in `noted`.
         let fill = |at: usize,
                     ids: &[u32],
@@ -466,11 +479,7 @@ impl Sweep {
             // A handle of its own, as the boxes are about to be borrowed
             // mutably.
             let team = self.team_for(n).and(self.team.clone());
-            let groups = match (parallel, team.as_deref()) {
-                (true, _) => self.threads,
-                (false, Some(team)) => team.threads(),
-                (false, None) => 1,
-            };
+            let groups = self.layout_groups(n);
             // Last step's layout updated when it has the same bands;
             // otherwise laid out anew.
             self.lap(Phase::Sort);

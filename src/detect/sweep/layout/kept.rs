@@ -8,7 +8,11 @@
 //! hull phase; a million lines on two threads kept their layout in 7.7 ms
 //! a step instead of 12.1 when the layout read every box again to find
 //! them (8% faster in all, 5% on one thread; `koch`, in the cache, the
-//! same within noise).
+//! same within noise). With several groups of bands, the boxes that stay
+//! in their band and reach up into the next group's first band are noted
+//! too: that group's thread would otherwise pick its first band's guests
+//! out of the bands below, which the other thread made the hulls of (on
+//! `koch`, two threads, about 330 boxes and 2.4 to 3.5 us a step).
 //!
 //! On one thread the layout is then updated in place. With several groups
 //! of bands (a team or rayon's pool) each group copies each of its bands
@@ -48,6 +52,9 @@ struct Closed<'a> {
     /// Where each band's movers start in `movers`, and their end.
     mover_starts: &'a [usize],
     bands: &'a Bands,
+    /// What the shares noted, if it holds the boxes that stayed in their
+    /// band and reach each group's first band ([`Leavers`]).
+    carried: Option<&'a [Leavers]>,
 }
 
 impl Closed<'_> {
@@ -74,6 +81,11 @@ pub(crate) struct Leavers {
     /// (ascending).
     movers: Run,
     gaps: Vec<usize>,
+    /// The boxes that stayed and reach up into the first band of a group
+    /// of bands above their own (see [`LeaverCheck`]), with the band after
+    /// the last they reach; and their bands.
+    carried: Run,
+    carried_from: Vec<u32>,
 }
 
 impl Leavers {
@@ -84,6 +96,8 @@ impl Leavers {
         self.tops.clear();
         self.movers.clear();
         self.gaps.clear();
+        self.carried.clear();
+        self.carried_from.clear();
     }
 
     /// Adds what a run of band `b`'s boxes held: `left` leavers, and
@@ -110,6 +124,12 @@ pub(crate) struct LeaverCheck<'a> {
     starts: &'a [usize],
     edges: &'a [f32],
     bands: Bands,
+    /// Per band, the least value of the first band of the next group of
+    /// bands above it (`+inf` for the last group's bands; empty with one
+    /// group): a box that stays in its band and reaches that far is one of
+    /// that group's first band's guests, noted as the hulls are made so
+    /// that the group need not read the bands below it.
+    carry: &'a [f32],
 }
 
 impl LeaverCheck<'_> {
@@ -133,7 +153,16 @@ impl LeaverCheck<'_> {
             let run = k - at..self.starts[b + 1].min(end) - at;
             let before = into.gaps.len();
             let arrays = (keys, hulls, ids);
-            let top = close_up(arrays, at, run.clone(), b, self.edges, &self.bands, into);
+            let carry = self.carry.get(b).copied().unwrap_or(f32::INFINITY);
+            let top = close_up(
+                arrays,
+                at,
+                run.clone(),
+                (b, carry),
+                self.edges,
+                &self.bands,
+                into,
+            );
             into.add(b, into.gaps.len() - before, top);
             k = at + run.end;
         }
@@ -143,27 +172,45 @@ impl LeaverCheck<'_> {
 impl Layout {
     /// Last step's layout, to note the boxes that leave their band as the
     /// hulls of the `n` boxes are made, if the layout of `bands` may be
-    /// kept this step (else `None`); and `shares` buffers to note them in,
-    /// one per share of the boxes in order. [`Layout::keep`] then takes
-    /// what they hold.
+    /// kept this step (else `None`), in `groups` groups of bands; and
+    /// `shares` buffers to note them in, one per share of the boxes in
+    /// order. [`Layout::keep`] then takes what they hold.
     pub(crate) fn leaver_check(
         &mut self,
         n: usize,
         bands: &Bands,
         shares: usize,
+        groups: usize,
     ) -> (Option<LeaverCheck<'_>>, &mut [Leavers]) {
         let count = bands.count;
         let keeps = self.kept == Some(*bands)
             && self.starts.len() == count + 2
             && self.starts[count + 1] == n;
-        self.noted_for = keeps.then_some(*bands);
+        self.noted_for = keeps.then_some((*bands, groups));
         self.noted
             .resize_with(shares.max(self.noted.len()), Leavers::default);
         self.noted_shares = shares;
+        self.carry.clear();
+        if keeps && groups > 1 {
+            // Per band, the least value of the next group's first band.
+            let firsts: Vec<usize> = groups_of_bands(&self.starts, groups)[1..]
+                .iter()
+                .map(|g| g.start)
+                .filter(|&first| first < count)
+                .collect();
+            let edges = &self.edges;
+            self.carry.extend(
+                (0..=count).map(|b| match firsts.iter().find(|&&first| first > b) {
+                    Some(&first) if b < count => edges[first],
+                    _ => f32::INFINITY,
+                }),
+            );
+        }
         let check = keeps.then_some(LeaverCheck {
             starts: &self.starts,
             edges: &self.edges,
             bands: *bands,
+            carry: &self.carry,
         });
         (check, &mut self.noted[..shares])
     }
@@ -188,7 +235,8 @@ impl Layout {
         then_each: Option<ThenEach>,
     ) -> Option<usize> {
         let count = bands.count;
-        let noted = self.noted_for.take() == Some(*bands);
+        let noted_for = self.noted_for.take();
+        let noted = noted_for.is_some_and(|(b, _)| b == *bands);
         if self.kept != Some(*bands)
             || self.starts.len() != count + 2
             || self.starts[count + 1] != n
@@ -198,13 +246,16 @@ impl Layout {
         }
         if !noted {
             // Not noted as the hulls were made: the boxes are read here.
-            let (check, noted) = self.leaver_check(n, bands, 1);
+            let (check, noted) = self.leaver_check(n, bands, 1, groups);
             let check = check.expect("a layout to keep");
             noted[0].clear();
             let arrays = (&slots.keys[..n], &slots.hulls[..n], &slots.ids[..n]);
             check.note(0, arrays, &mut noted[0]);
             self.noted_for = None;
         }
+        // The guests reaching each group's first band from below were noted
+        // with the leavers if noted for as many groups.
+        let carried = !noted || noted_for.is_some_and(|(_, g)| g == groups);
         let mut tops = self.gather_leavers(count);
         if groups <= 1 {
             return Some(self.keep_in_place(slots, n, bands));
@@ -272,6 +323,7 @@ impl Layout {
                 movers: &movers,
                 mover_starts: &mover_starts,
                 bands,
+                carried: carried.then_some(&self.noted[..self.noted_shares]),
             };
             let stretches = stretches(
                 &self.starts,
@@ -456,7 +508,7 @@ fn close_up(
     (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
     at: usize,
     band: Range<usize>,
-    b: usize,
+    (b, carry): (usize, f32),
     edges: &[f32],
     bands: &Bands,
     into: &mut Leavers,
@@ -480,14 +532,28 @@ fn close_up(
     // which stay, and the greatest value across that those reach; the rare
     // box that leaves is taken on its own.
     let mut tops = [f32::NEG_INFINITY; 8];
+    // A box that stays and reaches the next group's first band is noted as
+    // one of its guests.
+    let mut carry_one = |k: usize, h: f32| {
+        let end = bands.of(h) as u32 + 1;
+        into.carried.push(keys[k], hulls[k], ids[k], end);
+        into.carried_from.push(b as u32);
+    };
     let blocks = band_keys.chunks_exact(8).zip(band_hulls.chunks_exact(8));
     for (c, (keys8, hulls8)) in blocks.enumerate() {
         let v: [f32; 8] = std::array::from_fn(|j| lo(&hulls8[j], across));
         let mut stays = [false; 8];
+        let mut carries = [false; 8];
         for j in 0..8 {
             stays[j] = (keys8[j] != NO_KEY) & (low <= v[j]) & (v[j] < high);
             let h = hi(&hulls8[j], across);
             tops[j] = if stays[j] & (h > tops[j]) { h } else { tops[j] };
+            carries[j] = stays[j] & (h >= carry);
+        }
+        if carries != [false; 8] {
+            for j in (0..8).filter(|&j| carries[j]) {
+                carry_one(first + c * 8 + j, hi(&hulls8[j], across));
+            }
         }
         if stays != [true; 8] {
             for j in (0..8).filter(|&j| !stays[j]) {
@@ -507,6 +573,9 @@ fn close_up(
         let stays = (key != NO_KEY) & (low <= v) & (v < high);
         let h = hi(hull, across);
         top = if stays & (h > top) { h } else { top };
+        if stays & (h >= carry) {
+            carry_one(first + k, h);
+        }
         if !stays {
             let home = if key == NO_KEY { count } else { bands.of(v) };
             leave(first + k, home);
@@ -621,18 +690,37 @@ fn finish_group<'a>(
     let from = (0..b0).find(|&b| c.reach[b] as usize >= b0).unwrap_or(b0);
     guests.clear();
     let across = c.bands.across;
-    for b in from..b0 {
-        let moved = c.mover_starts[b]..c.mover_starts[b + 1];
-        let (keys, hulls, ids) = (c.keys, c.hulls, c.ids);
-        let stayers = c.stayers(b).flatten().map(|k| (keys[k], &hulls[k], ids[k]));
-        let m = c.movers;
-        let movers = moved.map(|k| (m.keys[k], &m.hulls[k], m.ids[k]));
-        for (key, hull, id) in stayers.chain(movers) {
-            let end = c.bands.of(hi(hull, across)) as u32 + 1;
-            if end as usize > b0 {
-                guests.push(key, *hull, id, end);
+    let take = |guests: &mut Run, (key, hull, id): (f32, &Packed, u32)| {
+        let end = c.bands.of(hi(hull, across)) as u32 + 1;
+        if end as usize > b0 {
+            guests.push(key, *hull, id, end);
+        }
+    };
+    match c.carried {
+        // The stayers among them were noted as their hulls were made, by
+        // the thread that made them: no need to read the bands below,
+        // which another thread laid out.
+        Some(shares) => {
+            for share in shares {
+                let noted = &share.carried;
+                let boxes = noted.keys.iter().zip(&noted.hulls).zip(&noted.ids);
+                let ends = noted.ends.iter().zip(&share.carried_from);
+                for (((&key, hull), &id), (&end, &band)) in boxes.zip(ends) {
+                    if (band as usize) < b0 && end as usize > b0 {
+                        guests.push(key, *hull, id, end);
+                    }
+                }
             }
         }
+        None => {
+            for k in (from..b0).flat_map(|b| c.stayers(b)).flatten() {
+                take(guests, (c.keys[k], &c.hulls[k], c.ids[k]));
+            }
+        }
+    }
+    let m = c.movers;
+    for k in c.mover_starts[from]..c.mover_starts[b0] {
+        take(guests, (m.keys[k], &m.hulls[k], m.ids[k]));
     }
     if guests.len() > 0 {
         guests.sort(0..guests.len(), order, spare);

@@ -82,7 +82,10 @@ pub(crate) struct Layout {
     /// (the first `noted_shares`), and the bands they were noted for.
     noted: Vec<kept::Leavers>,
     noted_shares: usize,
-    noted_for: Option<Bands>,
+    noted_for: Option<(Bands, usize)>,
+    /// Per band, where the guests of the next group's first band begin
+    /// (see [`kept::LeaverCheck`]), for the bands and groups noted for.
+    carry: Vec<f32>,
     /// The laid-out keys, hulls and ids, exchanged with the arriving
     /// boxes' arrays once laid out.
     keys: Vec<f32>,
@@ -724,7 +727,7 @@ mod tests {
                 }
                 if noted {
                     let shares = [0, 333, 1000, 1001, n];
-                    let (check, into) = layout.leaver_check(n, &bands, 4);
+                    let (check, into) = layout.leaver_check(n, &bands, 4, groups);
                     let check = check.unwrap();
                     for (s, leavers) in shares.windows(2).zip(into.iter_mut()) {
                         let range = s[0]..s[1];
