@@ -89,12 +89,6 @@ impl std::fmt::Display for Mismatch {
 /// of 0.139 (medians of interleaved runs).
 const TEAM_MIN_LINES: usize = 2048;
 
-/// Grains up to which the move and the resolution are shared by the team
-/// rather than on the pool, as the sweep's phases are
-/// ([`crate::team::TEAM_GRAINS`]): at 100,000 lines the pool's pieces of a
-/// grain gave one thread four of seven.
-const TEAM_GRAINS: usize = crate::team::TEAM_GRAINS;
-
 /// The simulated world. Line ids are indices into [`World::lines`].
 pub struct World {
     lines: Vec<Line>,
@@ -111,9 +105,8 @@ pub struct World {
     timing: Option<PhaseTimes>,
     /// The threads a step runs on, when more than one.
     pool: Option<rayon::ThreadPool>,
-    /// The same number of threads as a team, for the sweep's phases and
-    /// the move of the lines it stores, at every size from a few thousand
-    /// lines.
+    /// The same number of threads as a team, for the sweep's phases, the
+    /// move and the resolution, at every size from a few thousand lines.
     team: Option<Arc<Team>>,
     /// A detector every step is checked against, and the first mismatch.
     oracle: Option<Box<dyn Detector>>,
@@ -375,9 +368,12 @@ impl World {
             self.steps -= 1;
         }
         let grain = parallel.then_some(self.grain);
-        // The team, for scenes it shares (as the sweep does).
+        // The team, for the scenes it shares the sweep's phases of, up to
+        // `TEAM_GRAINS` grains: it moves the lines and resolves the events
+        // too (at 100,000 lines the pool's pieces of one grain had given
+        // one thread four of seven).
         let n = self.lines.len();
-        let team_limit = TEAM_GRAINS.saturating_mul(self.grain);
+        let team_limit = crate::team::TEAM_GRAINS.saturating_mul(self.grain);
         // (A handle of its own: `self` is borrowed mutably below.)
         let team = (self.team.clone()).filter(|_| (TEAM_MIN_LINES..team_limit).contains(&n));
         let team = team.as_deref();

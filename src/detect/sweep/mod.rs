@@ -33,7 +33,7 @@ use super::swept::{test_ordered, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::{read_ahead, Line, LARGE_SCENE};
 use crate::narrow::Event;
-use crate::team::{self, Team};
+use crate::team::{self, Team, TEAM_GRAINS};
 use bands::Bands;
 use hull::{lo, Packed};
 use layout::{GroupView, Layout, Leavers};
@@ -100,16 +100,6 @@ const SWEEP_GROUPS_PER_THREAD: usize = 4;
 /// cost more than the shared work saves (`sin_wave`, 1,180 lines, ran
 /// slower on two threads; `koch`, 3,900, faster).
 const TEAM_MIN_BOXES: usize = 2048;
-
-/// Grains of work up to which a phase is shared by the team rather than on
-/// rayon's pool: 4,194,304 boxes at the default grain. The team's fixed
-/// shares and spinning hand-offs did as well as the pool's or better at
-/// every size measured (two threads, medians of interleaved rounds, per-round
-/// ratio): 100,000 lines 100 frames 0.344 s against 0.420 (1.08x), 300,000
-/// lines 1.231 against 1.266 (1.01x), a million 50 frames 3.09 against
-/// 3.08 (1.08x), two million 20 frames 2.49 against 2.61 (1.04x). With a
-/// grain of a few lines (as in tests) every phase goes to the pool.
-const TEAM_GRAINS: usize = 256;
 
 /// Boxes a team member sweeps at a time (with one band).
 const TEAM_SWEEP_CHUNK: usize = 256;
@@ -196,7 +186,7 @@ pub struct Sweep {
     stats: DetectorStats,
     clock: Option<Clock>,
     /// The world's team of threads, which shares the phases from
-    /// `TEAM_MIN_BOXES` boxes (see `TEAM_GRAINS`).
+    /// `TEAM_MIN_BOXES` boxes up to [`TEAM_GRAINS`] grains.
     team: Option<Arc<Team>>,
     /// The team's findings, a chunk of boxes each.
     chunks: Vec<Mutex<Chunk>>,

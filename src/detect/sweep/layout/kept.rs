@@ -52,9 +52,9 @@ struct Closed<'a> {
     /// Where each band's movers start in `movers`, and their end.
     mover_starts: &'a [usize],
     bands: &'a Bands,
-    /// What the shares noted, if it holds the boxes that stayed in their
-    /// band and reach each group's first band ([`Leavers`]).
-    carried: Option<&'a [Leavers]>,
+    /// What the shares noted, the boxes that stayed in their band and
+    /// reach a group's first band among it ([`Leavers`]).
+    carried: &'a [Leavers],
 }
 
 impl Closed<'_> {
@@ -235,8 +235,9 @@ impl Layout {
         then_each: Option<ThenEach>,
     ) -> Option<usize> {
         let count = bands.count;
-        let noted_for = self.noted_for.take();
-        let noted = noted_for.is_some_and(|(b, _)| b == *bands);
+        // Noted for these bands in as many groups (the guests that reach
+        // each group's first band are noted with the leavers).
+        let noted = self.noted_for.take() == Some((*bands, groups));
         if self.kept != Some(*bands)
             || self.starts.len() != count + 2
             || self.starts[count + 1] != n
@@ -253,9 +254,6 @@ impl Layout {
             check.note(0, arrays, &mut noted[0]);
             self.noted_for = None;
         }
-        // The guests reaching each group's first band from below were noted
-        // with the leavers if noted for as many groups.
-        let carried = !noted || noted_for.is_some_and(|(_, g)| g == groups);
         let mut tops = self.gather_leavers(count);
         if groups <= 1 {
             return Some(self.keep_in_place(slots, n, bands));
@@ -323,7 +321,7 @@ impl Layout {
                 movers: &movers,
                 mover_starts: &mover_starts,
                 bands,
-                carried: carried.then_some(&self.noted[..self.noted_shares]),
+                carried: &self.noted[..self.noted_shares],
             };
             let stretches = stretches(
                 &self.starts,
@@ -662,7 +660,8 @@ fn copy_run(
 
 /// Finishes one group's bands in its stretch of the new arrays: each
 /// band's stayers copied in with its newcomers merged in, then sorted;
-/// then its guests, the first band's picked out of the bands below.
+/// then its guests, the first band's from the stayers below noted as
+/// reaching it and the newcomers to the bands below that do.
 /// Returns the stretch's keys, hulls and ids, finished.
 fn finish_group<'a>(
     s: Stretch<'a>,
@@ -690,37 +689,25 @@ fn finish_group<'a>(
     let from = (0..b0).find(|&b| c.reach[b] as usize >= b0).unwrap_or(b0);
     guests.clear();
     let across = c.bands.across;
-    let take = |guests: &mut Run, (key, hull, id): (f32, &Packed, u32)| {
-        let end = c.bands.of(hi(hull, across)) as u32 + 1;
-        if end as usize > b0 {
-            guests.push(key, *hull, id, end);
-        }
-    };
-    match c.carried {
-        // The stayers among them were noted as their hulls were made, by
-        // the thread that made them: no need to read the bands below,
-        // which another thread laid out.
-        Some(shares) => {
-            for share in shares {
-                let noted = &share.carried;
-                let boxes = noted.keys.iter().zip(&noted.hulls).zip(&noted.ids);
-                let ends = noted.ends.iter().zip(&share.carried_from);
-                for (((&key, hull), &id), (&end, &band)) in boxes.zip(ends) {
-                    if (band as usize) < b0 && end as usize > b0 {
-                        guests.push(key, *hull, id, end);
-                    }
-                }
-            }
-        }
-        None => {
-            for k in (from..b0).flat_map(|b| c.stayers(b)).flatten() {
-                take(guests, (c.keys[k], &c.hulls[k], c.ids[k]));
+    // The stayers among them were noted as their hulls were made, by the
+    // thread that made them: the bands below, which another thread laid
+    // out, are not read again.
+    for share in c.carried {
+        let noted = &share.carried;
+        let boxes = noted.keys.iter().zip(&noted.hulls).zip(&noted.ids);
+        let ends = noted.ends.iter().zip(&share.carried_from);
+        for (((&key, hull), &id), (&end, &band)) in boxes.zip(ends) {
+            if (band as usize) < b0 && end as usize > b0 {
+                guests.push(key, *hull, id, end);
             }
         }
     }
     let m = c.movers;
     for k in c.mover_starts[from]..c.mover_starts[b0] {
-        take(guests, (m.keys[k], &m.hulls[k], m.ids[k]));
+        let end = c.bands.of(hi(&m.hulls[k], across)) as u32 + 1;
+        if end as usize > b0 {
+            guests.push(m.keys[k], m.hulls[k], m.ids[k], end);
+        }
     }
     if guests.len() > 0 {
         guests.sort(0..guests.len(), order, spare);
