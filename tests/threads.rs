@@ -110,3 +110,29 @@ fn the_team_gives_the_same_bits_on_any_thread_count() {
         }
     }
 }
+
+/// The sweep's counts (candidates met, exact tests, events) are the same
+/// on any number of threads, also with more threads than the scene has
+/// bands, across the steps where the plan changes between one band and
+/// several.
+#[test]
+fn the_sweeps_counts_are_the_same_on_any_thread_count() {
+    let stats = |kind, threads| {
+        let scene = generate(kind, 3000, 3);
+        let config = DetectorConfig {
+            threads,
+            ..DetectorConfig::default()
+        };
+        let mut world =
+            World::with_config(&scene, DetectorKind::Sweep, &config).expect("a thread pool");
+        world.run(600);
+        world.detector_stats()
+    };
+    for kind in [SceneKind::Uniform, SceneKind::Grid] {
+        let one = stats(kind, 1);
+        assert!(one.candidate_pairs > 0, "{kind}");
+        for threads in [2, 16] {
+            assert_eq!(stats(kind, threads), one, "{kind} on {threads} threads");
+        }
+    }
+}

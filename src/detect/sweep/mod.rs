@@ -478,7 +478,12 @@ impl Sweep {
                 Some(team) => {
                     // Each member sweeps the bands it laid out while they are
                     // at hand, with no wait for the others in between.
+                    // A member without a group (fewer bands than threads)
+                    // finds nothing: every member's chunk starts empty.
                     found.resize_with(team.threads().max(found.len()), Mutex::default);
+                    for chunk in &mut found[..team.threads()] {
+                        chunk.get_mut().expect("a group's findings").counts = PairCounts::default();
+                    }
                     let layout_end = Mutex::new(None);
                     let (along, dense) = (self.plan.along, self.dense);
                     let sweep_each = |group: GroupView| {
@@ -491,7 +496,6 @@ impl Sweep {
                             counts,
                             pairs,
                         } = &mut *chunk;
-                        *counts = PairCounts::default();
                         let test = tester(stored, dt, events, counts);
                         let candidates = scan::sweep_group(&group, along, dense, pairs, test);
                         counts.candidates = candidates;
@@ -555,7 +559,6 @@ impl Sweep {
                 let chunk = chunk.get_mut().expect("a group's findings");
                 events.append(&mut chunk.events);
                 counts.add(&chunk.counts);
-                chunk.counts = PairCounts::default();
             }
         } else if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
