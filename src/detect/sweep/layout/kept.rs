@@ -154,17 +154,15 @@ impl LeaverCheck<'_> {
             let before = into.gaps.len();
             let arrays = (keys, hulls, ids);
             let carry = self.carry.get(b).copied().unwrap_or(f32::INFINITY);
-            let top = close_up(
-                arrays,
-                at,
-                run.clone(),
-                (b, carry),
-                self.edges,
-                &self.bands,
-                into,
-            );
+            let (edges, bands, next) = (self.edges, &self.bands, at + run.end);
+            // Only the bands below a group's first band have stayers to
+            // note as its guests; the rest skip the comparison.
+            let top = match carry < f32::INFINITY {
+                true => close_up::<true>(arrays, at, run, (b, carry), edges, bands, into),
+                false => close_up::<false>(arrays, at, run, (b, carry), edges, bands, into),
+            };
             into.add(b, into.gaps.len() - before, top);
-            k = at + run.end;
+            k = next;
         }
     }
 }
@@ -500,9 +498,11 @@ impl Layout {
 
 /// Finds the boxes of band `b` (the entries `band` of the arrays, which
 /// start at place `at`) that left it: pushes each to `into`'s movers with
-/// its new home band and its place to its gaps. Returns the greatest value
-/// across the bands that the boxes that stayed reach.
-fn close_up(
+/// its new home band and its place to its gaps; with `CARRY`, notes those
+/// that stayed and reach `carry` across as guests of the next group's
+/// first band. Returns the greatest value across the bands that the boxes
+/// that stayed reach.
+fn close_up<const CARRY: bool>(
     (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
     at: usize,
     band: Range<usize>,
@@ -548,7 +548,7 @@ fn close_up(
             tops[j] = if stays[j] & (h > tops[j]) { h } else { tops[j] };
             carries[j] = stays[j] & (h >= carry);
         }
-        if carries != [false; 8] {
+        if CARRY && carries != [false; 8] {
             for j in (0..8).filter(|&j| carries[j]) {
                 carry_one(first + c * 8 + j, hi(&hulls8[j], across));
             }
@@ -571,7 +571,7 @@ fn close_up(
         let stays = (key != NO_KEY) & (low <= v) & (v < high);
         let h = hi(hull, across);
         top = if stays & (h > top) { h } else { top };
-        if stays & (h >= carry) {
+        if CARRY && stays & (h >= carry) {
             carry_one(first + k, h);
         }
         if !stays {
