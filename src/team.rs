@@ -15,6 +15,7 @@
 //! outlive the call. [`Team::run`] does not return before every member has
 //! finished with the job, which is what makes the borrow sound.
 
+use crate::affinity::{self, Tied};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -65,6 +66,11 @@ struct Shared {
 pub struct Team {
     shared: Arc<Shared>,
     members: Vec<JoinHandle<()>>,
+    /// The core the caller is tied to while [`Team::tie_caller`]'s guard
+    /// lives, when the team has every core the process may use: member
+    /// `k` is tied to the `k`-th of those cores, the caller to the first
+    /// (see [`crate::affinity`]).
+    caller_core: Option<usize>,
 }
 
 impl std::fmt::Debug for Team {
@@ -87,12 +93,20 @@ impl Team {
             threads: Mutex::new(Vec::new()),
             busy: AtomicBool::new(false),
         });
+        // A core for each thread where the team has them all.
+        let cores = affinity::allowed().filter(|cores| threads > 1 && cores.len() == threads);
         let mut members = Vec::new();
         for k in 1..threads.max(1) {
             let mine = Arc::clone(&shared);
+            let core = cores.as_ref().map(|cores| cores[k]);
             let handle = std::thread::Builder::new()
                 .name(format!("screensaver-team-{k}"))
-                .spawn(move || member(&mine, k))?;
+                .spawn(move || {
+                    if let Some(core) = core {
+                        affinity::tie(core);
+                    }
+                    member(&mine, k)
+                })?;
             shared
                 .threads
                 .lock()
@@ -100,7 +114,20 @@ impl Team {
                 .push(handle.thread().clone());
             members.push(handle);
         }
-        Ok(Team { shared, members })
+        Ok(Team {
+            shared,
+            members,
+            caller_core: cores.map(|cores| cores[0]),
+        })
+    }
+
+    /// Ties the calling thread to a core of its own, away from the
+    /// members', until the result is dropped, when the thread gets back
+    /// the cores it had; `None` (nothing tied) where the team's threads
+    /// are not tied (see [`crate::affinity`]). For a run of many steps:
+    /// tying and untying take two system calls.
+    pub(crate) fn tie_caller(&self) -> Option<Tied> {
+        Tied::to(self.caller_core?)
     }
 
     /// Threads in the team, the caller's included.
@@ -343,6 +370,31 @@ mod tests {
             count.fetch_add(1, Ordering::Relaxed);
         });
         assert_eq!(count.load(Ordering::Relaxed), 2);
+    }
+
+    #[test]
+    fn a_team_with_every_core_ties_each_thread_to_its_own() {
+        let Some(cores) = affinity::allowed() else {
+            return;
+        };
+        let seen: Vec<Mutex<Option<Vec<usize>>>> = cores.iter().map(|_| Mutex::default()).collect();
+        let team = Team::new(cores.len()).unwrap();
+        std::thread::scope(|scope| {
+            scope.spawn(|| {
+                let tied = team.tie_caller();
+                assert_eq!(tied.is_some(), cores.len() > 1);
+                team.run(&|k| *seen[k].lock().unwrap() = affinity::allowed());
+            });
+        });
+        if cores.len() > 1 {
+            for (k, seen) in seen.iter().enumerate() {
+                assert_eq!(*seen.lock().unwrap(), Some(vec![cores[k]]), "thread {k}");
+            }
+        }
+        // A team with fewer threads than cores is left to the scheduler.
+        if cores.len() > 2 {
+            assert!(Team::new(2).unwrap().tie_caller().is_none());
+        }
     }
 
     #[test]

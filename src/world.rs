@@ -506,6 +506,10 @@ impl World {
         B: Send,
     {
         let mut run = |world: &mut World, parallel: bool| {
+            // The stepping thread kept off the team's other cores for the
+            // run (see `crate::affinity`).
+            let team = world.team.clone();
+            let _tied = team.as_deref().and_then(Team::tie_caller);
             for _ in 0..n {
                 world.step_here(parallel);
                 if let std::ops::ControlFlow::Break(b) = after_step(world) {
