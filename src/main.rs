@@ -727,6 +727,14 @@ fn stats_json(
             "move_and_walls": t.advance.as_secs_f64(),
         },
     });
+    if let Some(h) = world.hand_offs() {
+        value["team"] = serde_json::json!({
+            "hand_offs": h.jobs,
+            "last_start_seconds": h.start.as_secs_f64(),
+            "late_hand_offs": h.late,
+            "wait_seconds": h.wait.as_secs_f64(),
+        });
+    }
     if let Some(d) = drawn {
         value["frames_drawn"] = serde_json::json!(d.frames);
         value["drawn_fps"] = serde_json::json!(d.fps());
@@ -789,6 +797,17 @@ fn stats_text(
     }
     out += &phase("resolve", t.resolve);
     out += &phase("move and walls", t.advance);
+    if let Some(h) = world.hand_offs().filter(|h| h.jobs > 0) {
+        let jobs = h.jobs as f64;
+        out += &format!(
+            "team: {:.1} hand-offs a step; the last member started {:.2} us after each \
+             (mean), {} of them over 10 us; the caller waited {:.2} us a step for the members\n",
+            jobs / steps,
+            h.start.as_secs_f64() * 1e6 / jobs,
+            h.late,
+            h.wait.as_secs_f64() * 1e6 / steps,
+        );
+    }
     if let Some(d) = drawn {
         // Pictures written to files have no rate of their own.
         let rate = if d.span.is_zero() {

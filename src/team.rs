@@ -35,6 +35,24 @@ pub const TEAM_GRAINS: usize = 256;
 /// How long an idle member spins before it parks.
 const SPIN: Duration = Duration::from_micros(200);
 
+/// A member that starts its part of a job later than this after the job
+/// is handed out counts as late ([`HandOffs::late`]).
+const LATE: Duration = Duration::from_micros(10);
+
+/// What a team's hand-offs cost, summed over the jobs timed
+/// ([`Team::set_timing`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HandOffs {
+    /// Jobs timed.
+    pub jobs: u64,
+    /// From each job's hand-out until its last member started its part.
+    pub start: Duration,
+    /// Jobs whose last member started more than 10 us after the hand-out.
+    pub late: u64,
+    /// The caller's wait, its own part done, for the members to finish.
+    pub wait: Duration,
+}
+
 /// A job: called once with each member's number, `0..threads`.
 type Job<'a> = dyn Fn(usize) + Sync + 'a;
 
@@ -59,6 +77,13 @@ struct Shared {
     threads: Mutex<Vec<std::thread::Thread>>,
     /// Set while a job runs: jobs never overlap.
     busy: AtomicBool,
+    /// Whether jobs are timed ([`Team::set_timing`]).
+    timing: AtomicBool,
+    /// When the team was made: the members' start times count from it.
+    born: Instant,
+    /// While jobs are timed, when each member started its part of the
+    /// current job, in nanoseconds from `born` (member `k` at `k - 1`).
+    started: Vec<AtomicU64>,
 }
 
 /// A team of `threads` threads: the caller of [`Team::run`] and
@@ -66,6 +91,8 @@ struct Shared {
 pub struct Team {
     shared: Arc<Shared>,
     members: Vec<JoinHandle<()>>,
+    /// The hand-offs timed so far ([`Team::set_timing`]).
+    hand_offs: Mutex<HandOffs>,
     /// The core the caller is tied to while [`Team::tie_caller`]'s guard
     /// lives, when the team has every core the process may use: member
     /// `k` is tied to the `k`-th of those cores, the caller to the first
@@ -92,6 +119,9 @@ impl Team {
             panicked: AtomicBool::new(false),
             threads: Mutex::new(Vec::new()),
             busy: AtomicBool::new(false),
+            timing: AtomicBool::new(false),
+            born: Instant::now(),
+            started: (1..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
         });
         // A core for each thread where the team has them all.
         let cores = affinity::allowed().filter(|cores| threads > 1 && cores.len() == threads);
@@ -117,6 +147,7 @@ impl Team {
         Ok(Team {
             shared,
             members,
+            hand_offs: Mutex::default(),
             caller_core: cores.map(|cores| cores[0]),
         })
     }
@@ -145,6 +176,7 @@ impl Team {
             return;
         }
         let s = &*self.shared;
+        let handed_out = s.timing.load(Ordering::Relaxed).then(Instant::now);
         let was_busy = s.busy.swap(true, Ordering::Acquire);
         assert!(!was_busy, "a team runs one job at a time");
         s.done.store(0, Ordering::Relaxed);
@@ -164,6 +196,7 @@ impl Team {
             }
         }
         let mine = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(0)));
+        let mine_done = handed_out.map(|_| Instant::now());
         // The job (and `erased`, which points to it) must outlive every
         // member's use of it: wait for all of them before returning.
         let mut spins = 0u32;
@@ -176,6 +209,9 @@ impl Team {
                 std::hint::spin_loop();
             }
         }
+        if let (Some(handed_out), Some(mine_done)) = (handed_out, mine_done) {
+            self.note_hand_off(handed_out, mine_done);
+        }
         s.busy.store(false, Ordering::Release);
         if let Err(panic) = mine {
             std::panic::resume_unwind(panic);
@@ -187,6 +223,35 @@ impl Team {
 }
 
 impl Team {
+    /// Turns the timing of the hand-offs on or off (off at first; it costs
+    /// a few clock reads a job): see [`Team::hand_offs`].
+    pub fn set_timing(&self, on: bool) {
+        self.shared.timing.store(on, Ordering::Relaxed);
+    }
+
+    /// The hand-offs timed so far.
+    pub fn hand_offs(&self) -> HandOffs {
+        *self.hand_offs.lock().expect("the team's timing")
+    }
+
+    /// Adds one timed job: handed out at `handed_out`, the caller's part
+    /// done at `mine_done`, every member's part done now (each member's
+    /// start read after its `done`, which orders it).
+    fn note_hand_off(&self, handed_out: Instant, mine_done: Instant) {
+        let s = &*self.shared;
+        let last_start = s
+            .started
+            .iter()
+            .map(|t| s.born + Duration::from_nanos(t.load(Ordering::Relaxed)))
+            .max()
+            .map_or(Duration::ZERO, |t| t.saturating_duration_since(handed_out));
+        let mut h = self.hand_offs.lock().expect("the team's timing");
+        h.jobs += 1;
+        h.start += last_start;
+        h.late += u64::from(last_start > LATE);
+        h.wait += mine_done.elapsed();
+    }
+
     /// [`Team::run`] of a job whose parts each count something: returns
     /// the sum of the counts (the same in any order).
     pub fn run_sum(&self, job: &(dyn Fn(usize) -> u64 + Sync)) -> u64 {
@@ -264,6 +329,10 @@ fn member(s: &Shared, k: usize) {
         // written here (`'static`) is never relied on: the reference does
         // not escape this iteration.
         let job: &Job<'static> = unsafe { *at };
+        if s.timing.load(Ordering::Relaxed) {
+            let since = s.born.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
+            s.started[k - 1].store(since, Ordering::Relaxed);
+        }
         if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k))).is_err() {
             s.panicked.store(true, Ordering::Relaxed);
         }
@@ -395,6 +464,33 @@ mod tests {
         if cores.len() > 2 {
             assert!(Team::new(2).unwrap().tie_caller().is_none());
         }
+    }
+
+    #[test]
+    fn timed_hand_offs_count_the_callers_wait_for_a_slow_member() {
+        let team = Team::new(2).unwrap();
+        // Not timed: nothing counted.
+        team.run(&|_| {});
+        assert_eq!(team.hand_offs(), HandOffs::default());
+        team.set_timing(true);
+        let slow = Duration::from_millis(2);
+        for _ in 0..5 {
+            team.run(&|k| {
+                if k == 1 {
+                    std::thread::sleep(slow);
+                }
+            });
+        }
+        let h = team.hand_offs();
+        assert_eq!(h.jobs, 5);
+        assert!(h.wait >= 5 * slow, "{h:?}");
+        assert!(h.late <= h.jobs);
+        // A member that starts its part is counted from the hand-out: it
+        // cannot start before it.
+        assert!(h.start <= h.wait, "{h:?}");
+        team.set_timing(false);
+        team.run(&|_| {});
+        assert_eq!(team.hand_offs().jobs, 5);
     }
 
     #[test]

@@ -8,7 +8,7 @@ use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::scene::Scene;
 use crate::storage::Storage;
-use crate::team::Team;
+use crate::team::{HandOffs, Team};
 use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -197,6 +197,9 @@ impl World {
         let team = (threads > 1)
             .then(|| Team::new(threads).ok().map(Arc::new))
             .flatten();
+        if let Some(team) = &team {
+            team.set_timing(self.timing.is_some());
+        }
         self.detector.set_threads(threads, team.clone());
         self.team = team;
         Ok(())
@@ -309,11 +312,21 @@ impl World {
             None
         };
         self.detector.set_timing(on);
+        if let Some(team) = &self.team {
+            team.set_timing(on);
+        }
     }
 
     /// Per-phase times so far, if timing is on.
     pub fn phase_times(&self) -> Option<PhaseTimes> {
         self.timing
+    }
+
+    /// What handing the phases to the thread team has cost so far, if
+    /// timing is on and the world has a team (more than one thread).
+    pub fn hand_offs(&self) -> Option<HandOffs> {
+        self.timing?;
+        self.team.as_deref().map(Team::hand_offs)
     }
 
     /// Runs one step: detect, resolve in `(first, second)` order, move, walls.

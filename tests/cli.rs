@@ -225,6 +225,41 @@ fn stats_count_the_work_and_time_every_phase() {
 }
 
 #[test]
+fn stats_tell_what_the_thread_teams_hand_offs_cost() {
+    // A scene large enough for the team (from 2,048 lines).
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("team.in");
+    let path = path.to_str().unwrap();
+    let out = screensaver(&["gen", "--lines", "3000", "--seed", "3", "-o", path]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+
+    let out = screensaver(&["40", path, "--threads", "2", "--stats"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let team = stdout
+        .lines()
+        .find(|l| l.starts_with("team: "))
+        .unwrap_or_else(|| panic!("no team line: {stdout}"));
+    assert!(team.contains(" hand-offs a step; "), "{team}");
+
+    let out = screensaver(&["40", path, "--threads", "2", "--stats", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let team = &v["stats"]["team"];
+    // Hull, layout and sweep, and move: at least three a step.
+    assert!(team["hand_offs"].as_u64().unwrap() >= 3 * 40, "{team}");
+    assert!(team["wait_seconds"].as_f64().unwrap() > 0.0, "{team}");
+    assert!(team["late_hand_offs"].as_u64().unwrap() <= team["hand_offs"].as_u64().unwrap());
+
+    // One thread has no team to hand to.
+    let out = screensaver(&["40", path, "--threads", "1", "--stats", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert!(v["stats"].get("team").is_none(), "{}", v["stats"]);
+    let out = screensaver(&["40", path, "--threads", "1", "--stats"]);
+    assert!(!text(&out.stdout).contains("team: "));
+}
+
+#[test]
 fn json_stats_split_detection_into_the_detectors_phases() {
     let out = screensaver(&["50", "--stats", "--json", "--detector", "quadtree"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
