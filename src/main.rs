@@ -801,7 +801,8 @@ fn stats_text(
         let jobs = h.jobs as f64;
         out += &format!(
             "team: {:.1} hand-offs a step; the last member started {:.2} us after each \
-             (mean), {} of them over 10 us; the caller waited {:.2} us a step for the members\n",
+             (mean), {} of them over 10 us; the stepping thread waited {:.2} us a step \
+             for the members\n",
             jobs / steps,
             h.start.as_secs_f64() * 1e6 / jobs,
             h.late,
