@@ -32,6 +32,13 @@ use std::time::{Duration, Instant};
 /// of a few lines (as in tests) every phase goes to the pool.
 pub const TEAM_GRAINS: usize = 256;
 
+/// Whether `work` boxes or lines of a phase go to the team: from `least`
+/// (below, one thread does better) up to [`TEAM_GRAINS`] grains of
+/// `grain` (from there, rayon's pool).
+pub(crate) fn takes(work: usize, least: usize, grain: usize) -> bool {
+    (least..TEAM_GRAINS.saturating_mul(grain)).contains(&work)
+}
+
 /// How long an idle member spins before it parks.
 const SPIN: Duration = Duration::from_micros(200);
 

@@ -386,9 +386,9 @@ impl World {
         // too (at 100,000 lines the pool's pieces of one grain had given
         // one thread four of seven).
         let n = self.lines.len();
-        let team_limit = crate::team::TEAM_GRAINS.saturating_mul(self.grain);
         // (A handle of its own: `self` is borrowed mutably below.)
-        let team = (self.team.clone()).filter(|_| (TEAM_MIN_LINES..team_limit).contains(&n));
+        let team =
+            (self.team.clone()).filter(|_| crate::team::takes(n, TEAM_MIN_LINES, self.grain));
         let team = team.as_deref();
         match &self.storage {
             Some(st) => st.resolve(

@@ -33,7 +33,7 @@ use super::swept::{test_ordered, test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::{read_ahead, Line, LARGE_SCENE};
 use crate::narrow::Event;
-use crate::team::{self, Team, TEAM_GRAINS};
+use crate::team::{self, Team};
 use bands::Bands;
 use hull::{lo, Packed};
 use layout::{GroupView, Layout, Leavers};
@@ -186,7 +186,7 @@ pub struct Sweep {
     stats: DetectorStats,
     clock: Option<Clock>,
     /// The world's team of threads, which shares the phases from
-    /// `TEAM_MIN_BOXES` boxes up to [`TEAM_GRAINS`] grains.
+    /// `TEAM_MIN_BOXES` boxes up to [`team::TEAM_GRAINS`] grains.
     team: Option<Arc<Team>>,
     /// The team's findings, a chunk of boxes each.
     chunks: Vec<Mutex<Chunk>>,
@@ -252,10 +252,9 @@ impl Sweep {
     /// The team to share `work` boxes' worth of a phase among, if there is
     /// one: from `TEAM_MIN_BOXES` to `TEAM_GRAINS` grains.
     fn team_for(&self, work: usize) -> Option<&Team> {
-        let limit = TEAM_GRAINS.saturating_mul(self.grain);
         self.team
             .as_deref()
-            .filter(|_| (TEAM_MIN_BOXES..limit).contains(&work))
+            .filter(|_| team::takes(work, TEAM_MIN_BOXES, self.grain))
     }
 
     /// The groups of bands the layout of `n` boxes is shared in: one per
@@ -555,11 +554,7 @@ impl Sweep {
             // Swept as laid out: the findings put together in group order
             // (a member without a group found nothing).
             let threads = self.team.as_deref().map_or(1, Team::threads);
-            for chunk in &mut self.chunks[..threads] {
-                let chunk = chunk.get_mut().expect("a group's findings");
-                events.append(&mut chunk.events);
-                counts.add(&chunk.counts);
-            }
+            join_findings(&mut self.chunks[..threads], events, &mut counts);
         } else if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
             let groups = self
@@ -596,11 +591,7 @@ impl Sweep {
                     *counts = self.sweep_bands(stored, dt, boxed, groups[g].clone(), events);
                 }
             });
-            for chunk in &mut found[..groups.len()] {
-                let chunk = chunk.get_mut().expect("a group's findings");
-                events.append(&mut chunk.events);
-                counts.add(&chunk.counts);
-            }
+            join_findings(&mut found[..groups.len()], events, &mut counts);
             self.chunks = found;
         } else if let Some(team) = team.as_deref() {
             // One band: the boxes are swept a chunk at a time (each box
@@ -636,11 +627,7 @@ impl Sweep {
                 );
                 counts.candidates = candidates;
             });
-            for chunk in &mut found[..chunks] {
-                let chunk = chunk.get_mut().expect("a chunk's findings");
-                events.append(&mut chunk.events);
-                counts.add(&chunk.counts);
-            }
+            join_findings(&mut found[..chunks], events, &mut counts);
             self.chunks = found;
         } else {
             counts.add(&self.sweep_bands(stored, dt, boxed, 0..bands.count, events));
@@ -752,6 +739,16 @@ struct Chunk {
     events: Vec<Event>,
     counts: PairCounts,
     pairs: Vec<(u32, u32)>,
+}
+
+/// Appends each chunk's events to `events` and adds its counts to
+/// `counts`, in chunk order, emptying its events.
+fn join_findings(chunks: &mut [Mutex<Chunk>], events: &mut Vec<Event>, counts: &mut PairCounts) {
+    for chunk in chunks {
+        let chunk = chunk.get_mut().expect("a chunk's findings");
+        events.append(&mut chunk.events);
+        counts.add(&chunk.counts);
+    }
 }
 
 impl Default for Sweep {
