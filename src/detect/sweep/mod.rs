@@ -349,8 +349,32 @@ impl Sweep {
     /// them if the direction changed.
     fn make_plan(&mut self) {
         let n = self.sorted.len();
-        let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
-        let plan = plan::choose(plan::LAYOUT, &sample, boxed, hull::DIRECTIONS);
+        let sample = plan::Sample::of(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
+        let spread = |a| plan::spread(sample.extents(a), sample.boxed);
+        // A direction a member on a team: a plan on `koch` costs about as
+        // much as two steps' sweeping.
+        let spreads: Vec<plan::Spread> = match self.team_for(n) {
+            Some(team) => {
+                let threads = team.threads();
+                let spreads: Vec<Mutex<Option<plan::Spread>>> =
+                    (0..hull::DIRECTIONS).map(|_| Mutex::default()).collect();
+                team.run(&|k| {
+                    for a in team::share(hull::DIRECTIONS, threads, k) {
+                        *spreads[a].lock().expect("a direction's spread") = Some(spread(a));
+                    }
+                });
+                (spreads.into_iter())
+                    .map(|s| s.into_inner().expect("a direction's spread"))
+                    .map(|s| s.expect("every direction looked at"))
+                    .collect()
+            }
+            None if self.parallel(n) => {
+                use rayon::prelude::*;
+                (0..hull::DIRECTIONS).into_par_iter().map(spread).collect()
+            }
+            None => (0..hull::DIRECTIONS).map(spread).collect(),
+        };
+        let plan = plan::choose_from(plan::LAYOUT, &spreads, sample.boxed);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
             for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
