@@ -91,6 +91,9 @@ struct Shared {
     /// While jobs are timed, when each member started its part of the
     /// current job, in nanoseconds from `born` (member `k` at `k - 1`).
     started: Vec<AtomicU64>,
+    /// How long each thread's part of the last job took, in nanoseconds
+    /// (the caller's at 0): written before the thread counts itself done.
+    parts: Vec<AtomicU64>,
 }
 
 /// A team of `threads` threads: the caller of [`Team::run`] and
@@ -129,6 +132,7 @@ impl Team {
             timing: AtomicBool::new(false),
             born: Instant::now(),
             started: (1..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
+            parts: (0..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
         });
         // A core for each thread where the team has them all.
         let cores = affinity::allowed().filter(|cores| threads > 1 && cores.len() == threads);
@@ -202,7 +206,9 @@ impl Team {
                 t.unpark();
             }
         }
-        let mine = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(0)));
+        let mine = timed(&s.parts[0], || {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(0)))
+        });
         let mine_done = handed_out.map(|_| Instant::now());
         // The job (and `erased`, which points to it) must outlive every
         // member's use of it: wait for all of them before returning.
@@ -229,7 +235,29 @@ impl Team {
     }
 }
 
+/// Runs `part`, storing how long it took in `took` (nanoseconds).
+fn timed<R>(took: &AtomicU64, part: impl FnOnce() -> R) -> R {
+    let start = Instant::now();
+    let outcome = part();
+    let nanos = start.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
+    took.store(nanos, Ordering::Relaxed);
+    outcome
+}
+
 impl Team {
+    /// How long each thread's part of the last job took (the caller's
+    /// first, then member `k`'s at `k`): for evening out the next job's
+    /// shares where the threads run at different speeds.
+    pub fn last_parts(&self) -> Vec<Duration> {
+        let parts = &self.shared.parts;
+        // Each member stored its time before counting itself done, which
+        // `run` waited for (Acquire).
+        parts
+            .iter()
+            .map(|t| Duration::from_nanos(t.load(Ordering::Relaxed)))
+            .collect()
+    }
+
     /// Turns the timing of the hand-offs on or off (off at first; it costs
     /// a few clock reads a job): see [`Team::hand_offs`].
     pub fn set_timing(&self, on: bool) {
@@ -340,7 +368,10 @@ fn member(s: &Shared, k: usize) {
             let since = s.born.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
             s.started[k - 1].store(since, Ordering::Relaxed);
         }
-        if std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k))).is_err() {
+        let part = timed(&s.parts[k], || {
+            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k)))
+        });
+        if part.is_err() {
             s.panicked.store(true, Ordering::Relaxed);
         }
         s.done.fetch_add(1, Ordering::Release);

@@ -144,7 +144,7 @@ impl Layout {
         self.ids[n] = u32::MAX;
 
         // Groups of bands, the last also holding the boxes without a key.
-        let bounds = groups_of_bands(&self.starts, groups);
+        let bounds = groups_of_bands(&self.starts, bands, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
         let Layout {
@@ -175,12 +175,7 @@ impl Layout {
 
         self.hand_over(slots, &bounds, count);
         if self.kept != Some(*bands) {
-            // The least value of each band, for the layouts kept from this
-            // one: a box that stays in its band is told by two comparisons.
-            self.edges.clear();
-            self.edges.push(f32::NEG_INFINITY);
-            self.edges.extend((1..count).map(|b| bands.edge(b)));
-            self.edges.push(f32::INFINITY);
+            self.set_edges(bands);
         }
         self.kept = Some(*bands);
         self.starts[count]

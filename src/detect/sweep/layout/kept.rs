@@ -181,9 +181,8 @@ impl Layout {
         groups: usize,
     ) -> (Option<LeaverCheck<'_>>, &mut [Leavers]) {
         let count = bands.count;
-        let keeps = self.kept == Some(*bands)
-            && self.starts.len() == count + 2
-            && self.starts[count + 1] == n;
+        let keeps =
+            self.keeps(bands) && self.starts.len() == count + 2 && self.starts[count + 1] == n;
         self.noted_for = keeps.then_some((*bands, groups));
         self.noted
             .resize_with(shares.max(self.noted.len()), Leavers::default);
@@ -191,7 +190,7 @@ impl Layout {
         self.carry.clear();
         if keeps && groups > 1 {
             // Per band, the least value of the next group's first band.
-            let firsts: Vec<usize> = groups_of_bands(&self.starts, groups)[1..]
+            let firsts: Vec<usize> = groups_of_bands(&self.starts, bands, groups)[1..]
                 .iter()
                 .map(|g| g.start)
                 .filter(|&first| first < count)
@@ -236,7 +235,7 @@ impl Layout {
         // Noted for these bands in as many groups (the guests that reach
         // each group's first band are noted with the leavers).
         let noted = self.noted_for.take() == Some((*bands, groups));
-        if self.kept != Some(*bands)
+        if !self.keeps(bands)
             || self.starts.len() != count + 2
             || self.starts[count + 1] != n
             || slots.len() != n
@@ -259,7 +258,7 @@ impl Layout {
         std::mem::swap(&mut self.starts, &mut self.old_starts);
         // Groups of bands by last step's starts, the last also holding the
         // boxes without a key.
-        let bounds = groups_of_bands(&self.old_starts, groups);
+        let bounds = groups_of_bands(&self.old_starts, bands, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
 

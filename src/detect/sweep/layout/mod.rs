@@ -204,6 +204,15 @@ impl GroupView<'_> {
         self.starts[band] - self.offset..self.starts[band + 1] - self.offset
     }
 
+    /// The guests of all the group's bands.
+    pub(crate) fn guest_count(&self) -> usize {
+        let starts = self.guest_starts;
+        match (starts.first(), starts.last()) {
+            (Some(&first), Some(&last)) => (last - first) as usize,
+            _ => 0,
+        }
+    }
+
     /// The guests of band `band`: keys, hulls and ids, sorted by key.
     pub(crate) fn guests(&self, band: usize) -> (&[f32], &[Packed], &[u32]) {
         let k = band - self.bands.start;
@@ -234,10 +243,36 @@ struct Group {
 }
 
 impl Layout {
-    /// Consecutive ranges of bands, at most `groups` of them, each holding
-    /// about the same number of homes.
-    pub(crate) fn group_bounds(&self, groups: usize) -> Vec<Range<usize>> {
-        anew::group_bounds(&self.starts[..self.starts.len() - 1], groups)
+    /// Consecutive ranges of `bands`, at most `groups` of them: between
+    /// its seams where it has one for each meeting of the groups, else each
+    /// holding about the same number of homes.
+    pub(crate) fn group_bounds(&self, bands: &Bands, groups: usize) -> Vec<Range<usize>> {
+        seamed_bounds(bands, groups)
+            .unwrap_or_else(|| anew::group_bounds(&self.starts[..self.starts.len() - 1], groups))
+    }
+
+    /// Whether last step's layout was of `bands`, but perhaps for where its
+    /// seams lie; if so, it takes `bands`' seams, whose boxes then leave
+    /// their bands like any others.
+    fn keeps(&mut self, bands: &Bands) -> bool {
+        match self.kept {
+            Some(kept) if kept == *bands => true,
+            Some(kept) if kept.same_but_seams(bands) => {
+                self.set_edges(bands);
+                self.kept = Some(*bands);
+                true
+            }
+            _ => false,
+        }
+    }
+
+    /// The least value of each of `bands`, for the layouts kept from this
+    /// one: a box that stays in its band is told by two comparisons.
+    fn set_edges(&mut self, bands: &Bands) {
+        self.edges.clear();
+        self.edges.push(f32::NEG_INFINITY);
+        self.edges.extend((1..bands.count).map(|b| bands.edge(b)));
+        self.edges.push(f32::INFINITY);
     }
 
     /// Where the homes of band `band` lie among the laid-out boxes.
@@ -326,16 +361,31 @@ fn stretches<'a>(
 
 /// Consecutive ranges of the bands that start at `starts` (`count + 2`
 /// values: the boxes without a key are one more band), at most `groups`
-/// of them with about the same number of homes, the last also holding the
-/// boxes without a key.
-fn groups_of_bands(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
+/// of them: between the seams of `bands` where it has one for each
+/// meeting of the groups, else with about the same number of homes; the
+/// last also holding the boxes without a key.
+fn groups_of_bands(starts: &[usize], bands: &Bands, groups: usize) -> Vec<Range<usize>> {
     let count = starts.len() - 2;
-    let mut bounds = anew::group_bounds(&starts[..=count], groups);
+    let mut bounds = seamed_bounds(bands, groups)
+        .unwrap_or_else(|| anew::group_bounds(&starts[..=count], groups));
     match bounds.last_mut() {
         Some(last) => last.end = count + 1,
         None => bounds.push(0..count + 1),
     }
     bounds
+}
+
+/// The groups of bands between the seams of `bands`, if it has one for
+/// each meeting of `groups` groups.
+fn seamed_bounds(bands: &Bands, groups: usize) -> Option<Vec<Range<usize>>> {
+    if groups < 2 || bands.seams().len() + 1 != groups {
+        return None;
+    }
+    let firsts: Vec<usize> = std::iter::once(0)
+        .chain(bands.seam_bands())
+        .chain(std::iter::once(bands.count))
+        .collect();
+    Some(firsts.windows(2).map(|w| w[0]..w[1]).collect())
 }
 
 /// Runs `each` on every item of `work`: item `k` on member `k` of `team`
