@@ -523,6 +523,9 @@ impl World {
             // run (see `crate::affinity`).
             let team = world.team.clone();
             let _tied = team.as_deref().and_then(Team::tie_caller);
+            if let Some(team) = &team {
+                team.wake();
+            }
             for _ in 0..n {
                 world.step_here(parallel);
                 if let std::ops::ControlFlow::Break(b) = after_step(world) {
