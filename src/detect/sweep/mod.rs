@@ -16,7 +16,9 @@
 //!    it from below (its guests), sorted too;
 //! 5. [`scan`]: each band (or the one) swept, with several bands its homes
 //!    among themselves and against its guests; the pairs whose hulls
-//!    overlap go to the exact test.
+//!    overlap go to the exact test;
+//! 6. on a team, [`seams`]: now and then, the edges where the threads'
+//!    groups of bands meet moved towards where their times would be even.
 //!
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
