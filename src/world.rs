@@ -82,11 +82,14 @@ impl std::fmt::Display for Mismatch {
     }
 }
 
-/// Scenes of fewer lines move on one thread even with a team: a member's
-/// share of the move costs less than its hand-off only above this. With
-/// the move shared, `koch` (3,900 lines) ran 1000 steps on two threads in
-/// 0.098 s instead of 0.106, and 10,000 lines 300 steps in 0.121 instead
-/// of 0.139 (medians of interleaved runs).
+/// Scenes of fewer lines move on one thread even with a team, where the
+/// detector does not have them stored in its order: a member's share of
+/// the move costs less than its hand-off only above this. With the move
+/// shared, `koch` (3,900 lines) ran 1000 steps on two threads in 0.098 s
+/// instead of 0.106, and 10,000 lines 300 steps in 0.121 instead of 0.139
+/// (medians of interleaved runs). Lines stored in the sweep's order move
+/// on the team from the size the sweep shares its phases at
+/// (`TEAM_MIN_BOXES`), each member moving the lines it reads next.
 const TEAM_MIN_LINES: usize = 2048;
 
 /// The simulated world. Line ids are indices into [`World::lines`].
@@ -387,8 +390,11 @@ impl World {
         // one thread four of seven).
         let n = self.lines.len();
         // (A handle of its own: `self` is borrowed mutably below.)
-        let team =
-            (self.team.clone()).filter(|_| crate::team::takes(n, TEAM_MIN_LINES, self.grain));
+        let least = match self.storage {
+            Some(_) => crate::detect::TEAM_MIN_BOXES,
+            None => TEAM_MIN_LINES,
+        };
+        let team = (self.team.clone()).filter(|_| crate::team::takes(n, least, self.grain));
         let team = team.as_deref();
         match &self.storage {
             Some(st) => st.resolve(

@@ -101,9 +101,13 @@ const SWEEP_GROUPS_PER_THREAD: usize = 4;
 
 /// Scenes of fewer boxes keep the sweep on one thread even with a team:
 /// below this the hand-offs and the lines' travel between the cores' caches
-/// cost more than the shared work saves (`sin_wave`, 1,180 lines, ran
-/// slower on two threads; `koch`, 3,900, faster).
-const TEAM_MIN_BOXES: usize = 2048;
+/// cost more than the shared work saves. On two threads, against one
+/// (medians of 9 interleaved rounds, the move shared from the same size):
+/// generated scenes of 300 lines ran 0.85x, of 400 1.13x, of 500 1.24x and
+/// of 700 1.29x; `beaver` (294 lines) 0.83x, `box` (401) 1.15x, `mit`
+/// (809) 1.28x, `explosion` (600) 1.38x, the built-in 1000-line scene
+/// 1.37x.
+pub(crate) const TEAM_MIN_BOXES: usize = 384;
 
 /// Boxes a team member sweeps at a time (with one band).
 const TEAM_SWEEP_CHUNK: usize = 256;
