@@ -182,7 +182,7 @@ impl Layout {
     ) -> (Option<LeaverCheck<'_>>, &mut [Leavers]) {
         let count = bands.count;
         let keeps =
-            self.keeps(bands) && self.starts.len() == count + 2 && self.starts[count + 1] == n;
+            self.can_keep(bands) && self.starts.len() == count + 2 && self.starts[count + 1] == n;
         self.noted_for = keeps.then_some((*bands, groups));
         self.noted
             .resize_with(shares.max(self.noted.len()), Leavers::default);
@@ -235,7 +235,7 @@ impl Layout {
         // Noted for these bands in as many groups (the guests that reach
         // each group's first band are noted with the leavers).
         let noted = self.noted_for.take() == Some((*bands, groups));
-        if !self.keeps(bands)
+        if !self.can_keep(bands)
             || self.starts.len() != count + 2
             || self.starts[count + 1] != n
             || slots.len() != n

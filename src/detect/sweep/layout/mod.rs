@@ -252,9 +252,10 @@ impl Layout {
     }
 
     /// Whether last step's layout was of `bands`, but perhaps for where its
-    /// seams lie; if so, it takes `bands`' seams, whose boxes then leave
-    /// their bands like any others.
-    fn keeps(&mut self, bands: &Bands) -> bool {
+    /// seams lie, and so may be kept; if so, it takes `bands`' seams (and
+    /// their edges), and the boxes a seam passed leave their bands like
+    /// any others.
+    fn can_keep(&mut self, bands: &Bands) -> bool {
         match self.kept {
             Some(kept) if kept == *bands => true,
             Some(kept) if kept.same_but_seams(bands) => {
