@@ -733,6 +733,8 @@ fn stats_json(
             "last_start_seconds": h.start.as_secs_f64(),
             "late_hand_offs": h.late,
             "wait_seconds": h.wait.as_secs_f64(),
+            "caller_part_seconds": h.caller_parts.as_secs_f64(),
+            "longest_member_part_seconds": h.longest_member_parts.as_secs_f64(),
         });
     }
     if let Some(d) = drawn {
@@ -802,11 +804,14 @@ fn stats_text(
         out += &format!(
             "team: {:.1} hand-offs a step; the last member started {:.2} us after each \
              (mean), {} of them over 10 us; the stepping thread waited {:.2} us a step \
-             for the members\n",
+             for the members; its own parts took {:.2} us a step, the longest member's \
+             {:.2}\n",
             jobs / steps,
             h.start.as_secs_f64() * 1e6 / jobs,
             h.late,
             h.wait.as_secs_f64() * 1e6 / steps,
+            h.caller_parts.as_secs_f64() * 1e6 / steps,
+            h.longest_member_parts.as_secs_f64() * 1e6 / steps,
         );
     }
     if let Some(d) = drawn {

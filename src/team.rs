@@ -58,6 +58,10 @@ pub struct HandOffs {
     pub late: u64,
     /// The caller's wait, its own part done, for the members to finish.
     pub wait: Duration,
+    /// The caller's own parts of the jobs.
+    pub caller_parts: Duration,
+    /// Of each job, the longest part a member took.
+    pub longest_member_parts: Duration,
 }
 
 /// A job: called once with each member's number, `0..threads`.
@@ -296,11 +300,15 @@ impl Team {
             .map(|t| s.born + Duration::from_nanos(t.load(Ordering::Relaxed)))
             .max()
             .map_or(Duration::ZERO, |t| t.saturating_duration_since(handed_out));
+        let parts = self.last_parts();
+        let longest = parts[1..].iter().max().copied().unwrap_or_default();
         let mut h = self.hand_offs.lock().expect("the team's timing");
         h.jobs += 1;
         h.start += last_start;
         h.late += u64::from(last_start > LATE);
         h.wait += mine_done.elapsed();
+        h.caller_parts += parts[0];
+        h.longest_member_parts += longest;
     }
 
     /// [`Team::run`] of a job whose parts each count something: returns
@@ -575,6 +583,9 @@ mod tests {
         let h = team.hand_offs();
         assert_eq!(h.jobs, 5);
         assert!(h.wait >= 5 * slow, "{h:?}");
+        // The member's parts are the slow ones.
+        assert!(h.longest_member_parts >= 5 * slow, "{h:?}");
+        assert!(h.caller_parts < h.longest_member_parts, "{h:?}");
         assert!(h.late <= h.jobs);
         // A member that starts its part is counted from the hand-out: it
         // cannot start before it.

@@ -226,7 +226,7 @@ fn stats_count_the_work_and_time_every_phase() {
 
 #[test]
 fn stats_tell_what_the_thread_teams_hand_offs_cost() {
-    // A scene large enough for the team (from 2,048 lines).
+    // A scene large enough for the team (from 384 lines).
     let dir = std::env::temp_dir().join(format!("screensaver-cli-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("team.in");
@@ -242,6 +242,7 @@ fn stats_tell_what_the_thread_teams_hand_offs_cost() {
         .find(|l| l.starts_with("team: "))
         .unwrap_or_else(|| panic!("no team line: {stdout}"));
     assert!(team.contains(" hand-offs a step; "), "{team}");
+    assert!(team.contains(", the longest member's "), "{team}");
 
     let out = screensaver(&["40", path, "--threads", "2", "--stats", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -249,6 +250,14 @@ fn stats_tell_what_the_thread_teams_hand_offs_cost() {
     // Hull, layout and sweep, and move: at least three a step.
     assert!(team["hand_offs"].as_u64().unwrap() >= 3 * 40, "{team}");
     assert!(team["wait_seconds"].as_f64().unwrap() > 0.0, "{team}");
+    assert!(
+        team["caller_part_seconds"].as_f64().unwrap() > 0.0,
+        "{team}"
+    );
+    assert!(
+        team["longest_member_part_seconds"].as_f64().unwrap() > 0.0,
+        "{team}"
+    );
     assert!(team["late_hand_offs"].as_u64().unwrap() <= team["hand_offs"].as_u64().unwrap());
 
     // One thread has no team to hand to.
