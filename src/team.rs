@@ -98,9 +98,14 @@ struct Shared {
     /// While jobs are timed, when each member started its part of the
     /// current job, in nanoseconds from `born` (member `k` at `k - 1`).
     started: Vec<AtomicU64>,
-    /// How long each thread's part of the last job took, in nanoseconds
-    /// (the caller's at 0): written before the thread counts itself done.
+    /// How long each thread's part of the last timed job took, in
+    /// nanoseconds (the caller's at 0): written before the thread counts
+    /// itself done.
     parts: Vec<AtomicU64>,
+    /// Whether the current job's parts are timed (set before its epoch is
+    /// bumped): by [`Team::run_timed`], or for every job while the
+    /// hand-offs are timed.
+    time_parts: AtomicBool,
 }
 
 /// A team of `threads` threads: the caller of [`Team::run`] and
@@ -141,6 +146,7 @@ impl Team {
             born: Instant::now(),
             started: (1..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
             parts: (0..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
+            time_parts: AtomicBool::new(false),
         });
         // A core for each thread where the team has them all.
         let cores = affinity::allowed().filter(|cores| threads > 1 && cores.len() == threads);
@@ -201,13 +207,26 @@ impl Team {
     /// the calling thread, and returns when all have finished. A panic in
     /// any part is raised here once all have finished.
     pub fn run(&self, job: &Job<'_>) {
+        self.run_job(job, false);
+    }
+
+    /// [`Team::run`], each thread timing its part for
+    /// [`Team::last_parts`] (two clock reads a thread: the other jobs of a
+    /// step skip them).
+    pub fn run_timed(&self, job: &Job<'_>) {
+        self.run_job(job, true);
+    }
+
+    fn run_job(&self, job: &Job<'_>, time_parts: bool) {
         let members = self.members.len();
         if members == 0 {
             job(0);
             return;
         }
         let s = &*self.shared;
-        let handed_out = s.timing.load(Ordering::Relaxed).then(Instant::now);
+        let timing = s.timing.load(Ordering::Relaxed);
+        let handed_out = timing.then(Instant::now);
+        let time_parts = time_parts || timing;
         let was_busy = s.busy.swap(true, Ordering::Acquire);
         assert!(!was_busy, "a team runs one job at a time");
         s.done.store(0, Ordering::Relaxed);
@@ -215,6 +234,7 @@ impl Team {
         let erased: &Job<'_> = job;
         s.job
             .store(&erased as *const &Job<'_> as usize, Ordering::Relaxed);
+        s.time_parts.store(time_parts, Ordering::Relaxed);
         // A member that sees the new epoch sees the job too (the store
         // above comes before this bump). SeqCst, with the load of `parked`
         // below and a member's announcement and second look at the epoch,
@@ -226,7 +246,7 @@ impl Team {
                 t.unpark();
             }
         }
-        let mine = timed(&s.parts[0], || {
+        let mine = timed(time_parts.then_some(&s.parts[0]), || {
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(0)))
         });
         let mine_done = handed_out.map(|_| Instant::now());
@@ -255,8 +275,12 @@ impl Team {
     }
 }
 
-/// Runs `part`, storing how long it took in `took` (nanoseconds).
-fn timed<R>(took: &AtomicU64, part: impl FnOnce() -> R) -> R {
+/// Runs `part`, storing how long it took in `took` (nanoseconds), if
+/// given.
+fn timed<R>(took: Option<&AtomicU64>, part: impl FnOnce() -> R) -> R {
+    let Some(took) = took else {
+        return part();
+    };
     let start = Instant::now();
     let outcome = part();
     let nanos = start.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
@@ -265,17 +289,14 @@ fn timed<R>(took: &AtomicU64, part: impl FnOnce() -> R) -> R {
 }
 
 impl Team {
-    /// How long each thread's part of the last job took (the caller's
-    /// first, then member `k`'s at `k`): for evening out the next job's
-    /// shares where the threads run at different speeds.
-    pub fn last_parts(&self) -> Vec<Duration> {
-        let parts = &self.shared.parts;
+    /// How long each thread's part of the last timed job took (the
+    /// caller's first, then member `k`'s at `k`; see [`Team::run_timed`]):
+    /// for evening out the next job's shares where the threads run at
+    /// different speeds.
+    pub fn last_parts(&self) -> impl ExactSizeIterator<Item = Duration> + '_ {
         // Each member stored its time before counting itself done, which
         // `run` waited for (Acquire).
-        parts
-            .iter()
-            .map(|t| Duration::from_nanos(t.load(Ordering::Relaxed)))
-            .collect()
+        (self.shared.parts.iter()).map(|t| Duration::from_nanos(t.load(Ordering::Relaxed)))
     }
 
     /// Turns the timing of the hand-offs on or off (off at first; it costs
@@ -300,14 +321,15 @@ impl Team {
             .map(|t| s.born + Duration::from_nanos(t.load(Ordering::Relaxed)))
             .max()
             .map_or(Duration::ZERO, |t| t.saturating_duration_since(handed_out));
-        let parts = self.last_parts();
-        let longest = parts[1..].iter().max().copied().unwrap_or_default();
+        let mut parts = self.last_parts();
+        let caller = parts.next().unwrap_or_default();
+        let longest = parts.max().unwrap_or_default();
         let mut h = self.hand_offs.lock().expect("the team's timing");
         h.jobs += 1;
         h.start += last_start;
         h.late += u64::from(last_start > LATE);
         h.wait += mine_done.elapsed();
-        h.caller_parts += parts[0];
+        h.caller_parts += caller;
         h.longest_member_parts += longest;
     }
 
@@ -398,7 +420,9 @@ fn member(s: &Shared, k: usize) {
             let since = s.born.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
             s.started[k - 1].store(since, Ordering::Relaxed);
         }
-        let part = timed(&s.parts[k], || {
+        // Stored before the epoch's bump, as the job was.
+        let time_parts = s.time_parts.load(Ordering::Relaxed).then_some(&s.parts[k]);
+        let part = timed(time_parts, || {
             std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k)))
         });
         if part.is_err() {
@@ -492,6 +516,22 @@ mod tests {
             });
         }
         assert!(data.iter().all(|&x| x == (1..200).sum::<u64>()));
+    }
+
+    #[test]
+    fn only_timed_jobs_time_their_parts() {
+        let team = Team::new(2).unwrap();
+        let slow = Duration::from_millis(2);
+        team.run_timed(&|k| {
+            if k == 1 {
+                std::thread::sleep(slow);
+            }
+        });
+        let parts: Vec<Duration> = team.last_parts().collect();
+        assert!(parts[1] >= slow && parts[0] < parts[1], "{parts:?}");
+        // An untimed job leaves the last timed one's parts.
+        team.run(&|_| std::thread::sleep(2 * slow));
+        assert_eq!(team.last_parts().collect::<Vec<_>>(), parts);
     }
 
     #[test]

@@ -606,10 +606,10 @@ impl Sweep {
             // (a member without a group found nothing).
             let threads = self.team.as_deref().map_or(1, Team::threads);
             if let Some(team) = self.team.as_deref() {
-                let entries: Vec<usize> = (self.chunks[..threads].iter_mut())
-                    .map(|c| c.get_mut().expect("a group's findings").entries)
-                    .collect();
-                (self.seams).add_step(&bands, &self.layout, &team.last_parts(), &entries);
+                let entries = (self.chunks[..threads].iter_mut())
+                    .map(|c| c.get_mut().expect("a group's findings").entries);
+                let groups = team.last_parts().zip(entries);
+                (self.seams).add_step(&bands, &self.layout, groups);
             }
             join_findings(&mut self.chunks[..threads], events, &mut counts);
         } else if self.parallel(entries) && bands.count > 1 {

@@ -58,25 +58,23 @@ impl Seams {
         *self = Self::default();
     }
 
-    /// Adds a step whose groups of `bands` were laid out and swept in
-    /// `took[g]` (group `g`, of `entries[g]` boxes), as `layout` holds
-    /// them; every `EVERY` steps, moves the seams.
+    /// Adds a step whose groups of `bands` were laid out and swept, as
+    /// `layout` holds them: group `g` in `groups`' `g`-th time, of as many
+    /// boxes as it gives; every `EVERY` steps, moves the seams.
     pub(crate) fn add_step(
         &mut self,
         bands: &Bands,
         layout: &Layout,
-        took: &[Duration],
-        entries: &[usize],
+        groups: impl ExactSizeIterator<Item = (Duration, usize)>,
     ) {
-        let groups = took.len();
-        if self.took.len() != groups {
+        if self.took.len() != groups.len() {
             self.clear();
-            self.took.resize(groups, 0.0);
-            self.entries.resize(groups, 0.0);
+            self.took.resize(groups.len(), 0.0);
+            self.entries.resize(groups.len(), 0.0);
         }
-        for g in 0..groups {
-            self.took[g] += took[g].as_secs_f64();
-            self.entries[g] += entries[g] as f64;
+        for (g, (took, entries)) in groups.enumerate() {
+            self.took[g] += took.as_secs_f64();
+            self.entries[g] += entries as f64;
         }
         self.steps += 1;
         if self.steps < EVERY {

@@ -390,13 +390,14 @@ fn seamed_bounds(bands: &Bands, groups: usize) -> Option<Vec<Range<usize>>> {
 }
 
 /// Runs `each` on every item of `work`: item `k` on member `k` of `team`
-/// if there is one (there are no more items than members), else on the
-/// current rayon pool when there is more than one, else here.
+/// if there is one (there are no more items than members; each member's
+/// part timed, for the seams between the groups), else on the current
+/// rayon pool when there is more than one, else here.
 fn run_each<W: Send>(work: Vec<W>, team: Option<&Team>, each: impl Fn(W) + Sync) {
     if let Some(team) = team.filter(|_| work.len() > 1) {
         debug_assert!(work.len() <= team.threads());
         let work: Vec<Mutex<Option<W>>> = work.into_iter().map(|w| Mutex::new(Some(w))).collect();
-        team.run(&|k| {
+        team.run_timed(&|k| {
             let taken = work.get(k).and_then(|w| w.lock().expect("an item").take());
             if let Some(w) = taken {
                 each(w);
