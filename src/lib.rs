@@ -20,7 +20,6 @@
 //! (files written whole or not at all), [`stop`] (clean stops on
 //! signals) and [`team`] (the threads a step's phases are shared among).
 
-mod affinity;
 pub mod broad_phase;
 pub mod checkpoint;
 pub mod detect;

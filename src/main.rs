@@ -730,11 +730,11 @@ fn stats_json(
     if let Some(h) = world.hand_offs() {
         value["team"] = serde_json::json!({
             "hand_offs": h.jobs,
-            "last_start_seconds": h.start.as_secs_f64(),
-            "late_hand_offs": h.late,
+            "pieces": h.pieces,
+            "member_pieces": h.member_pieces,
+            "alone": h.alone,
             "wait_seconds": h.wait.as_secs_f64(),
-            "caller_part_seconds": h.caller_parts.as_secs_f64(),
-            "longest_member_part_seconds": h.longest_member_parts.as_secs_f64(),
+            "parked_waits": h.parked,
         });
     }
     if let Some(d) = drawn {
@@ -802,16 +802,15 @@ fn stats_text(
     if let Some(h) = world.hand_offs().filter(|h| h.jobs > 0) {
         let jobs = h.jobs as f64;
         out += &format!(
-            "team: {:.1} hand-offs a step; the last member started {:.2} us after each \
-             (mean), {} of them over 10 us; the stepping thread waited {:.2} us a step \
-             for the members; its own parts took {:.2} us a step, the longest member's \
-             {:.2}\n",
+            "team: {:.1} hand-offs a step, {:.1} pieces each; the members ran {:.1}% of \
+             the pieces, none of {} hand-offs; the stepping thread waited {:.2} us a step \
+             for pieces running elsewhere, parked {} times\n",
             jobs / steps,
-            h.start.as_secs_f64() * 1e6 / jobs,
-            h.late,
+            h.pieces as f64 / jobs,
+            100.0 * h.member_pieces as f64 / (h.pieces as f64).max(1.0),
+            h.alone,
             h.wait.as_secs_f64() * 1e6 / steps,
-            h.caller_parts.as_secs_f64() * 1e6 / steps,
-            h.longest_member_parts.as_secs_f64() * 1e6 / steps,
+            h.parked,
         );
     }
     if let Some(d) = drawn {

@@ -1,21 +1,31 @@
-//! A small team of threads for the phases of a step: each phase is handed
-//! to every member at once, and the hand-off costs well under a
-//! microsecond while the members are awake.
+//! A small team of threads for the phases of a step. A phase is cut into
+//! pieces; the stepping thread and the members claim the pieces one at a
+//! time, so a thread that is not running (its core taken by another
+//! program, or by this program's own drawing) holds up at most the one
+//! piece it has claimed, and a member that has not started holds up
+//! nothing: the stepping thread takes its pieces.
 //!
-//! A step of a course scene takes about a hundred microseconds in a few
+//! A step of a course scene takes a few tens of microseconds in a few
 //! phases; waking a pooled worker through the operating system for each
 //! phase costs a good part of what sharing the phase saves. The members
-//! here wait for work by spinning on an atomic counter for a while, so a
-//! phase handed to them soon after the last one starts at once; a member
-//! that has waited longer than `SPIN` (200 us) parks, and then uses no CPU until
-//! it is woken (between runs, while a window is paused, after the run).
+//! here wait for work by spinning on an atomic word for a while, so a
+//! phase handed out soon after the last one starts at once; a member that
+//! has waited longer than `SPIN` parks, and then uses no CPU until it is
+//! woken. The stepping thread, its pieces done, spins for at most
+//! `CALLER_SPIN` for the pieces still running elsewhere, then parks until
+//! the last of them ends, so that a member switched out mid-piece can have
+//! the core back.
+//!
+//! Which thread runs a piece changes nothing in the results: piece `k`
+//! reads and writes what piece `k` owns, and the callers merge the pieces'
+//! findings in piece order.
 //!
 //! This is the one module with `unsafe` code: a member runs a job that
 //! borrows from the caller's stack frame, which the type system cannot see
-//! outlive the call. [`Team::run`] does not return before every member has
-//! finished with the job, which is what makes the borrow sound.
+//! outlive the call. [`Team::run`] does not return before every piece has
+//! finished, and a member reads the job only while a piece it claimed is
+//! unfinished, which is what makes the borrow sound.
 
-use crate::affinity::{self, Tied};
 use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -23,13 +33,7 @@ use std::time::{Duration, Instant};
 
 /// Grains of work up to which the step shares a phase among its team rather
 /// than on rayon's pool: 4,194,304 boxes or lines at the default grain.
-/// The team's fixed shares and spinning hand-offs did as well as the
-/// pool's or better at every size measured (two threads, medians of
-/// interleaved rounds, and the median of each round's ratio): 100,000
-/// lines 100 frames 0.344 s against 0.420 (1.08x), 300,000 lines 1.231
-/// against 1.266 (1.01x), a million 50 frames 3.09 against 3.08 (1.08x by
-/// rounds), two million 20 frames 2.49 against 2.61 (1.04x). With a grain
-/// of a few lines (as in tests) every phase goes to the pool.
+/// With a grain of a few lines (as in tests) every phase goes to the pool.
 pub const TEAM_GRAINS: usize = 256;
 
 /// Whether `work` boxes or lines of a phase go to the team: from `least`
@@ -42,9 +46,44 @@ pub(crate) fn takes(work: usize, least: usize, grain: usize) -> bool {
 /// How long an idle member spins before it parks.
 const SPIN: Duration = Duration::from_micros(200);
 
-/// A member that starts its part of a job later than this after the job
-/// is handed out counts as late ([`HandOffs::late`]).
-const LATE: Duration = Duration::from_micros(10);
+/// How long the stepping thread, its own pieces done, spins for the others
+/// before it parks: a piece of a running member ends within a few tens of
+/// microseconds; one whose member was switched out ends only when the
+/// member has a core again, which the stepping thread's parking may give.
+const CALLER_SPIN: Duration = Duration::from_micros(50);
+
+/// The most pieces a job may have (the width of the claim counter).
+pub const MAX_PIECES: usize = (1 << PIECE_BITS) - 1;
+
+/// Bits of the job word for the piece count, and as many for the next
+/// piece to claim; the rest number the jobs.
+const PIECE_BITS: u32 = 12;
+const PIECE_MASK: u64 = (1 << PIECE_BITS) - 1;
+
+/// The job word: the job's number, its piece count and the next piece to
+/// claim, in one atomic so that a claim is checked against all three at
+/// once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct Word {
+    job: u64,
+    pieces: usize,
+    next: usize,
+}
+
+impl Word {
+    fn pack(self) -> u64 {
+        debug_assert!(self.pieces <= MAX_PIECES && self.next <= self.pieces);
+        (self.job << (2 * PIECE_BITS)) | ((self.pieces as u64) << PIECE_BITS) | self.next as u64
+    }
+
+    fn unpack(w: u64) -> Word {
+        Word {
+            job: w >> (2 * PIECE_BITS),
+            pieces: ((w >> PIECE_BITS) & PIECE_MASK) as usize,
+            next: (w & PIECE_MASK) as usize,
+        }
+    }
+}
 
 /// What a team's hand-offs cost, summed over the jobs timed
 /// ([`Team::set_timing`]).
@@ -52,32 +91,36 @@ const LATE: Duration = Duration::from_micros(10);
 pub struct HandOffs {
     /// Jobs timed.
     pub jobs: u64,
-    /// From each job's hand-out until its last member started its part.
-    pub start: Duration,
-    /// Jobs whose last member started more than 10 us after the hand-out.
-    pub late: u64,
-    /// The caller's wait, its own part done, for the members to finish.
+    /// Pieces of those jobs, in all.
+    pub pieces: u64,
+    /// Pieces the members ran (the stepping thread ran the rest).
+    pub member_pieces: u64,
+    /// Jobs whose every piece the stepping thread ran itself, no member
+    /// having come for one in time.
+    pub alone: u64,
+    /// The stepping thread's wait, no piece left to claim, for the pieces
+    /// still running elsewhere.
     pub wait: Duration,
-    /// The caller's own parts of the jobs.
-    pub caller_parts: Duration,
-    /// Of each job, the longest part a member took.
-    pub longest_member_parts: Duration,
+    /// Of those waits, the ones long enough that it parked.
+    pub parked: u64,
 }
 
-/// A job: called once with each member's number, `0..threads`.
+/// A job: called once with each piece's number, `0..pieces`.
 type Job<'a> = dyn Fn(usize) + Sync + 'a;
 
 /// What the caller and the members share.
 struct Shared {
-    /// Bumped once for every job; a member runs a job when it sees the
-    /// counter move.
-    epoch: AtomicU64,
+    /// The current job's [`Word`]: bumped to a new job number, with piece
+    /// 0 claimed, when a job is handed out; each claim adds one to `next`.
+    word: AtomicU64,
     /// The current job: a pointer to a `&Job` on the stack of the caller
-    /// of [`Team::run`], valid from the bump of `epoch` until `done`
-    /// reaches the number of members.
+    /// of [`Team::run`], valid from the job's hand-out until `done`
+    /// reaches its piece count.
     job: AtomicUsize,
-    /// Members finished with the current job.
+    /// Pieces of the current job finished.
     done: AtomicUsize,
+    /// Pieces the members ran (for [`HandOffs`]).
+    member_pieces: AtomicUsize,
     /// Members parked (or about to park), who must be woken.
     parked: AtomicUsize,
     /// Bumped by [`Team::wake`]: a member woken sees it move, and spins
@@ -85,27 +128,90 @@ struct Shared {
     wakes: AtomicU64,
     /// Set when the team is dropped.
     quit: AtomicBool,
-    /// Set when a member's part of the current job panicked.
+    /// Set when a piece of the current job panicked.
     panicked: AtomicBool,
     /// The members' threads, to wake them.
     threads: Mutex<Vec<std::thread::Thread>>,
+    /// The stepping thread while it is parked (or about to park) waiting
+    /// for the last pieces: the member that finishes the last one wakes it.
+    waiting: Mutex<Option<std::thread::Thread>>,
+    caller_parked: AtomicBool,
     /// Set while a job runs: jobs never overlap.
     busy: AtomicBool,
     /// Whether jobs are timed ([`Team::set_timing`]).
     timing: AtomicBool,
-    /// When the team was made: the members' start times count from it.
-    born: Instant,
-    /// While jobs are timed, when each member started its part of the
-    /// current job, in nanoseconds from `born` (member `k` at `k - 1`).
-    started: Vec<AtomicU64>,
-    /// How long each thread's part of the last timed job took, in
-    /// nanoseconds (the caller's at 0): written before the thread counts
-    /// itself done.
+    /// How long each piece of the last timed job took, in nanoseconds
+    /// (pieces past the first `threads` are not timed): written before the
+    /// piece counts as done.
     parts: Vec<AtomicU64>,
-    /// Whether the current job's parts are timed (set before its epoch is
-    /// bumped): by [`Team::run_timed`], or for every job while the
-    /// hand-offs are timed.
+    /// Whether the current job's pieces are timed (set before the job is
+    /// handed out): by [`Team::run_timed`].
     time_parts: AtomicBool,
+    /// Tests: the longest a member waits, in nanoseconds, before it claims
+    /// a piece of a job it has seen (a pseudo-random time up to this), as
+    /// a member switched out by the scheduler would.
+    #[cfg(test)]
+    delay: AtomicU64,
+}
+
+impl Shared {
+    /// Claims the next piece of job `job`, if it has one left: the piece
+    /// and the job's piece count.
+    fn claim(&self, job: u64) -> Option<(usize, usize)> {
+        let mut now = self.word.load(Ordering::Acquire);
+        loop {
+            let w = Word::unpack(now);
+            if w.job != job || w.next >= w.pieces {
+                return None;
+            }
+            let claimed = Word {
+                next: w.next + 1,
+                ..w
+            }
+            .pack();
+            match self.word.compare_exchange_weak(
+                now,
+                claimed,
+                Ordering::Acquire,
+                Ordering::Acquire,
+            ) {
+                Ok(_) => return Some((w.next, w.pieces)),
+                Err(seen) => now = seen,
+            }
+        }
+    }
+
+    /// Runs piece `k` of `job`, catching a panic (raised by the caller once
+    /// every piece is done), and timing it if asked.
+    fn run_piece(&self, job: &Job<'_>, k: usize) {
+        let took = (self.time_parts.load(Ordering::Relaxed))
+            .then(|| self.parts.get(k))
+            .flatten();
+        let start = took.map(|_| Instant::now());
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k)));
+        if let (Some(took), Some(start)) = (took, start) {
+            let nanos = start.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
+            took.store(nanos, Ordering::Relaxed);
+        }
+        if outcome.is_err() {
+            self.panicked.store(true, Ordering::Relaxed);
+        }
+    }
+
+    /// Counts `finished` pieces of a job of `pieces` done, waking the
+    /// stepping thread if they were the last and it is parked. Nothing of
+    /// the job may be touched after this.
+    fn finish(&self, finished: usize, pieces: usize) {
+        // SeqCst, with the stepping thread's `caller_parked` store and its
+        // second look at `done`: either it sees every piece done, or this
+        // thread sees it parked (and wakes it).
+        let before = self.done.fetch_add(finished, Ordering::SeqCst);
+        if before + finished == pieces && self.caller_parked.load(Ordering::SeqCst) {
+            if let Some(t) = &*self.waiting.lock().expect("team lock") {
+                t.unpark();
+            }
+        }
+    }
 }
 
 /// A team of `threads` threads: the caller of [`Team::run`] and
@@ -115,11 +221,6 @@ pub struct Team {
     members: Vec<JoinHandle<()>>,
     /// The hand-offs timed so far ([`Team::set_timing`]).
     hand_offs: Mutex<HandOffs>,
-    /// The core the caller is tied to while [`Team::tie_caller`]'s guard
-    /// lives, when the team has every core the process may use: member
-    /// `k` is tied to the `k`-th of those cores, the caller to the first
-    /// (see [`crate::affinity`]).
-    caller_core: Option<usize>,
 }
 
 impl std::fmt::Debug for Team {
@@ -132,36 +233,32 @@ impl Team {
     /// A team of `threads` threads in all (at least 1; with 1, jobs run on
     /// the caller alone).
     pub fn new(threads: usize) -> std::io::Result<Team> {
+        let threads = threads.max(1);
         let shared = Arc::new(Shared {
-            epoch: AtomicU64::new(0),
+            word: AtomicU64::new(0),
             job: AtomicUsize::new(0),
             done: AtomicUsize::new(0),
+            member_pieces: AtomicUsize::new(0),
             parked: AtomicUsize::new(0),
             wakes: AtomicU64::new(0),
             quit: AtomicBool::new(false),
             panicked: AtomicBool::new(false),
             threads: Mutex::new(Vec::new()),
+            waiting: Mutex::new(None),
+            caller_parked: AtomicBool::new(false),
             busy: AtomicBool::new(false),
             timing: AtomicBool::new(false),
-            born: Instant::now(),
-            started: (1..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
-            parts: (0..threads.max(1)).map(|_| AtomicU64::new(0)).collect(),
+            parts: (0..threads).map(|_| AtomicU64::new(0)).collect(),
             time_parts: AtomicBool::new(false),
+            #[cfg(test)]
+            delay: AtomicU64::new(0),
         });
-        // A core for each thread where the team has them all.
-        let cores = affinity::allowed().filter(|cores| threads > 1 && cores.len() == threads);
         let mut members = Vec::new();
-        for k in 1..threads.max(1) {
+        for k in 1..threads {
             let mine = Arc::clone(&shared);
-            let core = cores.as_ref().map(|cores| cores[k]);
             let handle = std::thread::Builder::new()
                 .name(format!("screensaver-team-{k}"))
-                .spawn(move || {
-                    if let Some(core) = core {
-                        affinity::tie(core);
-                    }
-                    member(&mine, k)
-                })?;
+                .spawn(move || member(&mine))?;
             shared
                 .threads
                 .lock()
@@ -173,22 +270,11 @@ impl Team {
             shared,
             members,
             hand_offs: Mutex::default(),
-            caller_core: cores.map(|cores| cores[0]),
         })
     }
 
-    /// Ties the calling thread to a core of its own, away from the
-    /// members', until the result is dropped, when the thread gets back
-    /// the cores it had; `None` (nothing tied) where the team's threads
-    /// are not tied (see [`crate::affinity`]). For a run of many steps:
-    /// tying and untying take two system calls.
-    pub(crate) fn tie_caller(&self) -> Option<Tied> {
-        Tied::to(self.caller_core?)
-    }
-
     /// Wakes the parked members, so that the first job of a run finds them
-    /// spinning: a member woken by a job started on `koch` 100 us after
-    /// the caller, a member already awake within a microsecond.
+    /// spinning.
     pub fn wake(&self) {
         self.shared.wakes.fetch_add(1, Ordering::Relaxed);
         if self.shared.parked.load(Ordering::SeqCst) > 0 {
@@ -203,104 +289,138 @@ impl Team {
         self.members.len() + 1
     }
 
-    /// Runs `job(k)` for every `k` in `0..threads()` at once, `k = 0` on
-    /// the calling thread, and returns when all have finished. A panic in
-    /// any part is raised here once all have finished.
+    /// Runs `job(k)` once for every piece `k` in `0..threads()`, on
+    /// whichever threads claim them (the calling thread starts with piece
+    /// 0 and takes every piece no member has claimed), and returns when
+    /// all have finished. A panic in any piece is raised here once all
+    /// have finished.
     pub fn run(&self, job: &Job<'_>) {
-        self.run_job(job, false);
+        self.run_pieces(self.threads(), job, false);
     }
 
-    /// [`Team::run`], each thread timing its part for
-    /// [`Team::last_parts`] (two clock reads a thread: the other jobs of a
-    /// step skip them).
+    /// [`Team::run`], each piece timed for [`Team::last_parts`] (two clock
+    /// reads a piece: the other jobs of a step skip them).
     pub fn run_timed(&self, job: &Job<'_>) {
-        self.run_job(job, true);
+        self.run_pieces(self.threads(), job, true);
     }
 
-    fn run_job(&self, job: &Job<'_>, time_parts: bool) {
-        let members = self.members.len();
-        if members == 0 {
-            job(0);
+    /// [`Team::run`] of a job whose pieces each count something: returns
+    /// the sum of the counts (the same in any order).
+    pub fn run_sum(&self, job: &(dyn Fn(usize) -> u64 + Sync)) -> u64 {
+        let sum = AtomicU64::new(0);
+        self.run(&|k| {
+            sum.fetch_add(job(k), Ordering::Relaxed);
+        });
+        sum.into_inner()
+    }
+
+    /// Runs `job(k)` once for every `k` in `0..pieces` (at most
+    /// [`MAX_PIECES`]), as [`Team::run`] does.
+    pub fn run_pieces(&self, pieces: usize, job: &Job<'_>, time_parts: bool) {
+        assert!(pieces <= MAX_PIECES, "at most {MAX_PIECES} pieces a job");
+        let s = &*self.shared;
+        if self.members.is_empty() || pieces <= 1 {
+            s.time_parts.store(time_parts, Ordering::Relaxed);
+            (0..pieces).for_each(|k| s.run_piece(job, k));
+            if s.panicked.swap(false, Ordering::Relaxed) {
+                panic!("a piece of a team's job panicked");
+            }
             return;
         }
-        let s = &*self.shared;
         let timing = s.timing.load(Ordering::Relaxed);
-        let handed_out = timing.then(Instant::now);
-        let time_parts = time_parts || timing;
         let was_busy = s.busy.swap(true, Ordering::Acquire);
         assert!(!was_busy, "a team runs one job at a time");
         s.done.store(0, Ordering::Relaxed);
+        s.member_pieces.store(0, Ordering::Relaxed);
         s.panicked.store(false, Ordering::Relaxed);
+        s.time_parts.store(time_parts, Ordering::Relaxed);
         let erased: &Job<'_> = job;
         s.job
             .store(&erased as *const &Job<'_> as usize, Ordering::Relaxed);
-        s.time_parts.store(time_parts, Ordering::Relaxed);
-        // A member that sees the new epoch sees the job too (the store
-        // above comes before this bump). SeqCst, with the load of `parked`
-        // below and a member's announcement and second look at the epoch,
-        // ensures that either the member sees this epoch or this thread
-        // sees the member parked (and wakes it).
-        s.epoch.fetch_add(1, Ordering::SeqCst);
+        // The job handed out with its piece 0 claimed by this thread. A
+        // member that claims a piece sees the job too (the stores above
+        // come before this one). SeqCst, with the load of `parked` below
+        // and a member's announcement and second look at the word, ensures
+        // that either the member sees this job or this thread sees the
+        // member parked (and wakes it).
+        let number = Word::unpack(s.word.load(Ordering::Relaxed)).job + 1;
+        let word = Word {
+            job: number,
+            pieces,
+            next: 1,
+        };
+        s.word.store(word.pack(), Ordering::SeqCst);
         if s.parked.load(Ordering::SeqCst) > 0 {
             for t in s.threads.lock().expect("team lock").iter() {
                 t.unpark();
             }
         }
-        let mine = timed(time_parts.then_some(&s.parts[0]), || {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(0)))
-        });
-        let mine_done = handed_out.map(|_| Instant::now());
-        // The job (and `erased`, which points to it) must outlive every
-        // member's use of it: wait for all of them before returning.
-        let mut spins = 0u32;
-        while s.done.load(Ordering::Acquire) < members {
-            spins = spins.wrapping_add(1);
-            if spins % 64 == 0 {
-                // A member may be waiting for this very core.
-                std::thread::yield_now();
-            } else {
-                std::hint::spin_loop();
-            }
+        s.run_piece(job, 0);
+        let mut mine = 1;
+        while let Some((k, _)) = s.claim(number) {
+            s.run_piece(job, k);
+            mine += 1;
         }
-        if let (Some(handed_out), Some(mine_done)) = (handed_out, mine_done) {
-            self.note_hand_off(handed_out, mine_done);
+        s.finish(mine, pieces);
+        // The job (and `erased`, which points to it) must outlive every
+        // member's use of it: wait for every piece before returning.
+        let waited = timing.then(Instant::now);
+        let parked = self.wait_for(pieces);
+        if let Some(waited) = waited {
+            let mut h = self.hand_offs.lock().expect("the team's timing");
+            h.jobs += 1;
+            h.pieces += pieces as u64;
+            h.member_pieces += s.member_pieces.load(Ordering::Relaxed) as u64;
+            h.alone += u64::from(mine == pieces);
+            h.wait += waited.elapsed();
+            h.parked += u64::from(parked);
         }
         s.busy.store(false, Ordering::Release);
-        if let Err(panic) = mine {
-            std::panic::resume_unwind(panic);
-        }
         if s.panicked.load(Ordering::Relaxed) {
-            panic!("a team member's part of a job panicked");
+            panic!("a piece of a team's job panicked");
         }
     }
-}
 
-/// Runs `part`, storing how long it took in `took` (nanoseconds), if
-/// given.
-fn timed<R>(took: Option<&AtomicU64>, part: impl FnOnce() -> R) -> R {
-    let Some(took) = took else {
-        return part();
-    };
-    let start = Instant::now();
-    let outcome = part();
-    let nanos = start.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
-    took.store(nanos, Ordering::Relaxed);
-    outcome
-}
+    /// Waits until `pieces` pieces of the current job are done: spinning
+    /// for up to [`CALLER_SPIN`], then parked. Whether it parked.
+    fn wait_for(&self, pieces: usize) -> bool {
+        let s = &*self.shared;
+        let mut spins = 0u32;
+        let mut since = None;
+        while s.done.load(Ordering::Acquire) < pieces {
+            spins = spins.wrapping_add(1);
+            if spins % 64 != 0 {
+                std::hint::spin_loop();
+                continue;
+            }
+            if since.get_or_insert_with(Instant::now).elapsed() < CALLER_SPIN {
+                continue;
+            }
+            // Park, announcing it first so that the member finishing the
+            // last piece wakes this thread; `done` is read again after the
+            // announcement (SeqCst orders the two, see `Shared::finish`).
+            *s.waiting.lock().expect("team lock") = Some(std::thread::current());
+            s.caller_parked.store(true, Ordering::SeqCst);
+            while s.done.load(Ordering::SeqCst) < pieces {
+                std::thread::park_timeout(Duration::from_millis(10));
+            }
+            s.caller_parked.store(false, Ordering::SeqCst);
+            return true;
+        }
+        false
+    }
 
-impl Team {
-    /// How long each thread's part of the last timed job took (the
-    /// caller's first, then member `k`'s at `k`; see [`Team::run_timed`]):
-    /// for evening out the next job's shares where the threads run at
-    /// different speeds.
+    /// How long each piece of the last timed job took (piece `k` at `k`,
+    /// for the first `threads()` pieces; see [`Team::run_timed`]): for
+    /// evening out the next job's pieces where they take different times.
     pub fn last_parts(&self) -> impl ExactSizeIterator<Item = Duration> + '_ {
-        // Each member stored its time before counting itself done, which
+        // Each piece stored its time before it counted as done, which
         // `run` waited for (Acquire).
         (self.shared.parts.iter()).map(|t| Duration::from_nanos(t.load(Ordering::Relaxed)))
     }
 
     /// Turns the timing of the hand-offs on or off (off at first; it costs
-    /// a few clock reads a job): see [`Team::hand_offs`].
+    /// a clock read or two a job): see [`Team::hand_offs`].
     pub fn set_timing(&self, on: bool) {
         self.shared.timing.store(on, Ordering::Relaxed);
     }
@@ -310,37 +430,12 @@ impl Team {
         *self.hand_offs.lock().expect("the team's timing")
     }
 
-    /// Adds one timed job: handed out at `handed_out`, the caller's part
-    /// done at `mine_done`, every member's part done now (each member's
-    /// start read after its `done`, which orders it).
-    fn note_hand_off(&self, handed_out: Instant, mine_done: Instant) {
-        let s = &*self.shared;
-        let last_start = s
-            .started
-            .iter()
-            .map(|t| s.born + Duration::from_nanos(t.load(Ordering::Relaxed)))
-            .max()
-            .map_or(Duration::ZERO, |t| t.saturating_duration_since(handed_out));
-        let mut parts = self.last_parts();
-        let caller = parts.next().unwrap_or_default();
-        let longest = parts.max().unwrap_or_default();
-        let mut h = self.hand_offs.lock().expect("the team's timing");
-        h.jobs += 1;
-        h.start += last_start;
-        h.late += u64::from(last_start > LATE);
-        h.wait += mine_done.elapsed();
-        h.caller_parts += caller;
-        h.longest_member_parts += longest;
-    }
-
-    /// [`Team::run`] of a job whose parts each count something: returns
-    /// the sum of the counts (the same in any order).
-    pub fn run_sum(&self, job: &(dyn Fn(usize) -> u64 + Sync)) -> u64 {
-        let sum = AtomicU64::new(0);
-        self.run(&|k| {
-            sum.fetch_add(job(k), Ordering::Relaxed);
-        });
-        sum.into_inner()
+    /// Tests: members wait up to `most` before claiming a piece of each
+    /// job they see, as members switched out by the scheduler would.
+    #[cfg(test)]
+    pub(crate) fn delay_members(&self, most: Duration) {
+        let nanos = most.as_nanos().try_into().unwrap_or(u64::MAX);
+        self.shared.delay.store(nanos, Ordering::Relaxed);
     }
 }
 
@@ -356,18 +451,18 @@ impl Drop for Team {
     }
 }
 
-/// A member's life: wait for a job, run its part, say so; until the team
-/// is dropped.
-fn member(s: &Shared, k: usize) {
+/// A member's life: wait for a job, claim and run its pieces while any are
+/// left; until the team is dropped.
+fn member(s: &Shared) {
     let mut seen = 0;
     let mut woken = 0;
     loop {
         let mut started = Instant::now();
         let mut spins = 0u32;
-        let epoch = loop {
-            let epoch = s.epoch.load(Ordering::Acquire);
-            if epoch != seen {
-                break epoch;
+        let number = loop {
+            let word = Word::unpack(s.word.load(Ordering::Acquire));
+            if word.job != seen {
+                break word.job;
             }
             if s.quit.load(Ordering::SeqCst) {
                 return;
@@ -378,16 +473,18 @@ fn member(s: &Shared, k: usize) {
                 continue;
             }
             if started.elapsed() < SPIN {
-                // Let whatever else wants this core run (the caller, on a
-                // busy machine), then look again.
+                // Let whatever else wants this core run (the stepping
+                // thread, on a busy machine), then look again.
                 std::thread::yield_now();
                 continue;
             }
             // Park, announcing it first so that the next job wakes us; the
-            // epoch is read again after the announcement, so a job handed
+            // word is read again after the announcement, so a job handed
             // out in between is not missed (SeqCst orders the two).
             s.parked.fetch_add(1, Ordering::SeqCst);
-            if s.epoch.load(Ordering::SeqCst) == seen && !s.quit.load(Ordering::SeqCst) {
+            if Word::unpack(s.word.load(Ordering::SeqCst)).job == seen
+                && !s.quit.load(Ordering::SeqCst)
+            {
                 std::thread::park_timeout(Duration::from_millis(100));
             }
             s.parked.fetch_sub(1, Ordering::SeqCst);
@@ -397,45 +494,65 @@ fn member(s: &Shared, k: usize) {
                 (woken, started) = (wakes, Instant::now());
             }
         };
-        // The proof below rests on jobs coming one at a time, each waited
-        // for by `run`: a member never skips one.
-        debug_assert_eq!(epoch, seen + 1, "member {k} missed a job");
-        seen = epoch;
-        let at = s.job.load(Ordering::Relaxed) as *const &Job<'static>;
-        debug_assert!(!at.is_null());
-        debug_assert!(s.busy.load(Ordering::Relaxed), "a job outside `run`");
-        // SAFETY: `at` was stored by `Team::run` before it bumped `epoch`
-        // (Release), and this thread read the bumped epoch (Acquire), so it
-        // sees that store. It points to `erased`, a `&Job` on the stack of
-        // that call of `run`, which does not return (so `erased` and the
-        // job it refers to stay alive and unmoved) until `done` counts
-        // every member, and this member adds itself to `done` only after
-        // its last use of the job below. `run` calls never overlap (`busy`),
-        // so `job` is not replaced meanwhile. The job is `Sync`, so calling
-        // it from this thread while others call it is allowed. The lifetime
-        // written here (`'static`) is never relied on: the reference does
-        // not escape this iteration.
-        let job: &Job<'static> = unsafe { *at };
-        if s.timing.load(Ordering::Relaxed) {
-            let since = s.born.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
-            s.started[k - 1].store(since, Ordering::Relaxed);
+        seen = number;
+        #[cfg(test)]
+        delay(s, number);
+        while let Some((k, pieces)) = s.claim(number) {
+            debug_assert!(s.busy.load(Ordering::Relaxed), "a job outside `run`");
+            let at = s.job.load(Ordering::Relaxed) as *const &Job<'static>;
+            debug_assert!(!at.is_null());
+            // SAFETY: this thread claimed piece `k` of job `number` (the
+            // successful compare-exchange in `claim`, Acquire, which reads
+            // the word `Team::run_pieces` stored with `number`, or a later
+            // claim of the same job, in that store's release sequence), so
+            // it sees `job` as stored before that word. `job` points to
+            // `erased`, a `&Job` on the stack of that call of
+            // `run_pieces`, which does not return (so `erased` and the job
+            // it refers to stay alive and unmoved) until `done` counts
+            // every piece, and piece `k` is counted only by
+            // `Shared::finish` below, after this thread's last use of the
+            // job. `run_pieces` calls never overlap (`busy`), and the
+            // next job is handed out only once every piece of this one is
+            // done, so `job` is not replaced while piece `k` is unfinished.
+            // The job is `Sync`, so calling it from this thread while
+            // others call it is allowed. The lifetime written here
+            // (`'static`) is never relied on: the reference does not
+            // escape this iteration.
+            let job: &Job<'static> = unsafe { *at };
+            s.run_piece(job, k);
+            s.member_pieces.fetch_add(1, Ordering::Relaxed);
+            s.finish(1, pieces);
         }
-        // Stored before the epoch's bump, as the job was.
-        let time_parts = s.time_parts.load(Ordering::Relaxed).then_some(&s.parts[k]);
-        let part = timed(time_parts, || {
-            std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k)))
-        });
-        if part.is_err() {
-            s.panicked.store(true, Ordering::Relaxed);
+    }
+}
+
+/// Tests: waits a pseudo-random time up to the team's delay (job by job,
+/// thread by thread), spinning or sleeping, as a member switched out would.
+#[cfg(test)]
+fn delay(s: &Shared, number: u64) {
+    let most = s.delay.load(Ordering::Relaxed);
+    if most == 0 {
+        return;
+    }
+    let id = std::thread::current().id();
+    let mut h = std::hash::DefaultHasher::new();
+    std::hash::Hash::hash(&(number, id), &mut h);
+    let r = std::hash::Hasher::finish(&h);
+    let nanos = r % most;
+    if r & (1 << 63) == 0 {
+        std::thread::sleep(Duration::from_nanos(nanos));
+    } else {
+        let until = Instant::now() + Duration::from_nanos(nanos);
+        while Instant::now() < until {
+            std::hint::spin_loop();
         }
-        s.done.fetch_add(1, Ordering::Release);
     }
 }
 
 /// Splits `items` into `parts` contiguous shares of nearly equal length
 /// (share `k` as [`share`] gives it), each behind its own lock so that a
-/// job (`Fn`, shared by the members) can write its own: each lock is taken
-/// once, by one member, and never waited for.
+/// job (`Fn`, shared by the threads) can write its own: each lock is taken
+/// once, by the thread running that piece, and never waited for.
 pub fn shares_mut<T>(items: &mut [T], parts: usize) -> Vec<Mutex<&mut [T]>> {
     let n = items.len();
     let mut rest = items;
@@ -460,7 +577,54 @@ mod tests {
     use super::*;
 
     #[test]
-    fn summed_jobs_add_every_members_count() {
+    fn the_job_word_packs_and_unpacks() {
+        for w in [
+            Word {
+                job: 0,
+                pieces: 0,
+                next: 0,
+            },
+            Word {
+                job: 1,
+                pieces: 2,
+                next: 1,
+            },
+            Word {
+                job: (1 << 40) - 1,
+                pieces: MAX_PIECES,
+                next: MAX_PIECES,
+            },
+        ] {
+            assert_eq!(Word::unpack(w.pack()), w);
+        }
+    }
+
+    #[test]
+    fn every_piece_runs_once_for_any_threads_and_pieces() {
+        for threads in [1, 2, 3, 8] {
+            let team = Team::new(threads).unwrap();
+            assert_eq!(team.threads(), threads);
+            for round in 0..1500usize {
+                let pieces = [0, 1, 2, threads, 3 * threads + 1, 64][round % 6];
+                let seen: Vec<AtomicU64> = (0..pieces).map(|_| AtomicU64::new(0)).collect();
+                team.run_pieces(
+                    pieces,
+                    &|k| {
+                        seen[k].fetch_add(1, Ordering::Relaxed);
+                    },
+                    false,
+                );
+                assert!(seen.iter().all(|s| s.load(Ordering::Relaxed) == 1));
+                if round % 500 == 0 {
+                    // Long enough for the members to park.
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn summed_jobs_add_every_pieces_count() {
         for threads in [1, 2, 3, 8] {
             let team = Team::new(threads).unwrap();
             for round in 0..200u64 {
@@ -472,54 +636,75 @@ mod tests {
     }
 
     #[test]
-    fn every_member_runs_its_part_of_every_job() {
-        for threads in [1, 2, 3, 8] {
-            let team = Team::new(threads).unwrap();
-            assert_eq!(team.threads(), threads);
-            for round in 0..2000u64 {
-                let seen: Vec<AtomicU64> = (0..threads).map(|_| AtomicU64::new(0)).collect();
-                team.run(&|k| {
-                    seen[k].fetch_add(round + 1, Ordering::Relaxed);
-                });
-                for s in &seen {
-                    assert_eq!(s.load(Ordering::Relaxed), round + 1);
-                }
-                if round % 500 == 0 {
-                    // Long enough for the members to park.
-                    std::thread::sleep(Duration::from_millis(2));
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn parts_write_disjoint_shares_of_a_borrowed_buffer() {
+    fn pieces_write_disjoint_shares_of_a_borrowed_buffer() {
         let team = Team::new(3).unwrap();
+        team.delay_members(Duration::from_micros(30));
         let mut data = vec![0u64; 10_007];
-        for round in 1..200u64 {
-            let n = data.len();
-            let parts: Vec<Mutex<&mut [u64]>> = {
-                let mut rest: &mut [u64] = &mut data;
-                (0..3)
-                    .map(|k| {
-                        let r = share(n, 3, k);
-                        let (head, tail) = std::mem::take(&mut rest).split_at_mut(r.len());
-                        rest = tail;
-                        Mutex::new(head)
-                    })
-                    .collect()
-            };
+        for round in 1..300u64 {
+            let parts = shares_mut(&mut data, 3);
             team.run(&|k| {
                 for x in parts[k].lock().unwrap().iter_mut() {
                     *x += round;
                 }
             });
         }
-        assert!(data.iter().all(|&x| x == (1..200).sum::<u64>()));
+        assert!(data.iter().all(|&x| x == (1..300).sum::<u64>()));
+    }
+
+    /// Members held back (sleeping or spinning, up to 2 ms a job) do not
+    /// hold up the job: the stepping thread takes their pieces, and every
+    /// piece still runs once.
+    #[test]
+    fn late_members_leave_their_pieces_to_the_stepping_thread() {
+        for threads in [2, 3, 8] {
+            let team = Team::new(threads).unwrap();
+            team.set_timing(true);
+            team.delay_members(Duration::from_millis(2));
+            let count = AtomicUsize::new(0);
+            for _ in 0..300 {
+                team.run_pieces(
+                    16,
+                    &|_| {
+                        count.fetch_add(1, Ordering::Relaxed);
+                    },
+                    false,
+                );
+            }
+            assert_eq!(count.load(Ordering::Relaxed), 300 * 16);
+            let h = team.hand_offs();
+            assert_eq!((h.jobs, h.pieces), (300, 300 * 16));
+            // Most jobs end before any member comes.
+            assert!(h.alone > 150, "{h:?}");
+        }
     }
 
     #[test]
-    fn only_timed_jobs_time_their_parts() {
+    fn a_piece_the_stepping_thread_waits_for_long_parks_it_and_wakes_it() {
+        let team = Team::new(2).unwrap();
+        team.set_timing(true);
+        for _ in 0..20 {
+            let claimed = AtomicBool::new(false);
+            team.run(&|k| {
+                if k == 1 {
+                    claimed.store(true, Ordering::SeqCst);
+                    std::thread::sleep(Duration::from_millis(2));
+                } else {
+                    // Piece 0 (the stepping thread's) ends only once a
+                    // member has claimed piece 1, so that it must wait.
+                    while !claimed.load(Ordering::SeqCst) {
+                        std::hint::spin_loop();
+                    }
+                }
+            });
+        }
+        let h = team.hand_offs();
+        assert_eq!(h.parked, 20, "{h:?}");
+        assert_eq!(h.member_pieces, 20, "{h:?}");
+        assert!(h.wait >= Duration::from_millis(20), "{h:?}");
+    }
+
+    #[test]
+    fn only_timed_jobs_time_their_pieces() {
         let team = Team::new(2).unwrap();
         let slow = Duration::from_millis(2);
         team.run_timed(&|k| {
@@ -535,7 +720,7 @@ mod tests {
     }
 
     #[test]
-    fn woken_members_still_run_every_job_once() {
+    fn woken_members_still_run_every_piece_once() {
         for threads in [2, 3] {
             let team = Team::new(threads).unwrap();
             let count = AtomicUsize::new(0);
@@ -566,73 +751,29 @@ mod tests {
     }
 
     #[test]
-    fn a_panicking_part_is_raised_once_all_are_done() {
-        let team = Team::new(2).unwrap();
-        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            team.run(&|k| assert!(k != 1, "member 1 fails"));
-        }));
-        assert!(outcome.is_err());
-        // The team still works.
-        let count = AtomicUsize::new(0);
-        team.run(&|_| {
-            count.fetch_add(1, Ordering::Relaxed);
-        });
-        assert_eq!(count.load(Ordering::Relaxed), 2);
-    }
-
-    #[test]
-    fn a_team_with_every_core_ties_each_thread_to_its_own() {
-        let Some(cores) = affinity::allowed() else {
-            return;
-        };
-        let seen: Vec<Mutex<Option<Vec<usize>>>> = cores.iter().map(|_| Mutex::default()).collect();
-        let team = Team::new(cores.len()).unwrap();
-        std::thread::scope(|scope| {
-            scope.spawn(|| {
-                let tied = team.tie_caller();
-                assert_eq!(tied.is_some(), cores.len() > 1);
-                team.run(&|k| *seen[k].lock().unwrap() = affinity::allowed());
+    fn a_panicking_piece_is_raised_once_all_are_done() {
+        for threads in [1, 2] {
+            let team = Team::new(threads).unwrap();
+            let ran = AtomicUsize::new(0);
+            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                team.run_pieces(
+                    4,
+                    &|k| {
+                        ran.fetch_add(1, Ordering::Relaxed);
+                        assert!(k != 1, "piece 1 fails");
+                    },
+                    false,
+                );
+            }));
+            assert!(outcome.is_err());
+            assert_eq!(ran.load(Ordering::Relaxed), 4);
+            // The team still works.
+            let count = AtomicUsize::new(0);
+            team.run(&|_| {
+                count.fetch_add(1, Ordering::Relaxed);
             });
-        });
-        if cores.len() > 1 {
-            for (k, seen) in seen.iter().enumerate() {
-                assert_eq!(*seen.lock().unwrap(), Some(vec![cores[k]]), "thread {k}");
-            }
+            assert_eq!(count.load(Ordering::Relaxed), threads);
         }
-        // A team with fewer threads than cores is left to the scheduler.
-        if cores.len() > 2 {
-            assert!(Team::new(2).unwrap().tie_caller().is_none());
-        }
-    }
-
-    #[test]
-    fn timed_hand_offs_count_the_callers_wait_for_a_slow_member() {
-        let team = Team::new(2).unwrap();
-        // Not timed: nothing counted.
-        team.run(&|_| {});
-        assert_eq!(team.hand_offs(), HandOffs::default());
-        team.set_timing(true);
-        let slow = Duration::from_millis(2);
-        for _ in 0..5 {
-            team.run(&|k| {
-                if k == 1 {
-                    std::thread::sleep(slow);
-                }
-            });
-        }
-        let h = team.hand_offs();
-        assert_eq!(h.jobs, 5);
-        assert!(h.wait >= 5 * slow, "{h:?}");
-        // The member's parts are the slow ones.
-        assert!(h.longest_member_parts >= 5 * slow, "{h:?}");
-        assert!(h.caller_parts < h.longest_member_parts, "{h:?}");
-        assert!(h.late <= h.jobs);
-        // A member that starts its part is counted from the hand-out: it
-        // cannot start before it.
-        assert!(h.start <= h.wait, "{h:?}");
-        team.set_timing(false);
-        team.run(&|_| {});
-        assert_eq!(team.hand_offs().jobs, 5);
     }
 
     #[test]

@@ -525,11 +525,7 @@ impl World {
         B: Send,
     {
         let mut run = |world: &mut World, parallel: bool| {
-            // The stepping thread kept off the team's other cores for the
-            // run (see `crate::affinity`).
-            let team = world.team.clone();
-            let _tied = team.as_deref().and_then(Team::tie_caller);
-            if let Some(team) = &team {
+            if let Some(team) = &world.team {
                 team.wake();
             }
             for _ in 0..n {
@@ -786,5 +782,55 @@ mod tests {
         w.run(3);
         assert!(w.phase_times().is_some());
         assert_eq!(w.steps(), 3);
+    }
+
+    /// Members held back at random (up to 300 us a job, sleeping or
+    /// spinning) and threads outnumbering the cores, with two more threads
+    /// spinning beside them: every piece still runs once, on whichever
+    /// thread, and the results are one thread's, bit for bit.
+    #[test]
+    fn late_and_switched_out_members_leave_the_results_unchanged() {
+        use crate::generate::{generate, SceneKind};
+        let stop = std::sync::atomic::AtomicBool::new(false);
+        std::thread::scope(|scope| {
+            for _ in 0..2 {
+                scope.spawn(|| {
+                    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                        std::hint::spin_loop();
+                    }
+                });
+            }
+            for (kind, n, steps) in [
+                (SceneKind::Uniform, 1_000, 120),
+                (SceneKind::Clustered, 3_000, 60),
+                (SceneKind::Uniform, 12_000, 20),
+            ] {
+                let scene = generate(kind, n, 11);
+                let run = |threads: usize| {
+                    let config = DetectorConfig {
+                        threads,
+                        ..DetectorConfig::default()
+                    };
+                    let mut w = World::with_config(&scene, DetectorKind::Sweep, &config).unwrap();
+                    if let Some(team) = &w.team {
+                        team.delay_members(Duration::from_micros(300));
+                    }
+                    w.set_timing(true);
+                    w.run(steps);
+                    let jobs = w.hand_offs().map_or(0, |h| h.jobs);
+                    assert_eq!(jobs > 0, threads > 1, "{kind} {n}: the team's jobs");
+                    let bits: Vec<[u64; 6]> = (w.lines().iter())
+                        .map(|l| [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits))
+                        .collect();
+                    (w.counters(), bits)
+                };
+                let one = run(1);
+                assert!(one.0.line > 0, "{kind} {n}: no collisions to check");
+                for threads in [2, 3, 8] {
+                    assert!(run(threads) == one, "{kind} {n} on {threads} threads");
+                }
+            }
+            stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        });
     }
 }
