@@ -71,9 +71,11 @@ for load in $loads; do
             [ -n "$base" ] && configs+=("base|$base|")
             for config in "${configs[@]}"; do
                 IFS='|' read -r label binary args <<<"$config"
+                # The output read once the run has ended: a reader started
+                # beside it would be one more busy process.
                 # shellcheck disable=SC2086
-                seconds=$("$binary" --json $args "$frames" "$scene" |
-                    python3 -c 'import json,sys; print(json.load(sys.stdin)["elapsed_seconds"])')
+                out=$("$binary" --json $args "$frames" "$scene")
+                seconds=$(python3 -c 'import json,sys; print(json.loads(sys.argv[1])["elapsed_seconds"])' "$out")
                 printf '%s\t%s\t%s\t%s\n' "$load" "$name" "$label" "$seconds" >>"$results"
             done
         done <<<"$workloads"

@@ -31,10 +31,11 @@ impl Vec2 {
         self.x * other.x + self.y * other.y
     }
 
-    /// Euclidean length through the system `hypot`, as the reference did.
+    /// Euclidean length through the reference libm's `hypot`
+    /// ([`crate::maths::hypot`], the same on every platform).
     #[inline]
     pub fn length(self) -> f64 {
-        self.x.hypot(self.y)
+        crate::maths::hypot(self.x, self.y)
     }
 
     /// The vector divided (not multiplied by a reciprocal) by its length.
@@ -51,10 +52,11 @@ impl Vec2 {
         Self::new(-self.y, self.x)
     }
 
-    /// The angle of the vector, `atan2(y, x)`, through the system libm.
+    /// The angle of the vector, `atan2(y, x)`, correctly rounded
+    /// ([`crate::maths::atan2`], the same on every platform).
     #[inline]
     pub fn angle(self) -> f64 {
-        self.y.atan2(self.x)
+        crate::maths::atan2(self.y, self.x)
     }
 
     /// True when either component is NaN.

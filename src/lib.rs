@@ -26,6 +26,7 @@ pub mod detect;
 pub mod generate;
 pub mod geometry;
 pub mod line;
+pub mod maths;
 pub mod narrow;
 pub mod output;
 #[cfg(feature = "render")]
