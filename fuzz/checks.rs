@@ -466,3 +466,30 @@ pub fn checkpoint_parser(bytes: &[u8]) {
         "the checkpoint changed through to_text:\n{text}"
     );
 }
+
+/// `screensaver::maths::hypot` against the system's `hypot` on two doubles
+/// read from the input (16 bytes; fewer are padded with zeros, more are
+/// read 16 at a time), bit for bit, where the system's is the reference's
+/// (glibc on x86-64 Linux); elsewhere only that it does not panic.
+pub fn hypot(bytes: &[u8]) {
+    let reference = cfg!(all(
+        target_os = "linux",
+        target_env = "gnu",
+        target_arch = "x86_64"
+    ));
+    for chunk in bytes.chunks(16) {
+        let mut pair = [0u8; 16];
+        pair[..chunk.len()].copy_from_slice(chunk);
+        let x = f64::from_le_bytes(pair[..8].try_into().expect("8 bytes"));
+        let y = f64::from_le_bytes(pair[8..].try_into().expect("8 bytes"));
+        let ours = screensaver::maths::hypot(x, y);
+        if reference {
+            let system = x.hypot(y);
+            assert_eq!(
+                ours.to_bits(),
+                system.to_bits(),
+                "hypot({x:e}, {y:e}) = {ours:e}, the system's {system:e}"
+            );
+        }
+    }
+}

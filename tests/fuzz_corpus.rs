@@ -66,6 +66,11 @@ fn checkpoint_parser_corpus() {
     replay("checkpoint_parser", checks::checkpoint_parser);
 }
 
+#[test]
+fn hypot_corpus() {
+    replay("hypot", checks::hypot);
+}
+
 /// A line from its endpoints and velocity.
 fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> screensaver::Line {
     use screensaver::Vec2;

@@ -30,6 +30,9 @@ const THREE_QUARTER_PI_F: f64 = 2.356194490192345;
 /// The fast path takes arguments and ratios within these powers of two,
 /// where no product or remainder of double-double arithmetic underflows.
 const RANGE: f64 = f64::from_bits(0x58f0_0000_0000_0000); // 2^400
+/// Powers of two that bring arguments into that range, exactly.
+const SCALE_DOWN: f64 = f64::from_bits(0x1a70_0000_0000_0000); // 2^-600
+const SCALE_UP: f64 = f64::from_bits(0x6570_0000_0000_0000); // 2^600
 
 /// How far the double-double angle may be from the true one, relative:
 /// five bits more than the error analysis gives, so that the rounding of
@@ -65,6 +68,19 @@ pub fn atan2(y: f64, x: f64) -> f64 {
     let (ax, ay) = (x.abs(), y.abs());
     let swap = ay > ax;
     let (small, big) = if swap { (ax, ay) } else { (ay, ax) };
+    if small / big < 1.0 / RANGE {
+        // The ratio t is below 2^-400, so atan(t) = t - t^3/3 + ... lies
+        // within 2^-800 of t below it: beside pi/2 or pi (whose nearest
+        // doubles lie a quarter of an ulp below them) it changes nothing;
+        // alone, its rounding is t's but where t lies that near a point
+        // halfway between two doubles, which the exact path settles.
+        let angle = match (swap, x < 0.0) {
+            (true, _) => HALF_PI_F,
+            (false, true) => PI_F,
+            (false, false) => return super::exact::atan2_abs(ay, x).copysign(y),
+        };
+        return angle.copysign(y);
+    }
     let fast = atan_of_ratio(small, big).and_then(|mut angle| {
         if swap {
             angle = HALF_PI - angle;
@@ -78,11 +94,18 @@ pub fn atan2(y: f64, x: f64) -> f64 {
         .copysign(y)
 }
 
-/// `atan(small / big)` in double-double for `0 < small <= big`, if both
-/// and their ratio lie where double-double arithmetic is exact.
-fn atan_of_ratio(small: f64, big: f64) -> Option<Dd> {
-    if !(1.0 / RANGE..=RANGE).contains(&big) {
-        return None;
+/// `atan(small / big)` in double-double for `0 < small <= big` whose
+/// ratio is at least 2^-400; `None` where it cannot be worked out exactly
+/// enough in double-double.
+fn atan_of_ratio(mut small: f64, mut big: f64) -> Option<Dd> {
+    // Both scaled by powers of two (exactly: the ratio keeps `small` above
+    // 2^-1000 once `big` is near 1) into the range where no product or
+    // remainder below underflows or overflows.
+    while big > RANGE {
+        (small, big) = (small * SCALE_DOWN, big * SCALE_DOWN);
+    }
+    while big < 1.0 / RANGE {
+        (small, big) = (small * SCALE_UP, big * SCALE_UP);
     }
     // t = small / big, in double-double: the quotient and its remainder.
     let th = small / big;
