@@ -35,6 +35,9 @@ impl Vec2 {
     /// ([`crate::maths::hypot`], the same on every platform).
     #[inline]
     pub fn length(self) -> f64 {
+        if cfg!(feature = "platform-libm") {
+            return self.x.hypot(self.y);
+        }
         crate::maths::hypot(self.x, self.y)
     }
 
@@ -56,6 +59,9 @@ impl Vec2 {
     /// ([`crate::maths::atan2`], the same on every platform).
     #[inline]
     pub fn angle(self) -> f64 {
+        if cfg!(feature = "platform-libm") {
+            return self.y.atan2(self.x);
+        }
         crate::maths::atan2(self.y, self.x)
     }
 
