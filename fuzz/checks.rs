@@ -314,23 +314,6 @@ pub fn truly_meet(l1: &Line, l2: &Line, dt: f64) -> bool {
         || (inside(l1.p1) && inside(l1.p2))
 }
 
-/// Whether `l2` slides along its own supporting line relative to `l1`
-/// (the relative motion parallel to it to 1e-9) with both of `l1`'s
-/// endpoints on that line (to 1e-9 of the coordinates' magnitude): the
-/// known case where `intersect`'s parallelogram, built from rounded
-/// corners, reaches far along the line (`fuzz/README.md`).
-fn sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
-    let cross = |a: Vec2, b: Vec2| a.x * b.y - a.y * b.x;
-    let (d, rel) = (l2.p2 - l2.p1, (l2.v - l1.v) * dt);
-    let magnitude = [l1.p1, l1.p2, l2.p1, l2.p2]
-        .iter()
-        .map(|p| p.x.abs().max(p.y.abs()))
-        .fold(0.0, f64::max);
-    let along = cross(d, rel).abs() <= 1e-9 * d.length() * rel.length();
-    let on_line = |p: Vec2| cross(d, p - l2.p1).abs() <= 1e-9 * magnitude * d.length();
-    along && on_line(l1.p1) && on_line(l1.p2)
-}
-
 /// Compares one step's events of a fast detector with the all-pairs
 /// detector's. They must be equal, with one exception the contract's
 /// floating-point predicates force: an event the fast detector lacks
@@ -357,18 +340,25 @@ fn compare_events(
     }
     for e in brute.iter().filter(|e| !fast.contains(e)) {
         let (l1, l2) = (&before[e.first as usize], &before[e.second as usize]);
+        if screensaver::is_sliver(l1, l2, DT) {
+            // The documented exception (the contract's last section):
+            // counted, and fuzzing goes on past it.
+            let met = SLIVERS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            if met.is_power_of_two() {
+                eprintln!("slivers met so far: {met} (the documented exception)");
+            }
+            continue;
+        }
         assert!(
             !truly_meet(l1, l2, DT),
-            "step {step}: {name} missed {e:?}, whose segments truly meet{}\nlines: {before:?}",
-            if sliver(l1, l2, DT) {
-                " (a sliver of a sweep along its own line, see fuzz/README.md)"
-            } else {
-                ""
-            }
+            "step {step}: {name} missed {e:?}, whose segments truly meet\nlines: {before:?}"
         );
     }
     true
 }
+
+/// Sliver events met (see [`compare_events`]).
+pub static SLIVERS: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
 /// A few steps of a world decoded from arbitrary bytes, with every detector:
 /// nothing panics, the all-pairs detector's events are in resolving order

@@ -71,6 +71,6 @@ pub(crate) fn plural(n: u64, thing: &str) -> String {
 pub use detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
 pub use line::{Color, Line};
-pub use narrow::{intersect, Event, IntersectionKind};
+pub use narrow::{intersect, is_sliver, Event, IntersectionKind};
 pub use scene::{Scene, SceneLine};
 pub use world::{Counters, Mismatch, World};
