@@ -616,8 +616,10 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             ),
             (count, first) => eprintln!(
                 "screensaver: verified: {verified} steps, every event as the all-pairs detector \
-                 found it but {count} slivers, the documented exception (a line sliding along its \
-                 own supporting line past a segment on it; see the README, Conformance){}",
+                 found it but {count} sliver event{}, the documented exception (a line sliding \
+                 along its own supporting line past a segment on it; see the README, \
+                 Conformance){}",
+                if count == 1 { "" } else { "s" },
                 first.map_or(String::new(), |(step, e)| format!(
                     ": the first at step {step}, lines {} and {}",
                     e.first, e.second

@@ -312,3 +312,37 @@ fn the_sweep_reports_its_plan_and_phases() {
         counts(&["30", "--json"])
     );
 }
+
+/// A line sliding along its own supporting line past a segment on it (the
+/// scene of `fuzz/README.md`): the all-pairs detector reports an event the
+/// sweep does not, and `--verify` counts it as the documented exception.
+#[test]
+fn verify_counts_a_sliver_as_the_documented_exception() {
+    let dir = std::env::temp_dir().join(format!("screensaver-sliver-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("sliver.in");
+    std::fs::write(
+        &path,
+        "2\n(326.48754280359094, 397.9042764560127), (483.41485719909036, 588.7549257112979), \
+         -0.34456612463588515, -0.41905176833907615, 0\n(648.6215019711842, 789.6746670418462), \
+         (695.9871948952746, 847.2795096520144), 1.1492390849429215, 1.3976727146309766, 1\n",
+    )
+    .unwrap();
+    let path = path.to_str().unwrap();
+    let out = screensaver(&["3", path, "--verify"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("but 1 sliver event, the documented exception")
+            && stderr.contains("the first at step 1, lines 0 and 1"),
+        "{stderr}"
+    );
+    let out = screensaver(&["3", path, "--verify", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["sliver_events"], 1, "{v}");
+    // The all-pairs detector verifies against itself: nothing to except.
+    let out = screensaver(&["3", path, "--verify", "--json", "--detector", "brute"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["sliver_events"], 0, "{v}");
+    std::fs::remove_dir_all(&dir).ok();
+}
