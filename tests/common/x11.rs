@@ -156,7 +156,9 @@ pub fn red_and_gray(pixels: &[[u8; 3]]) -> (usize, usize) {
     let [r, g, b] = [0, 1, 2];
     let red = pixels
         .iter()
-        .filter(|p| p[r] >= 60 && p[r] > 3 * p[g] && p[g].abs_diff(p[b]) <= 4)
+        // Widened before the product: 3 * 255 does not fit a byte (and
+        // wrapped, in a release build, so that white counted as red).
+        .filter(|p| p[r] >= 60 && u16::from(p[r]) > 3 * u16::from(p[g]) && p[g].abs_diff(p[b]) <= 4)
         .count();
     let gray = pixels
         .iter()
