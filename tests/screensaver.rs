@@ -2,12 +2,12 @@
 //! window, into a window another program owns (as XScreenSaver hands one
 //! over) and following its size, full screen, endless runs of generated
 //! scenes, and SIGTERM ending each with the results. Skipped (with a
-//! message) where `Xvfb`, `xwd`, `xlogo` or `xwininfo` is missing; CI
-//! installs them.
+//! message) where `Xvfb`, `xwd` or `xwininfo` is missing, or failing where
+//! `SCREENSAVER_REQUIRE_DISPLAY=1`; CI installs them and sets it.
 
 mod common;
 
-use common::x11::{found, red_and_gray, screenshot, signal, Xvfb};
+use common::x11::{red_and_gray, screenshot, signal, tools_found, Xvfb};
 use std::path::PathBuf;
 use std::process::{Child, Command, Output, Stdio};
 use std::time::{Duration, Instant};
@@ -280,8 +280,7 @@ fn fullscreen_fills_the_screen() {
     let Some(x) = Xvfb::with_screen("1920x1080x24") else {
         return;
     };
-    if !found("xwininfo") {
-        eprintln!("skipped: xwininfo not found (apt-get install x11-utils)");
+    if !tools_found(&["xwininfo"]) {
         return;
     }
     let scene = still_scene();

@@ -1,6 +1,7 @@
 //! A virtual X server for the window tests, and what they look at on it:
 //! the screen's pixels and the window tree. Tests skip (with a message)
-//! where `Xvfb` or `xwd` is missing; CI installs both.
+//! where `Xvfb` or `xwd` is missing, or fail where
+//! `SCREENSAVER_REQUIRE_DISPLAY=1` (CI installs both and sets it).
 
 #![allow(dead_code)]
 
@@ -12,6 +13,28 @@ pub fn found(program: &str) -> bool {
     std::env::var_os("PATH")
         .map(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
         .unwrap_or(false)
+}
+
+/// Whether every one of `programs` is on the PATH. Where one is missing
+/// the test is skipped with a message, unless `SCREENSAVER_REQUIRE_DISPLAY=1`
+/// (CI sets it), which makes it fail instead.
+pub fn tools_found(programs: &[&str]) -> bool {
+    let missing: Vec<&str> = programs.iter().copied().filter(|p| !found(p)).collect();
+    if missing.is_empty() {
+        return true;
+    }
+    let required = std::env::var_os("SCREENSAVER_REQUIRE_DISPLAY").is_some_and(|v| v == "1");
+    assert!(
+        !required,
+        "window test: {} not found and SCREENSAVER_REQUIRE_DISPLAY=1 \
+         (apt-get install xvfb x11-apps x11-utils)",
+        missing.join(", ")
+    );
+    eprintln!(
+        "window test: skipped: {} not found (apt-get install xvfb x11-apps x11-utils)",
+        missing.join(", ")
+    );
+    false
 }
 
 /// A virtual X server on its own display, stopped when dropped.
@@ -37,10 +60,7 @@ impl Xvfb {
 
     /// A server with a screen of `screen` (`WxHxDEPTH`).
     pub fn with_screen(screen: &str) -> Option<Xvfb> {
-        if !found("Xvfb") || !found("xwd") {
-            eprintln!(
-                "window test: skipped: Xvfb or xwd not found (apt-get install xvfb x11-apps)"
-            );
+        if !tools_found(&["Xvfb", "xwd"]) {
             return None;
         }
         // A test that failed while holding the turn leaves it poisoned:
