@@ -429,16 +429,70 @@ fn checkpoint_bits(c: &Checkpoint) -> (u64, u64, Counters, Vec<[u64; 6]>, Vec<Co
     )
 }
 
-/// `Checkpoint::parse` on arbitrary bytes: never panics; a checkpoint it
+/// The start of a checkpoint's last line, before its 16 hex digits.
+const CHECKSUM: &[u8] = b"# checksum: ";
+
+/// 64-bit FNV-1a of `bytes`, the checksum the checkpoint format documents.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// `bytes` up to its first checksum line (all of it if it has none), with
+/// a checksum line that matches them appended: the input as if it had been
+/// written by the program, so that random edits reach the rows' parsing
+/// instead of stopping at the checksum.
+fn resealed(bytes: &[u8]) -> Vec<u8> {
+    let mut body = bytes.to_vec();
+    let mut start = 0;
+    while start < bytes.len() {
+        if bytes[start..].starts_with(CHECKSUM) {
+            body.truncate(start);
+            break;
+        }
+        start = match bytes[start..].iter().position(|&b| b == b'\n') {
+            Some(n) => start + n + 1,
+            None => bytes.len(),
+        };
+    }
+    if !body.is_empty() && !body.ends_with(b"\n") {
+        body.push(b'\n');
+    }
+    let sum = fnv1a(&body);
+    body.extend_from_slice(CHECKSUM);
+    body.extend_from_slice(format!("{sum:016x}\n").as_bytes());
+    body
+}
+
+/// `Checkpoint::parse` on arbitrary bytes, as they are and resealed with a
+/// matching checksum (see [`resealed`]): never panics; a checkpoint it
 /// accepts has a colour per line, and its `to_text` reads back to the same
 /// bits and writes the same text again; an error names the origin and a
-/// line of the input.
+/// line of the input. Bytes accepted as they are must be accepted resealed
+/// too, to the same checkpoint.
 pub fn checkpoint_parser(bytes: &[u8]) {
+    let sealed = resealed(bytes);
+    let as_given = checkpoint_parsed(bytes);
+    let as_sealed = checkpoint_parsed(&sealed);
+    if let Some(given) = as_given {
+        let sealed = as_sealed.expect("a checkpoint accepted as given is refused resealed");
+        assert_eq!(
+            checkpoint_bits(&given),
+            checkpoint_bits(&sealed),
+            "resealing changed an accepted checkpoint"
+        );
+    }
+}
+
+/// One parse of [`checkpoint_parser`]: the checkpoint if accepted, after
+/// checking its round trip; `None` after checking the error.
+fn checkpoint_parsed(bytes: &[u8]) -> Option<Checkpoint> {
     let checkpoint = match Checkpoint::parse(bytes, ORIGIN) {
         Ok(c) => c,
         Err(e) => {
             check_error_message(bytes, e.line, &e.to_string(), "checkpoint");
-            return;
+            return None;
         }
     };
     assert_eq!(
@@ -455,6 +509,7 @@ pub fn checkpoint_parser(bytes: &[u8]) {
         checkpoint_bits(&again),
         "the checkpoint changed through to_text:\n{text}"
     );
+    Some(checkpoint)
 }
 
 /// `screensaver::maths::hypot` against the system's `hypot` on two doubles

@@ -11,17 +11,20 @@
 //! after its row:
 //!
 //! ```text
-//! # screensaver checkpoint v1
+//! # screensaver checkpoint v2
 //! # scene: 3 lines, digest 6c1f0e3b9a2d4c55
 //! # steps: 1200
 //! # line-wall collisions: 17
 //! # line-line collisions: 240
 //! 0 0.6264977220338983 0.6865993543749994 0.64514178983 0.71409935437 -0.00011 -0.00016 1
 //! ...
+//! # checksum: 9d2c5680f1a3e47b
 //! ```
 //!
 //! The digest identifies the scene the run started from (its values, not
 //! its spelling), so that a checkpoint is never resumed on another scene.
+//! The checksum (64-bit FNV-1a of every byte before its line) makes any
+//! edit or damage a located error rather than another run.
 
 use crate::line::{Color, Line};
 use crate::plural;
@@ -32,7 +35,14 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 /// The first line of every checkpoint.
-const MAGIC: &str = "# screensaver checkpoint v1";
+const MAGIC: &str = "# screensaver checkpoint v2";
+
+/// The first line of the checkpoints of earlier versions, which had no
+/// checksum.
+const MAGIC_V1: &str = "# screensaver checkpoint v1";
+
+/// The start of a checkpoint's last line.
+const CHECKSUM: &str = "# checksum: ";
 
 /// A run's whole state: enough to continue it bit for bit.
 #[derive(Clone, Debug, PartialEq)]
@@ -102,9 +112,31 @@ impl Default for Fnv {
 
 impl Fnv {
     fn add(&mut self, word: u64) {
-        for byte in word.to_le_bytes() {
+        self.bytes(&word.to_le_bytes());
+    }
+
+    fn bytes(&mut self, bytes: &[u8]) {
+        for &byte in bytes {
             self.0 = (self.0 ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
         }
+    }
+}
+
+/// A writer that hashes what it passes on.
+struct Hashing<'a> {
+    out: &'a mut dyn std::io::Write,
+    hash: Fnv,
+}
+
+impl std::io::Write for Hashing<'_> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.out.write(buf)?;
+        self.hash.bytes(&buf[..n]);
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.out.flush()
     }
 }
 
@@ -161,16 +193,23 @@ pub fn write_checkpoint(
     lines: &[Line],
     colors: &[Color],
 ) -> std::io::Result<()> {
-    writeln!(out, "{MAGIC}")?;
-    writeln!(
+    use std::io::Write as _;
+    let mut hashed = Hashing {
         out,
+        hash: Fnv::default(),
+    };
+    writeln!(hashed, "{MAGIC}")?;
+    writeln!(
+        hashed,
         "# scene: {}, digest {scene_digest:016x}",
         plural(lines.len() as u64, "line")
     )?;
-    writeln!(out, "# steps: {steps}")?;
-    writeln!(out, "# line-wall collisions: {}", counters.wall)?;
-    writeln!(out, "# line-line collisions: {}", counters.line)?;
-    write_rows(out, lines, Some(colors))
+    writeln!(hashed, "# steps: {steps}")?;
+    writeln!(hashed, "# line-wall collisions: {}", counters.wall)?;
+    writeln!(hashed, "# line-line collisions: {}", counters.line)?;
+    write_rows(&mut hashed, lines, Some(colors))?;
+    let sum = hashed.hash.0;
+    writeln!(out, "{CHECKSUM}{sum:016x}")
 }
 
 fn write_rows(
@@ -242,6 +281,14 @@ impl Checkpoint {
             }
         };
         let (line, magic) = header("the checkpoint header")?;
+        if magic == MAGIC_V1 {
+            return Err(fail(
+                line,
+                "a checkpoint of an earlier version, without a checksum to check it by: \
+                 run again from the scene"
+                    .to_string(),
+            ));
+        }
         if magic != MAGIC {
             return Err(fail(
                 line,
@@ -284,7 +331,44 @@ impl Checkpoint {
         let capacity = count.min(text.len() / 16 + 1);
         let mut lines = Vec::with_capacity(capacity);
         let mut colors = Vec::with_capacity(capacity);
+        let mut summed = false;
         for (line, row) in rows.by_ref() {
+            if let Some(sum) = row.strip_prefix(CHECKSUM.as_bytes()) {
+                let at = row.as_ptr() as usize - text.as_ptr() as usize;
+                let mut hash = Fnv::default();
+                hash.bytes(&text[..at]);
+                let written = std::str::from_utf8(sum)
+                    .ok()
+                    .filter(|h| h.len() == 16)
+                    .and_then(|h| u64::from_str_radix(h, 16).ok());
+                match written {
+                    None => {
+                        return Err(fail(
+                            line,
+                            format!(
+                                "expected `{CHECKSUM}` and 16 hex digits, found `{}`",
+                                show(&String::from_utf8_lossy(row))
+                            ),
+                        ))
+                    }
+                    Some(w) if w != hash.0 => {
+                        return Err(fail(
+                            line,
+                            format!(
+                                "the checksum {w:016x} does not match the content \
+                                 ({:016x}): the checkpoint was edited or damaged",
+                                hash.0
+                            ),
+                        ))
+                    }
+                    Some(_) => {}
+                }
+                if let Some((later, _)) = rows.find(|(_, r)| !r.is_empty()) {
+                    return Err(fail(later, "text after the checksum".to_string()));
+                }
+                summed = true;
+                break;
+            }
             if row.is_empty() {
                 // Only the end of the file may follow a blank line.
                 if let Some((later, _)) = rows.find(|(_, r)| !r.is_empty()) {
@@ -317,6 +401,13 @@ impl Checkpoint {
                     plural(count as u64, "line"),
                     lines.len()
                 ),
+            ));
+        }
+        if !summed {
+            let last = text.iter().filter(|&&b| b == b'\n').count() + 1;
+            return Err(fail(
+                (5 + lines.len() + 1).min(last),
+                format!("the checkpoint ends without its `{CHECKSUM}` line: cut short?"),
             ));
         }
         Ok(Checkpoint {
@@ -452,7 +543,7 @@ mod tests {
     fn a_checkpoint_reads_back_to_the_same_bits() {
         let c = sample();
         let text = c.to_text();
-        assert!(text.starts_with("# screensaver checkpoint v1\n# scene: 2 lines, digest 0123456789abcdef\n# steps: 1200\n"));
+        assert!(text.starts_with("# screensaver checkpoint v2\n# scene: 2 lines, digest 0123456789abcdef\n# steps: 1200\n"));
         let back = Checkpoint::parse(text.as_bytes(), "c").unwrap();
         assert_eq!(back.to_text(), text);
         assert_eq!(back.lines[1].p1.x.to_bits(), (-0.0f64).to_bits());
@@ -469,8 +560,12 @@ mod tests {
         let cases: Vec<(String, &str)> = vec![
             (String::new(), "c:1: not a screensaver checkpoint"),
             (
-                text.replace("v1", "v2"),
+                text.replace("v2", "v3"),
                 "c:1: not a screensaver checkpoint",
+            ),
+            (
+                text.replace("v2", "v1"),
+                "c:1: a checkpoint of an earlier version",
             ),
             (
                 text.replace("# steps: 1200", "# steps: many"),
@@ -492,15 +587,20 @@ mod tests {
                 text.replace("\n1 ", "\n2 "),
                 "c:7: expected the row of line 1, found id `2`",
             ),
-            (
-                text.replace("2 lines", "3 lines"),
-                "c:8: the checkpoint declares 3 lines but ends after 2",
-            ),
+            (text.replace("2 lines", "3 lines"), "c:8: the checksum"),
             (
                 text.replace("2 lines", "1 line"),
                 "c:7: the checkpoint declares 1 line but has more rows",
             ),
-            (format!("{text}\n5"), "c:9: text after a blank line"),
+            (format!("{text}\n5"), "c:10: text after the checksum"),
+            (
+                text[..text.find("# checksum").unwrap()].to_string(),
+                "c:8: the checkpoint ends without its `# checksum: ` line",
+            ),
+            (
+                text.replace("# checksum: ", "# checksum: 0"),
+                "c:8: expected `# checksum: ` and 16 hex digits",
+            ),
             (
                 text.replace("\n1 ", "\n1 \u{1b}"),
                 "c:7: row 1: `\\u{1b}-0.0` is not a number",
@@ -513,6 +613,24 @@ mod tests {
             assert!(
                 err.starts_with(expected),
                 "{err:?} should start with {expected:?}"
+            );
+        }
+        // Edits that keep the syntax: the steps, a counter, one bit of a
+        // coordinate, a colour. Each is refused at the checksum's line.
+        let edits = [
+            text.replace("# steps: 1200", "# steps: 1201"),
+            text.replace("collisions: 17", "collisions: 18"),
+            text.replace(" 0.55 ", " 0.5500000000000002 "),
+            text.replace("3e+16 0", "3e+16 1"),
+        ];
+        for edited in edits {
+            assert_ne!(edited, text);
+            let err = Checkpoint::parse(edited.as_bytes(), "c")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.starts_with("c:8: the checksum") && err.contains("edited or damaged"),
+                "{err}"
             );
         }
         let err = Checkpoint::parse(b"\xff\xfe", "c").unwrap_err().to_string();
