@@ -16,7 +16,9 @@ noisy machine; one run each is enough).
                      [--config "brute=--detector brute" --config "quadtree=" ...]
 
 A workload is SCENE:FRAMES, SCENE being a course scene name (read from
-REF/inputs) or `default` for the built-in scene.
+REF/inputs) or `default` for the built-in scene. A configuration's
+arguments may start with `@PATH` to run another binary (an older build,
+say) instead of --bin: --config "before=@/tmp/old/screensaver --threads 1".
 """
 import argparse
 import json
@@ -55,6 +57,9 @@ def main():
     works = a.work or ["mit:400", "koch:20"]
     configs = a.config or ["brute=--detector brute", "quadtree=--detector quadtree", "sweep=--detector sweep"]
     configs = [(c.split("=", 1)[0], shlex.split(c.split("=", 1)[1] if "=" in c else "")) for c in configs]
+    binaries = {}
+    for name, args in configs:
+        binaries[name] = args.pop(0)[1:] if args and args[0].startswith("@") else a.bin
 
     rows = []
     for work in works:
@@ -64,7 +69,7 @@ def main():
         counts = {}
         for _ in range(a.runs):
             for name, args in configs:
-                t, c = run(a.bin, args, int(frames), path, a.measure)
+                t, c = run(binaries[name], args, int(frames), path, a.measure)
                 times[name].append(t)
                 counts.setdefault(name, c)
         if len(set(counts.values())) != 1:

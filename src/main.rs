@@ -770,7 +770,6 @@ fn stats_json(
             "alone": h.alone,
             "wait_seconds": h.wait.as_secs_f64(),
             "parked_waits": h.parked,
-            "backed_off": h.backed_off,
         });
     }
     if let Some(d) = drawn {
@@ -840,15 +839,13 @@ fn stats_text(
         out += &format!(
             "team: {:.1} hand-offs a step, {:.1} pieces each; the members ran {:.1}% of \
              the pieces (none of {} hand-offs); the stepping thread waited {:.2} us a step \
-             for pieces running elsewhere, parked {} times, and ran {} jobs alone after \
-             parking\n",
+             for pieces running elsewhere, and parked {} times\n",
             jobs / steps,
             h.pieces as f64 / jobs,
             100.0 * h.member_pieces as f64 / (h.pieces as f64).max(1.0),
             h.alone,
             h.wait.as_secs_f64() * 1e6 / steps,
             h.parked,
-            h.backed_off,
         );
     }
     if let Some(d) = drawn {

@@ -1,16 +1,28 @@
-//! Files written whole or not at all: every file the program writes goes to
-//! a temporary file in the same folder first and takes its final name only
-//! once it is complete, so an interrupted run or a failed write never
-//! leaves a partial file that looks finished.
+//! Files written whole or not at all: every regular file the program writes
+//! goes to a temporary file in the same folder first and takes its final
+//! name only once it is complete, so an interrupted run or a failed write
+//! never leaves a partial file that looks finished.
+//!
+//! What is not a regular file is written to as it is: `-` is standard
+//! output; a device, a FIFO or a socket (`/dev/null`, `/dev/full`, a named
+//! pipe), and any path under `/dev` or `/proc` (`/dev/stdout`,
+//! `/proc/self/fd/3`: names of files already open) are opened and written
+//! directly, never replaced. A symbolic link is followed: its target is
+//! written whole or not at all, and the link stays a link.
+//!
+//! Temporary files are registered while they exist, so that a second
+//! signal, which ends the process at once, removes them first
+//! ([`remove_temporaries`]).
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
 
 /// A file that could not be written, and why.
 #[derive(Debug, thiserror::Error)]
 #[error("{}: cannot write: {}", path.display(), describe(path, source))]
 pub struct OutputError {
-    /// The file's final name.
+    /// The file's name as given.
     pub path: PathBuf,
     /// What the system said.
     pub source: std::io::Error,
@@ -21,14 +33,30 @@ impl OutputError {
     pub fn reason(&self) -> String {
         describe(&self.path, &self.source)
     }
+
+    fn new(path: &Path, source: std::io::Error) -> OutputError {
+        OutputError {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
 }
 
-/// The system's reason, with the folder named when it is missing.
+/// The system's reason, with the folder named when it is missing, or when
+/// it exists but refuses new files (as `/proc` does, with "not found").
 fn describe(path: &Path, e: &std::io::Error) -> String {
-    if e.kind() == std::io::ErrorKind::NotFound {
-        format!("the folder {} does not exist", folder(path).display())
+    if e.kind() != std::io::ErrorKind::NotFound {
+        return e.to_string();
+    }
+    let target = resolve(path);
+    let folder = folder(&target);
+    if folder.is_dir() {
+        format!(
+            "the folder {} exists but does not take new files ({e})",
+            folder.display()
+        )
     } else {
-        e.to_string()
+        format!("the folder {} does not exist", folder.display())
     }
 }
 
@@ -40,116 +68,240 @@ fn folder(path: &Path) -> &Path {
     }
 }
 
-/// A file being written under a temporary name beside its final one; it
-/// takes the final name on [`AtomicFile::commit`] and is removed if dropped
-/// before.
-#[derive(Debug)]
-pub struct AtomicFile {
-    temp: tempfile::NamedTempFile,
-    path: PathBuf,
+/// Most symbolic links followed in a row, as the system's own limit.
+const MOST_LINKS: usize = 40;
+
+/// The file `path` names once symbolic links are followed (`path` itself
+/// if it is not a link, or if the links go round); the target of a link
+/// to a file that does not exist yet is where that file will be made.
+fn resolve(path: &Path) -> PathBuf {
+    let mut at = path.to_path_buf();
+    for _ in 0..MOST_LINKS {
+        match std::fs::read_link(&at) {
+            Ok(target) => at = folder(&at).join(target),
+            Err(_) => return at,
+        }
+    }
+    path.to_path_buf()
 }
 
-impl AtomicFile {
-    /// Starts writing the file that will be `path`.
-    pub fn create(path: &Path) -> Result<AtomicFile, OutputError> {
-        let mut builder = tempfile::Builder::new();
-        builder.prefix(".screensaver-").suffix(".part");
-        // Temporary files are private by default; the final file is made
-        // as any new file is (read-write for all, less the umask).
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            builder.permissions(std::fs::Permissions::from_mode(0o666));
-        }
-        let temp = builder
-            .tempfile_in(folder(path))
-            .map_err(|source| OutputError {
-                path: path.to_path_buf(),
-                source,
-            })?;
-        Ok(AtomicFile {
-            temp,
+/// How a path is written.
+#[derive(Debug, PartialEq, Eq)]
+enum Kind {
+    /// Standard output (`-`).
+    Stdout,
+    /// Opened and written as it is: a device, a FIFO, a socket, or a name
+    /// under `/dev` or `/proc` for a file already open.
+    Direct,
+    /// A regular file (or a new one) at this path, links followed: written
+    /// to a temporary file beside it and renamed over it when complete.
+    Whole(PathBuf),
+}
+
+fn kind(path: &Path) -> Kind {
+    if path.as_os_str() == "-" {
+        return Kind::Stdout;
+    }
+    if path.starts_with("/dev") || path.starts_with("/proc") {
+        return Kind::Direct;
+    }
+    match std::fs::metadata(path) {
+        Ok(m) if !m.is_file() && !m.is_dir() => Kind::Direct,
+        _ => Kind::Whole(resolve(path)),
+    }
+}
+
+/// The temporary files that exist now, removed by [`remove_temporaries`].
+static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
+    // A panic while the list was held leaves it whole: keep using it.
+    TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Removes every temporary file that exists now and keeps any more from
+/// being made or renamed into place: for a process about to end at once
+/// (a second signal). Does not return the lock, so call it only on the way
+/// out.
+pub fn remove_temporaries() {
+    let list = temporaries();
+    for path in list.iter() {
+        let _ = std::fs::remove_file(path);
+    }
+    std::mem::forget(list);
+}
+
+/// Where an [`OutputFile`]'s bytes go.
+enum Sink {
+    Temporary(tempfile::NamedTempFile),
+    File(std::fs::File),
+    Stdout(std::io::Stdout),
+}
+
+/// A file being written: a regular file under a temporary name beside its
+/// final one, which takes the final name on [`OutputFile::commit`] and is
+/// removed if dropped before; or standard output, a device or a FIFO,
+/// written as it goes.
+pub struct OutputFile {
+    sink: Sink,
+    /// The name as given.
+    path: PathBuf,
+    /// The final name of a regular file (links followed).
+    target: PathBuf,
+}
+
+impl std::fmt::Debug for OutputFile {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "OutputFile({})", self.path.display())
+    }
+}
+
+impl OutputFile {
+    /// Starts writing the file `path` names.
+    pub fn create(path: &Path) -> Result<OutputFile, OutputError> {
+        let fail = |source| OutputError::new(path, source);
+        let (sink, target) = match kind(path) {
+            Kind::Stdout => (Sink::Stdout(std::io::stdout()), path.to_path_buf()),
+            Kind::Direct => {
+                let file = std::fs::OpenOptions::new()
+                    .write(true)
+                    .open(path)
+                    .map_err(fail)?;
+                (Sink::File(file), path.to_path_buf())
+            }
+            Kind::Whole(target) => {
+                let mut builder = tempfile::Builder::new();
+                builder.prefix(".screensaver-").suffix(".part");
+                // Temporary files are private by default; the final file is
+                // made as any new file is (read-write for all, less the
+                // umask).
+                #[cfg(unix)]
+                {
+                    use std::os::unix::fs::PermissionsExt;
+                    builder.permissions(std::fs::Permissions::from_mode(0o666));
+                }
+                let mut list = temporaries();
+                let temp = builder.tempfile_in(folder(&target)).map_err(fail)?;
+                list.push(temp.path().to_path_buf());
+                (Sink::Temporary(temp), target)
+            }
+        };
+        Ok(OutputFile {
+            sink,
             path: path.to_path_buf(),
+            target,
         })
     }
 
-    /// The final name.
+    /// The name as given.
     pub fn path(&self) -> &Path {
         &self.path
     }
 
     /// The error for this file.
     pub fn error(&self, source: std::io::Error) -> OutputError {
-        OutputError {
-            path: self.path.clone(),
-            source,
+        OutputError::new(&self.path, source)
+    }
+
+    /// Finishes the file: a regular file is flushed to disk and given its
+    /// final name, replacing any file of that name; anything else is
+    /// flushed.
+    pub fn commit(mut self) -> Result<(), OutputError> {
+        let path = self.path.clone();
+        let fail = |source| OutputError::new(&path, source);
+        self.flush().map_err(fail)?;
+        let sink = std::mem::replace(&mut self.sink, Sink::Stdout(std::io::stdout()));
+        let Sink::Temporary(temp) = sink else {
+            return Ok(());
+        };
+        temp.as_file().sync_all().map_err(fail)?;
+        let mut list = temporaries();
+        let name = temp.path().to_path_buf();
+        list.retain(|p| *p != name);
+        temp.persist(&self.target).map_err(|e| fail(e.error))?;
+        Ok(())
+    }
+}
+
+impl Drop for OutputFile {
+    fn drop(&mut self) {
+        if let Sink::Temporary(temp) = &self.sink {
+            let name = temp.path().to_path_buf();
+            // The file itself is removed as the sink drops.
+            temporaries().retain(|p| *p != name);
+        }
+    }
+}
+
+impl Write for OutputFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match &mut self.sink {
+            Sink::Temporary(t) => t.write(buf),
+            Sink::File(f) => f.write(buf),
+            Sink::Stdout(s) => s.write(buf),
         }
     }
 
-    /// Flushes the file to disk and gives it its final name, replacing any
-    /// file of that name.
-    pub fn commit(mut self) -> Result<(), OutputError> {
-        let path = self.path.clone();
-        let fail = |source| OutputError {
-            path: path.clone(),
-            source,
-        };
-        self.temp.flush().map_err(fail)?;
-        self.temp.as_file().sync_all().map_err(fail)?;
-        self.temp
-            .persist(&self.path)
-            .map_err(|e| fail(e.error))
-            .map(drop)
-    }
-}
-
-impl Write for AtomicFile {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.temp.write(buf)
-    }
-
     fn flush(&mut self) -> std::io::Result<()> {
-        self.temp.flush()
+        match &mut self.sink {
+            Sink::Temporary(t) => t.flush(),
+            Sink::File(f) => f.flush(),
+            Sink::Stdout(s) => s.flush(),
+        }
     }
 }
 
-/// Writes `bytes` to `path` whole or not at all.
+/// Writes `bytes` to `path`, a regular file whole or not at all.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
-    let mut file = AtomicFile::create(path)?;
+    let mut file = OutputFile::create(path)?;
     file.write_all(bytes).map_err(|e| file.error(e))?;
     file.commit()
 }
 
-/// Writes to `path` whatever `fill` writes, through a buffer, whole or not
-/// at all; an error of `fill`'s is reported against `path`.
+/// Writes to `path` whatever `fill` writes, through a buffer, a regular
+/// file whole or not at all; an error of `fill`'s is reported against
+/// `path`.
 pub fn write_with(
     path: &Path,
     fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
 ) -> Result<(), OutputError> {
-    let file = AtomicFile::create(path)?;
+    let file = OutputFile::create(path)?;
     let mut out = std::io::BufWriter::with_capacity(1 << 16, file);
     let written = fill(&mut out).and_then(|()| out.flush());
     let file = out.into_inner().map_err(|e| {
         let source = std::io::Error::new(e.error().kind(), e.error().to_string());
-        OutputError {
-            path: path.to_path_buf(),
-            source,
-        }
+        OutputError::new(path, source)
     })?;
     written.map_err(|e| file.error(e))?;
     file.commit()
 }
 
-/// Checks, before a long run, that `path` can be written: its folder
-/// exists and takes new files. Nothing is left behind.
+/// Checks, before a long run, that `path` can be written: a regular file's
+/// folder exists and takes new files; anything else opens for writing (a
+/// FIFO is not opened: that would wait for a reader). Nothing is left
+/// behind.
 pub fn check_writable(path: &Path) -> Result<(), OutputError> {
     if path.is_dir() {
-        return Err(OutputError {
-            path: path.to_path_buf(),
-            source: std::io::Error::other("it is a folder"),
-        });
+        return Err(OutputError::new(
+            path,
+            std::io::Error::other("it is a folder"),
+        ));
     }
-    AtomicFile::create(path).map(drop)
+    if is_fifo(path) {
+        return Ok(());
+    }
+    OutputFile::create(path).map(drop)
+}
+
+#[cfg(unix)]
+fn is_fifo(path: &Path) -> bool {
+    use std::os::unix::fs::FileTypeExt;
+    std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo())
+}
+
+#[cfg(not(unix))]
+fn is_fifo(_: &Path) -> bool {
+    false
 }
 
 #[cfg(test)]
@@ -160,7 +312,7 @@ mod tests {
     fn a_file_appears_only_when_committed() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("out.txt");
-        let mut file = AtomicFile::create(&path).unwrap();
+        let mut file = OutputFile::create(&path).unwrap();
         file.write_all(b"half").unwrap();
         assert!(!path.exists());
         drop(file);
@@ -193,5 +345,91 @@ mod tests {
         assert!(err.contains("nowhere"), "{err}");
         let err = check_writable(dir.path()).unwrap_err().to_string();
         assert!(err.contains("is a folder"), "{err}");
+    }
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_folder_that_refuses_files_is_not_called_missing() {
+        let err = check_writable(Path::new("/proc/x.ckpt"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("the folder /proc exists but does not take new files"),
+            "{err}"
+        );
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_link_is_followed_and_stays_a_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("target.txt");
+        let link = dir.path().join("link");
+        std::fs::write(&target, b"old").unwrap();
+        std::os::unix::fs::symlink("target.txt", &link).unwrap();
+        write_file(&link, b"new").unwrap();
+        assert!(std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink());
+        assert_eq!(std::fs::read(&target).unwrap(), b"new");
+        // A link to a file not made yet makes it.
+        let dangling = dir.path().join("later");
+        std::os::unix::fs::symlink("made.txt", &dangling).unwrap();
+        write_file(&dangling, b"made").unwrap();
+        assert_eq!(std::fs::read(dir.path().join("made.txt")).unwrap(), b"made");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 4);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn devices_are_written_to_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        write_file(Path::new("/dev/null"), b"gone").unwrap();
+        let null = std::fs::metadata("/dev/null").unwrap();
+        assert!(null.file_type().is_char_device());
+        let err = write_file(Path::new("/dev/full"), b"too much")
+            .unwrap_err()
+            .to_string();
+        assert!(err.starts_with("/dev/full: cannot write: "), "{err}");
+        assert!(std::fs::metadata("/dev/full")
+            .unwrap()
+            .file_type()
+            .is_char_device());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_fifo_is_written_to_not_replaced() {
+        use std::os::unix::fs::FileTypeExt;
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .expect("mkfifo runs");
+        assert!(made.success());
+        check_writable(&fifo).unwrap();
+        let reader = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || std::fs::read(fifo).unwrap())
+        };
+        write_file(&fifo, b"through").unwrap();
+        assert_eq!(reader.join().unwrap(), b"through");
+        assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn temporaries_are_listed_while_they_exist() {
+        let dir = tempfile::tempdir().unwrap();
+        let listed = |dir: &Path| temporaries().iter().filter(|p| p.starts_with(dir)).count();
+        let file = OutputFile::create(&dir.path().join("a")).unwrap();
+        let other = OutputFile::create(&dir.path().join("b")).unwrap();
+        assert_eq!(listed(dir.path()), 2);
+        drop(file);
+        assert_eq!(listed(dir.path()), 1);
+        other.commit().unwrap();
+        assert_eq!(listed(dir.path()), 0);
     }
 }

@@ -1,10 +1,10 @@
 //! Stopping a run cleanly on SIGINT or SIGTERM: the first signal asks the
 //! run to stop at the end of the current step (so that its results are
 //! printed and its files written whole); a second one ends the process at
-//! once.
+//! once, removing the temporary files of outputs being written.
 
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::OnceLock;
 
 /// The signals that stop a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,48 +38,47 @@ impl Signal {
     }
 }
 
-/// The flags the handlers set.
-struct Flags {
-    /// Set by the first signal: a second one ends the process.
-    stopping: Arc<AtomicBool>,
-    /// The number of the first signal received (0 for none).
-    received: Arc<AtomicUsize>,
-}
+/// The number of the first signal received (0 for none).
+static RECEIVED: AtomicUsize = AtomicUsize::new(0);
 
-static FLAGS: OnceLock<Flags> = OnceLock::new();
+/// Whether the handlers are installed.
+static INSTALLED: OnceLock<()> = OnceLock::new();
 
 /// Installs the handlers (once; later calls do nothing). Until it is
 /// called, signals end the process as they do by default.
+///
+/// The signals are taken by a thread of their own, not in a handler, so
+/// that a second one can remove the temporary files of outputs being
+/// written ([`crate::output::remove_temporaries`]) before the process
+/// ends with the usual status.
 pub fn install() -> std::io::Result<()> {
-    if FLAGS.get().is_some() {
+    if INSTALLED.get().is_some() {
         return Ok(());
     }
-    let flags = Flags {
-        stopping: Arc::new(AtomicBool::new(false)),
-        received: Arc::new(AtomicUsize::new(0)),
-    };
-    for signal in [Signal::Interrupt, Signal::Terminate] {
-        let number = signal.number();
-        // Registered first, so it sees the flag as the previous signal
-        // left it: a second signal exits with the usual status.
-        signal_hook::flag::register_conditional_shutdown(
-            number,
-            i32::from(signal.exit_status()),
-            Arc::clone(&flags.stopping),
-        )?;
-        signal_hook::flag::register(number, Arc::clone(&flags.stopping))?;
-        // A second signal ends the process, so the number kept is the
-        // first one's.
-        signal_hook::flag::register_usize(number, Arc::clone(&flags.received), number as usize)?;
-    }
-    let _ = FLAGS.set(flags);
+    let numbers = [Signal::Interrupt, Signal::Terminate].map(Signal::number);
+    let mut signals = signal_hook::iterator::Signals::new(numbers)?;
+    std::thread::Builder::new()
+        .name("signals".to_string())
+        .spawn(move || {
+            for number in signals.forever() {
+                // A second signal ends the process, so the number kept is
+                // the first one's.
+                if RECEIVED
+                    .compare_exchange(0, number as usize, Ordering::Relaxed, Ordering::Relaxed)
+                    .is_err()
+                {
+                    crate::output::remove_temporaries();
+                    std::process::exit(128 + number);
+                }
+            }
+        })?;
+    let _ = INSTALLED.set(());
     Ok(())
 }
 
 /// The signal that asked the run to stop, if one has.
 pub fn requested() -> Option<Signal> {
-    let flags = FLAGS.get()?;
-    match flags.received.load(Ordering::Relaxed) as i32 {
+    match RECEIVED.load(Ordering::Relaxed) as i32 {
         0 => None,
         n if n == signal_hook::consts::SIGTERM => Some(Signal::Terminate),
         _ => Some(Signal::Interrupt),

@@ -103,9 +103,6 @@ pub struct HandOffs {
     pub wait: Duration,
     /// Of those waits, the ones long enough that it parked.
     pub parked: u64,
-    /// Jobs the stepping thread ran alone, without handing them out, for a
-    /// while after it had to park (see `Backoff`).
-    pub backed_off: u64,
 }
 
 /// A job: called once with each piece's number, `0..pieces`.
@@ -224,55 +221,6 @@ pub struct Team {
     members: Vec<JoinHandle<()>>,
     /// The hand-offs timed so far ([`Team::set_timing`]).
     hand_offs: Mutex<HandOffs>,
-    /// When the stepping thread last had to park for a piece: see
-    /// [`Backoff`].
-    backoff: Mutex<Backoff>,
-}
-
-/// Jobs run alone after the stepping thread had to park for a piece.
-///
-/// A park means a member was switched out in the middle of a piece, for a
-/// scheduler's slice (milliseconds): the machine has more runnable threads
-/// than cores. While that lasts, handing jobs out costs more than it
-/// gains, so the stepping thread runs the next jobs alone (the members
-/// park), 64 after a park, twice as many after each park that follows
-/// within a stretch, up to 16,384; each job handed out without a park
-/// takes the stretch down again by half every time as many jobs go by.
-#[derive(Debug, Default)]
-struct Backoff {
-    /// Jobs still to run alone.
-    alone: u32,
-    /// The stretch the next park sets.
-    stretch: u32,
-    /// Jobs handed out since the stretch last changed.
-    clean: u32,
-}
-
-impl Backoff {
-    const FIRST: u32 = 64;
-    const MOST: u32 = 16_384;
-
-    /// Whether the next job runs alone (counting it if so).
-    fn alone(&mut self) -> bool {
-        if self.alone == 0 {
-            return false;
-        }
-        self.alone -= 1;
-        true
-    }
-
-    /// A job handed out ended; `parked` if the stepping thread had to park.
-    fn ended(&mut self, parked: bool) {
-        if parked {
-            self.stretch = (2 * self.stretch).clamp(Self::FIRST, Self::MOST);
-            (self.alone, self.clean) = (self.stretch, 0);
-            return;
-        }
-        self.clean += 1;
-        if self.clean >= self.stretch {
-            (self.stretch, self.clean) = (self.stretch / 2, 0);
-        }
-    }
 }
 
 impl std::fmt::Debug for Team {
@@ -322,7 +270,6 @@ impl Team {
             shared,
             members,
             hand_offs: Mutex::default(),
-            backoff: Mutex::default(),
         })
     }
 
@@ -372,12 +319,7 @@ impl Team {
     pub fn run_pieces(&self, pieces: usize, job: &Job<'_>, time_parts: bool) {
         assert!(pieces <= MAX_PIECES, "at most {MAX_PIECES} pieces a job");
         let s = &*self.shared;
-        let shared = !self.members.is_empty() && pieces > 1;
-        let backed_off = shared && self.backoff.lock().expect("the team's backoff").alone();
-        if backed_off && s.timing.load(Ordering::Relaxed) {
-            self.hand_offs.lock().expect("the team's timing").backed_off += 1;
-        }
-        if !shared || backed_off {
+        if self.members.is_empty() || pieces <= 1 {
             s.time_parts.store(time_parts, Ordering::Relaxed);
             (0..pieces).for_each(|k| s.run_piece(job, k));
             if s.panicked.swap(false, Ordering::Relaxed) {
@@ -424,10 +366,6 @@ impl Team {
         // member's use of it: wait for every piece before returning.
         let waited = timing.then(Instant::now);
         let parked = self.wait_for(pieces);
-        self.backoff
-            .lock()
-            .expect("the team's backoff")
-            .ended(parked);
         if let Some(waited) = waited {
             let mut h = self.hand_offs.lock().expect("the team's timing");
             h.jobs += 1;
@@ -490,12 +428,6 @@ impl Team {
     /// The hand-offs timed so far.
     pub fn hand_offs(&self) -> HandOffs {
         *self.hand_offs.lock().expect("the team's timing")
-    }
-
-    /// Tests: forgets any stretch of jobs to run alone.
-    #[cfg(test)]
-    pub(crate) fn forget_backoff(&self) {
-        *self.backoff.lock().expect("the team's backoff") = Backoff::default();
     }
 
     /// Tests: members wait up to `most` before claiming a piece of each
@@ -740,11 +672,9 @@ mod tests {
             }
             assert_eq!(count.load(Ordering::Relaxed), 300 * 16);
             let h = team.hand_offs();
-            // Handed out, or run alone for a while after a park.
-            assert_eq!(h.jobs + h.backed_off, 300, "{h:?}");
-            assert_eq!(h.pieces, h.jobs * 16, "{h:?}");
+            assert_eq!((h.jobs, h.pieces), (300, 300 * 16), "{h:?}");
             // Most jobs end before any member comes.
-            assert!(h.alone + h.backed_off > 150, "{h:?}");
+            assert!(h.alone > 150, "{h:?}");
         }
     }
 
@@ -754,9 +684,6 @@ mod tests {
         team.set_timing(true);
         for _ in 0..20 {
             let claimed = AtomicBool::new(false);
-            // (Each park sets a stretch of jobs run alone, in which piece 0
-            // would wait for ever for a member.)
-            team.forget_backoff();
             team.run(&|k| {
                 if k == 1 {
                     claimed.store(true, Ordering::SeqCst);
@@ -776,28 +703,6 @@ mod tests {
         assert!(h.parked > 0 && h.parked <= 20, "{h:?}");
         assert_eq!(h.member_pieces, 20, "{h:?}");
         assert!(h.wait >= Duration::from_millis(20), "{h:?}");
-    }
-
-    #[test]
-    fn a_park_sets_a_stretch_of_jobs_alone_that_clean_jobs_shorten() {
-        let mut b = Backoff::default();
-        assert!(!b.alone());
-        b.ended(true);
-        assert_eq!(b.stretch, Backoff::FIRST);
-        assert!((0..Backoff::FIRST).all(|_| b.alone()));
-        assert!(!b.alone());
-        // A second park soon after: twice as long.
-        b.ended(true);
-        assert_eq!(b.stretch, 2 * Backoff::FIRST);
-        while b.alone() {}
-        // As many clean jobs as the stretch halve it.
-        (0..2 * Backoff::FIRST).for_each(|_| b.ended(false));
-        assert_eq!(b.stretch, Backoff::FIRST);
-        for _ in 0..20 {
-            b.ended(true);
-            while b.alone() {}
-        }
-        assert_eq!(b.stretch, Backoff::MOST);
     }
 
     #[test]

@@ -247,11 +247,8 @@ fn stats_tell_what_the_thread_teams_hand_offs_cost() {
     let out = screensaver(&["40", path, "--threads", "2", "--stats", "--json"]);
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let team = &v["stats"]["team"];
-    // Hull, layout and sweep, and move: at least three jobs a step, each
-    // handed out or (for a stretch after a park) run alone.
-    let handed_or_alone =
-        team["hand_offs"].as_u64().unwrap() + team["backed_off"].as_u64().unwrap();
-    assert!(handed_or_alone >= 3 * 40, "{team}");
+    // Hull, layout and sweep, and move: at least three a step.
+    assert!(team["hand_offs"].as_u64().unwrap() >= 3 * 40, "{team}");
     let (jobs, pieces) = (
         team["hand_offs"].as_u64().unwrap(),
         team["pieces"].as_u64().unwrap(),

@@ -162,6 +162,8 @@ fn a_second_sigint_ends_at_once_leaving_no_partial_file() {
         "the run did not end at once"
     );
     assert!(!gif.exists(), "a partial GIF was left under its name");
+    // Nor under a temporary name: the second signal removes it.
+    assert_eq!(names_in(&dir), ["c"]);
 }
 
 #[test]
@@ -269,8 +271,94 @@ fn resuming_from_a_checkpoint_ends_where_the_whole_run_ends() {
     let err = text(&out.stderr);
     assert!(
         err.contains("damaged.c:")
-            && (err.contains("expected 8 fields") || err.contains("ends after")),
+            && (err.contains("expected 8 fields")
+                || err.contains("ends after")
+                || err.contains("ends without its `# checksum: ` line")),
         "{err}"
+    );
+    // And an edited one, however plausible the edit: the step, a counter,
+    // one coordinate.
+    let text_of = String::from_utf8(good).unwrap();
+    let steps = text_of.lines().nth(2).unwrap().to_string();
+    let counter = text_of.lines().nth(4).unwrap().to_string();
+    let row = text_of.lines().nth(5).unwrap().to_string();
+    let last_digit = |s: &str| {
+        let mut s = s.to_string();
+        let d = s.pop().unwrap();
+        s.push(if d == '1' { '2' } else { '1' });
+        s
+    };
+    let mut moved: Vec<String> = row.split(' ').map(String::from).collect();
+    moved[1] = last_digit(&moved[1]);
+    for (from, to) in [
+        (steps.clone(), last_digit(&steps)),
+        (counter.clone(), last_digit(&counter)),
+        (row.clone(), moved.join(" ")),
+    ] {
+        std::fs::write(&damaged, text_of.replacen(&from, &to, 1)).unwrap();
+        let out = screensaver(&["600", &input, "--resume", damaged.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(1), "{to}");
+        let err = text(&out.stderr);
+        assert!(
+            err.contains("damaged.c:") && err.contains("was edited or damaged"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
+fn outputs_that_are_not_regular_files_are_written_to_not_replaced() {
+    let dir = folder("special");
+    // `-` is standard output: the state follows the results block, and no
+    // file named `-` is made.
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["3", "--state-out", "-"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    let rows = stdout.lines().filter(|l| l.split(' ').count() == 7).count();
+    assert_eq!(rows, 1000, "{stdout}");
+    assert!(names_in(&dir).is_empty(), "{:?}", names_in(&dir));
+    // A device stays a device; a full one is an error, named.
+    let out = screensaver(&["3", "--state-out", "/dev/null"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let out = screensaver(&["3", "--state-out", "/dev/full"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("/dev/full: cannot write:"),
+        "{}",
+        text(&out.stderr)
+    );
+    for device in ["/dev/null", "/dev/full"] {
+        let kind = std::fs::metadata(device).unwrap().file_type();
+        assert!(std::os::unix::fs::FileTypeExt::is_char_device(&kind));
+    }
+    // A symbolic link is followed: its target gets the state, the link
+    // stays a link.
+    let target = dir.join("target.txt");
+    std::fs::write(&target, "old").unwrap();
+    let link = dir.join("link");
+    std::os::unix::fs::symlink("target.txt", &link).unwrap();
+    let out = screensaver(&["3", "--state-out", link.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(std::fs::symlink_metadata(&link)
+        .unwrap()
+        .file_type()
+        .is_symlink());
+    assert_eq!(
+        std::fs::read_to_string(&target).unwrap().lines().count(),
+        1000
+    );
+    assert_eq!(names_in(&dir), ["link", "target.txt"]);
+    // A folder that exists but takes no files is not called missing.
+    let out = screensaver(&["3", "--checkpoint", "/proc/x.ckpt"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("the folder /proc exists but does not take new files"),
+        "{}",
+        text(&out.stderr)
     );
 }
 

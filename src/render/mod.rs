@@ -328,7 +328,7 @@ pub fn gif_palette() -> Vec<[u8; 3]> {
 
 /// An animated GIF being written frame by frame.
 pub struct GifWriter {
-    encoder: gif::Encoder<std::io::BufWriter<crate::output::AtomicFile>>,
+    encoder: gif::Encoder<std::io::BufWriter<crate::output::OutputFile>>,
     palette: Vec<[u8; 3]>,
     path: PathBuf,
     /// Hundredths of a second each frame shows for.
@@ -344,7 +344,7 @@ impl GifWriter {
             u16::try_from(size.width).map_err(too_big)?,
             u16::try_from(size.height).map_err(too_big)?,
         );
-        let file = crate::output::AtomicFile::create(path).map_err(written)?;
+        let file = crate::output::OutputFile::create(path).map_err(written)?;
         let palette = gif_palette();
         let flat: Vec<u8> = palette.iter().flatten().copied().collect();
         let mut encoder = gif::Encoder::new(std::io::BufWriter::new(file), w, h, &flat)
