@@ -65,11 +65,134 @@ impl Vec2 {
         crate::maths::atan2(self.y, self.x)
     }
 
+    /// The sign of `self.angle() - other.angle()`, the difference the
+    /// contract's intersection test compares with zero: `-1.0`, `0.0` or
+    /// `1.0`, NaN when either angle is NaN. Bit for bit what the
+    /// subtraction gives (the sign of a difference of doubles is that of
+    /// the doubles' order), but mostly found without either angle:
+    ///
+    /// Where both vectors have a `y` of ordinary size (from 2^-400 to
+    /// 2^400, `x` of that size or zero), their angles lie in (0, pi) for
+    /// `y > 0` and in (-pi, 0) for `y < 0`. On opposite sides the one
+    /// above is the larger. On the same side `cross = other x self`, which
+    /// is `|self| |other| sin(difference)`, has the difference's sign; when
+    /// it is above `2^-40 T` (`T = (|x1| + |y1|)(|x2| + |y2|)`, at least
+    /// `|self| |other|`, and the product's rounding error below `2^-51 T`),
+    /// the exact angles differ by more than 2^-41, many units in the last
+    /// place of any angle, so their correctly rounded values keep their
+    /// order and differ. Anything else (nearly parallel, zero `y`, huge,
+    /// tiny, infinite, NaN) takes both angles.
+    #[inline]
+    pub fn angle_difference_sign(self, other: Self) -> f64 {
+        if let Some(sign) = self.angle_order_fast(other) {
+            return sign;
+        }
+        let difference = self.angle() - other.angle();
+        if difference.is_nan() {
+            difference
+        } else if difference > 0.0 {
+            1.0
+        } else if difference < 0.0 {
+            -1.0
+        } else {
+            0.0
+        }
+    }
+
+    /// The fast path of [`Vec2::angle_difference_sign`]: `None` where it
+    /// cannot be sure.
+    #[inline]
+    fn angle_order_fast(self, other: Self) -> Option<f64> {
+        // The platform's atan2 is not correctly rounded: only ours may be
+        // told apart by order alone.
+        if cfg!(feature = "platform-libm") {
+            return None;
+        }
+        const fn power_of_two(e: i64) -> f64 {
+            f64::from_bits(((1023 + e) as u64) << 52)
+        }
+        const LOW: f64 = power_of_two(-400);
+        const HIGH: f64 = power_of_two(400);
+        const MARGIN: f64 = power_of_two(-40);
+        let ordinary = |z: f64| (LOW..=HIGH).contains(&z.abs());
+        let x_ok = |x: f64| x == 0.0 || ordinary(x);
+        let sign = |up: bool| if up { 1.0 } else { -1.0 };
+        match (self.y == 0.0, other.y == 0.0) {
+            (false, false) => {}
+            // Both along the x axis: angles of 0 (x > 0) or pi with the
+            // sign of the zero y (x < 0).
+            (true, true) => {
+                if !(ordinary(self.x) && ordinary(other.x)) {
+                    return None;
+                }
+                let on_axis = |v: Vec2| {
+                    if v.x > 0.0 {
+                        0.0
+                    } else {
+                        std::f64::consts::PI.copysign(v.y)
+                    }
+                };
+                let difference = on_axis(self) - on_axis(other);
+                return Some(if difference == 0.0 {
+                    0.0
+                } else {
+                    sign(difference > 0.0)
+                });
+            }
+            (true, false) => {
+                if !(ordinary(self.x) && ordinary(other.y) && x_ok(other.x)) {
+                    return None;
+                }
+                return axis_against(self, other, MARGIN).map(sign);
+            }
+            (false, true) => {
+                if !(ordinary(other.x) && ordinary(self.y) && x_ok(self.x)) {
+                    return None;
+                }
+                return axis_against(other, self, MARGIN).map(|up| sign(!up));
+            }
+        }
+        if !(ordinary(self.y) && ordinary(other.y) && x_ok(self.x) && x_ok(other.x)) {
+            return None;
+        }
+        if (self.y > 0.0) != (other.y > 0.0) {
+            return Some(if self.y > 0.0 { 1.0 } else { -1.0 });
+        }
+        if self.x == 0.0 && other.x == 0.0 {
+            // Both pi/2, or both -pi/2.
+            return Some(0.0);
+        }
+        let cross = other.x * self.y - other.y * self.x;
+        let bound = (self.x.abs() + self.y.abs()) * (other.x.abs() + other.y.abs());
+        if cross.abs() > bound * MARGIN {
+            Some(if cross > 0.0 { 1.0 } else { -1.0 })
+        } else {
+            None
+        }
+    }
+
     /// True when either component is NaN.
     #[inline]
     pub fn has_nan(self) -> bool {
         self.x.is_nan() || self.y.is_nan()
     }
+}
+
+/// Whether the angle of `axis` (along the x axis: `y` zero, `x` of
+/// ordinary size) is above the angle of `other` (`y` of ordinary size,
+/// `x` zero or ordinary), for [`Vec2::angle_order_fast`]; `None` where
+/// `other`'s angle may round to pi. Along +x the angle is 0, below any
+/// angle with `y > 0`, above any with `y < 0`. Along -x it is pi (or -pi
+/// for a `y` of -0), above every angle of `y > 0` (below every angle of
+/// `y < 0`) that stays more than 2^-41 from pi, as one with
+/// `|y| > margin (|x| + |y|)` does.
+fn axis_against(axis: Vec2, other: Vec2, margin: f64) -> Option<bool> {
+    if axis.x > 0.0 {
+        return Some(other.y < 0.0);
+    }
+    let up = axis.y.is_sign_positive();
+    let far_from_pi = other.x >= 0.0 || other.y.abs() > margin * (other.x.abs() + other.y.abs());
+    (up != (other.y > 0.0) || far_from_pi).then_some(up)
 }
 
 impl Add for Vec2 {
@@ -196,6 +319,90 @@ mod tests {
 
     fn v(x: f64, y: f64) -> Vec2 {
         Vec2::new(x, y)
+    }
+
+    /// The sign of the difference of both angles, taken in full.
+    fn slow_sign(a: Vec2, b: Vec2) -> f64 {
+        let d = a.angle() - b.angle();
+        if d.is_nan() {
+            d
+        } else {
+            (d > 0.0) as i32 as f64 - (d < 0.0) as i32 as f64
+        }
+    }
+
+    fn same(x: f64, y: f64) -> bool {
+        x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()) || (x == 0.0 && y == 0.0)
+    }
+
+    #[test]
+    fn angle_signs_agree_with_both_angles_on_awkward_vectors() {
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            0.5,
+            -0.75,
+            1e-300,
+            -1e-300,
+            1e300,
+            -1e300,
+            5e-324,
+            f64::MAX,
+            f64::MIN_POSITIVE,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::EPSILON,
+            3.0,
+            -7.0,
+            1e-17,
+            -1e-17,
+            1e-12,
+            -2.0,
+        ];
+        let mut fast = 0;
+        for &ax in &values {
+            for &ay in &values {
+                for &bx in &values {
+                    for &by in &values {
+                        let (a, b) = (v(ax, ay), v(bx, by));
+                        let got = a.angle_difference_sign(b);
+                        let want = slow_sign(a, b);
+                        assert!(same(got, want), "{a:?} {b:?}: {got} against {want}");
+                        fast += usize::from(a.angle_order_fast(b).is_some());
+                    }
+                }
+            }
+        }
+        assert!(fast > 1_000, "{fast}");
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(20_000))]
+
+        #[test]
+        fn angle_signs_agree_with_both_angles(
+            ax in -1.0f64..1.0, ay in -1.0f64..1.0,
+            turn in -1e-9f64..1e-9, scale in 1e-6f64..1e6, near in proptest::bool::ANY,
+            bx in -1.0f64..1.0, by in -1.0f64..1.0,
+        ) {
+            // Either another direction, or nearly (or exactly) the same or
+            // the opposite one.
+            let b = if near {
+                let (s, c) = (turn.sin(), turn.cos());
+                v((ax * c - ay * s) * scale, (ax * s + ay * c) * scale)
+            } else {
+                v(bx, by)
+            };
+            let a = v(ax, ay);
+            for (p, q) in [(a, b), (b, a), (a, v(-b.x, -b.y)), (a, a)] {
+                let got = p.angle_difference_sign(q);
+                let want = slow_sign(p, q);
+                proptest::prop_assert!(same(got, want), "{:?} {:?}: {} against {}", p, q, got, want);
+            }
+        }
     }
 
     #[test]

@@ -7,7 +7,7 @@ use screensaver::checkpoint::{self, Checkpoint};
 use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::output;
-use screensaver::render::live::{DrawStats, Scenes};
+use screensaver::render::live::{DrawStats, Pace, Scenes};
 use screensaver::render::{self, embedded, window, Frames, Recorder, Size, Target};
 use screensaver::stop::Signal;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
@@ -134,6 +134,12 @@ struct Cli {
     /// Window: most frames drawn per second; GIFs: frames shown per second.
     #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=1000))]
     fps: u32,
+
+    /// Window and screen modes: how fast the run goes: N steps a second at
+    /// most, `frame` for one step a picture drawn (the original -g's pace;
+    /// the default), or `max` for as fast as it can; + and - change it.
+    #[arg(long, value_name = "N|frame|max", conflicts_with_all = ["render", "verify"])]
+    speed: Option<Pace>,
 
     /// Window: keep the last picture until the window is closed.
     #[arg(long, requires = "graphics")]
@@ -427,7 +433,15 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     let display = display(cli)?;
     if display.is_some() {
         window::check_display()?;
+    } else if cli.speed.is_some() {
+        return Err(Failure::Usage(
+            clap::error::ErrorKind::ArgumentConflict,
+            "--speed sets the pace of a run on screen (-g, --fullscreen, --root, \
+             --window-id, XScreenSaver); a run without one always goes as fast as it can"
+                .into(),
+        ));
     }
+    let pace = cli.speed.unwrap_or(Pace::PerFrame);
     let (frames, input) = positionals(cli, display.is_some())?;
     let endless = frames.is_none();
     if endless && (cli.state_out.is_some() || cli.checkpoint.is_some() || cli.resume.is_some()) {
@@ -557,6 +571,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
                         hold: cli.hold,
                         fullscreen,
                         hud: cli.hud,
+                        pace,
                     },
                 ),
                 Display::Embedded(target) => embedded::run(
@@ -565,6 +580,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
                     embedded::Options {
                         fps: cli.fps,
                         hud: cli.hud,
+                        pace,
                     },
                 ),
             }?;

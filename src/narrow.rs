@@ -70,7 +70,8 @@ pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
     if crossings == 0 {
         return None;
     }
-    let angle = l1.dir().angle() - l2.dir().angle();
+    // Only the sign of the difference of the two angles is used.
+    let angle = l1.dir().angle_difference_sign(l2.dir());
     if top {
         return Some(if angle < 0.0 {
             IntersectionKind::L2WithL1

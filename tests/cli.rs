@@ -346,3 +346,20 @@ fn verify_counts_a_sliver_as_the_documented_exception() {
     assert_eq!(v["sliver_events"], 0, "{v}");
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn speed_is_for_runs_on_screen_and_must_be_a_pace() {
+    let out = screensaver(&["10", "--speed", "100"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("--speed sets the pace of a run on screen"),
+        "{err}"
+    );
+    for bad in ["0", "fast", "2.5"] {
+        let out = screensaver(&["-g", "10", "--speed", bad]);
+        assert_eq!(out.status.code(), Some(2), "{bad}");
+        let err = text(&out.stderr);
+        assert!(err.contains("is not a pace"), "{bad}: {err}");
+    }
+}

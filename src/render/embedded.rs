@@ -8,7 +8,7 @@
 //! on SIGINT or SIGTERM (the daemon ends hacks with SIGTERM), or after the
 //! frames asked for.
 
-use super::live::{DrawStats, FrameClock, Outcome, Run, Scenes};
+use super::live::{DrawStats, FrameClock, Outcome, Pace, Run, Scenes};
 use super::raster::{Canvas, Painter};
 use super::{hud, Size, View};
 use std::sync::atomic::Ordering;
@@ -61,6 +61,8 @@ pub struct Options {
     pub fps: u32,
     /// Show the heads-up display.
     pub hud: bool,
+    /// How fast the run goes.
+    pub pace: Pace,
 }
 
 /// Runs `scenes` drawn into the window `target` until the run ends, the
@@ -125,7 +127,7 @@ pub fn run(
     conn.flush().map_err(|e| failed(&e))?;
 
     let mut size = (geometry.width, geometry.height);
-    let run = Run::start(scenes);
+    let run = Run::start(scenes, options.pace);
     let period = Duration::from_secs_f64(1.0 / f64::from(options.fps.max(1)));
     let mut painter = Painter::new();
     let mut pixels: Vec<u32> = Vec::new();
@@ -176,7 +178,8 @@ pub fn run(
                 let mut canvas = Canvas::new(&mut pixels, w, h);
                 painter.paint(&snapshot.lines, &snapshot.colors, &view, &mut canvas);
                 if options.hud {
-                    hud::draw(&mut canvas, &hud::lines(snapshot, clock.recent_fps()));
+                    let text = hud::lines(snapshot, clock.recent_fps(), options.pace);
+                    hud::draw(&mut canvas, &text);
                 }
                 let alpha = if depth == 32 { 0xff00_0000 } else { 0 };
                 bytes.clear();

@@ -3,7 +3,7 @@
 //! dark panel so that it reads on any picture behind it. Glyphs are the
 //! public-domain 8x8 font of the `font8x8` crate.
 
-use super::live::Snapshot;
+use super::live::{Pace, Snapshot};
 use super::raster::Canvas;
 use font8x8::legacy::BASIC_LEGACY;
 
@@ -14,14 +14,15 @@ const MARGIN: usize = 4;
 /// Rows between lines of text, in glyph pixels.
 const LINE_GAP: usize = 3;
 
-/// The display's lines for a state of the run and the frames drawn per
-/// second.
-pub fn lines(snapshot: &Snapshot, fps: f64) -> Vec<String> {
+/// The display's lines for a state of the run, the frames drawn per
+/// second and the pace set.
+pub fn lines(snapshot: &Snapshot, fps: f64, pace: Pace) -> Vec<String> {
     let mut lines = vec![
         format!("step {}", snapshot.step),
         format!("{} line-wall", snapshot.wall),
         format!("{} line-line", snapshot.line),
         format!("{:.0} steps/s  {:.0} fps", snapshot.rate, fps),
+        format!("pace: {pace}"),
     ];
     if snapshot.scene > 0 {
         lines.push(format!("scene {}", snapshot.scene + 1));
@@ -83,15 +84,20 @@ mod tests {
             rate: 4000.4,
             scene: 0,
         };
-        let text = lines(&snapshot, 59.6);
+        let text = lines(&snapshot, 59.6, Pace::PerFrame);
         assert_eq!(
             text,
             [
                 "step 120",
                 "7 line-wall",
                 "33 line-line",
-                "4000 steps/s  60 fps"
+                "4000 steps/s  60 fps",
+                "pace: 1 step/frame"
             ]
+        );
+        assert_eq!(
+            lines(&snapshot, 59.6, Pace::Rate(500))[4],
+            "pace: 500 steps/s max"
         );
     }
 

@@ -43,6 +43,85 @@ pub fn died_out(lines: &[Line]) -> bool {
         .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
 }
 
+/// How fast a live run goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pace {
+    /// One step for each picture the display takes: the original `-g`'s
+    /// pace, which drew after every step. The default.
+    PerFrame,
+    /// At most this many steps a second (at least 1).
+    Rate(u64),
+    /// As fast as the simulation goes.
+    Max,
+}
+
+impl Pace {
+    /// The pace as one word for [`Shared`]: 0 for `Max`, `u64::MAX` for
+    /// `PerFrame`, else the rate.
+    fn code(self) -> u64 {
+        match self {
+            Pace::Max => 0,
+            Pace::PerFrame => u64::MAX,
+            Pace::Rate(n) => n.clamp(1, u64::MAX - 1),
+        }
+    }
+
+    fn from_code(code: u64) -> Pace {
+        match code {
+            0 => Pace::Max,
+            u64::MAX => Pace::PerFrame,
+            n => Pace::Rate(n),
+        }
+    }
+
+    /// The pace `+` (`faster`) or `-` leads to from this one, given the
+    /// steps per second measured lately: twice or half the rate; from one
+    /// step a frame or from no limit, twice or half the measured rate;
+    /// faster than 2^20 steps a second is no limit.
+    pub fn changed(self, faster: bool, measured: f64) -> Pace {
+        let rate = match self {
+            Pace::Rate(n) => n as f64,
+            Pace::Max if faster => return Pace::Max,
+            Pace::PerFrame | Pace::Max => measured.max(1.0),
+        };
+        let rate = if faster { rate * 2.0 } else { rate / 2.0 };
+        if rate >= f64::from(1u32 << 20) {
+            Pace::Max
+        } else {
+            Pace::Rate((rate as u64).max(1))
+        }
+    }
+}
+
+impl std::str::FromStr for Pace {
+    type Err = String;
+
+    /// `frame`, `max`, or a number of steps a second.
+    fn from_str(s: &str) -> Result<Pace, String> {
+        match s {
+            "frame" => Ok(Pace::PerFrame),
+            "max" => Ok(Pace::Max),
+            n => match n.parse::<u64>() {
+                Ok(n) if n > 0 => Ok(Pace::Rate(n)),
+                _ => Err(format!(
+                    "`{s}` is not a pace: give steps a second (a whole number from 1), \
+                     `frame` (one step a picture) or `max`"
+                )),
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Pace {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Pace::PerFrame => write!(f, "1 step/frame"),
+            Pace::Rate(n) => write!(f, "{n} steps/s max"),
+            Pace::Max => write!(f, "max speed"),
+        }
+    }
+}
+
 /// A state of the run, for showing.
 pub struct Snapshot {
     /// Every line.
@@ -67,8 +146,8 @@ pub struct Shared {
     pub paused: AtomicBool,
     /// Single steps asked for while paused.
     pub steps_requested: AtomicU64,
-    /// Steps per second allowed; 0 for no limit.
-    pub limit: AtomicU64,
+    /// The pace ([`Pace::code`]).
+    pace: AtomicU64,
     /// Set by the display to end the run.
     pub quit: AtomicBool,
     /// Set by the simulation when it has run every step.
@@ -113,6 +192,16 @@ impl Shared {
     pub fn want_news(&self) {
         self.taken.store(true, Ordering::Release);
     }
+
+    /// How fast the run goes.
+    pub fn pace(&self) -> Pace {
+        Pace::from_code(self.pace.load(Ordering::Relaxed))
+    }
+
+    /// Sets how fast the run goes.
+    pub fn set_pace(&self, pace: Pace) {
+        self.pace.store(pace.code(), Ordering::Relaxed);
+    }
 }
 
 /// The outcome of a live run.
@@ -133,12 +222,12 @@ pub struct Run {
 }
 
 impl Run {
-    /// Starts the simulation thread.
-    pub fn start(scenes: Scenes) -> Run {
+    /// Starts the simulation thread, at `pace`.
+    pub fn start(scenes: Scenes, pace: Pace) -> Run {
         let shared = Arc::new(Shared {
             paused: AtomicBool::new(false),
             steps_requested: AtomicU64::new(0),
-            limit: AtomicU64::new(0),
+            pace: AtomicU64::new(pace.code()),
             quit: AtomicBool::new(false),
             finished: AtomicBool::new(false),
             latest: Mutex::new(None),
@@ -226,6 +315,12 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             std::thread::sleep(Duration::from_millis(5));
             continue;
         }
+        let pace = shared.pace();
+        if !paused && pace == Pace::PerFrame && !shared.taken.load(Ordering::Acquire) {
+            // The display has not taken the last step's state yet.
+            std::thread::sleep(Duration::from_micros(500));
+            continue;
+        }
         if paused {
             shared.steps_requested.fetch_sub(1, Ordering::Relaxed);
         }
@@ -237,8 +332,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             (window_start, window_steps) = (Instant::now(), 0);
         }
         publish(&world, &colors, scene, rate, paused);
-        let limit = shared.limit.load(Ordering::Relaxed);
-        if limit > 0 {
+        if let Pace::Rate(limit) = pace {
             let budget = Duration::from_secs_f64(1.0 / limit as f64);
             if let Some(rest) = budget.checked_sub(step_start.elapsed()) {
                 std::thread::sleep(rest);
@@ -336,10 +430,13 @@ mod tests {
     /// A run of one scene of one moving line for `steps` steps, once the
     /// simulation has finished it.
     fn finished_run(steps: u64) -> Run {
-        let run = Run::start(Scenes::One {
-            world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
-            steps: Some(steps),
-        });
+        let run = Run::start(
+            Scenes::One {
+                world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
+                steps: Some(steps),
+            },
+            Pace::Max,
+        );
         while !run.shared.finished.load(Ordering::Acquire) {
             std::thread::sleep(Duration::from_millis(1));
         }
@@ -369,14 +466,17 @@ mod tests {
         let made = Arc::new(AtomicU64::new(0));
         let counter = Arc::clone(&made);
         let still = || world(vec![line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0))]);
-        let run = Run::start(Scenes::Generated {
-            first: Box::new(still()),
-            next: Box::new(move |_| {
-                counter.fetch_add(1, Ordering::Relaxed);
-                still()
-            }),
-            cycle: Duration::from_secs(3600),
-        });
+        let run = Run::start(
+            Scenes::Generated {
+                first: Box::new(still()),
+                next: Box::new(move |_| {
+                    counter.fetch_add(1, Ordering::Relaxed);
+                    still()
+                }),
+                cycle: Duration::from_secs(3600),
+            },
+            Pace::Max,
+        );
         let start = Instant::now();
         while made.load(Ordering::Relaxed) < 3 && start.elapsed() < Duration::from_secs(20) {
             std::thread::sleep(Duration::from_millis(10));
@@ -391,6 +491,69 @@ mod tests {
         assert!(run.shared.take().is_some());
         assert!(run.shared.take().is_none());
         run.finish().unwrap();
+    }
+
+    #[test]
+    fn at_one_step_a_frame_the_run_waits_for_each_picture() {
+        let run = Run::start(
+            Scenes::One {
+                world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.001, 0.0))])),
+                steps: None,
+            },
+            Pace::PerFrame,
+        );
+        let mut steps = Vec::new();
+        for _ in 0..10 {
+            let start = Instant::now();
+            let snapshot = loop {
+                if let Some(s) = run.shared.take() {
+                    break s;
+                }
+                assert!(start.elapsed() < Duration::from_secs(20), "no picture");
+                std::thread::sleep(Duration::from_millis(1));
+            };
+            steps.push(snapshot.step);
+            // A slow display: the run must not get ahead meanwhile.
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        // The first picture is of step 0 or 1, and each after it one step on.
+        assert!(steps[0] <= 1, "{steps:?}");
+        assert!(steps.windows(2).all(|w| w[1] == w[0] + 1), "{steps:?}");
+        // At no limit it runs on without waiting.
+        run.shared.set_pace(Pace::Max);
+        std::thread::sleep(Duration::from_millis(50));
+        let outcome = run.finish().unwrap();
+        assert!(
+            outcome.world.steps() > steps[9] + 50,
+            "{}",
+            outcome.world.steps()
+        );
+    }
+
+    #[test]
+    fn paces_read_change_and_show() {
+        assert_eq!("frame".parse(), Ok(Pace::PerFrame));
+        assert_eq!("max".parse(), Ok(Pace::Max));
+        assert_eq!("240".parse(), Ok(Pace::Rate(240)));
+        for bad in ["0", "-3", "fast", "1.5", ""] {
+            let err = bad.parse::<Pace>().unwrap_err();
+            assert!(err.contains("is not a pace"), "{err}");
+        }
+        // + and - double and halve; from one step a frame or from no
+        // limit they start at the measured rate.
+        assert_eq!(Pace::Rate(100).changed(true, 5.0), Pace::Rate(200));
+        assert_eq!(Pace::Rate(100).changed(false, 5.0), Pace::Rate(50));
+        assert_eq!(Pace::Rate(1).changed(false, 5.0), Pace::Rate(1));
+        assert_eq!(Pace::PerFrame.changed(true, 60.0), Pace::Rate(120));
+        assert_eq!(Pace::PerFrame.changed(false, 60.0), Pace::Rate(30));
+        assert_eq!(Pace::Max.changed(false, 9000.0), Pace::Rate(4500));
+        assert_eq!(Pace::Max.changed(true, 9000.0), Pace::Max);
+        assert_eq!(Pace::Rate(1 << 20).changed(true, 0.0), Pace::Max);
+        for pace in [Pace::PerFrame, Pace::Max, Pace::Rate(7)] {
+            assert_eq!(Pace::from_code(pace.code()), pace);
+        }
+        assert_eq!(Pace::PerFrame.to_string(), "1 step/frame");
+        assert_eq!(Pace::Rate(240).to_string(), "240 steps/s max");
     }
 
     #[test]

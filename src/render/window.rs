@@ -8,7 +8,7 @@
 //! display, Q or Esc quits. The title shows the step, both counters and
 //! the steps per second.
 
-use super::live::{DrawStats, FrameClock, Outcome, Run, Scenes, Snapshot};
+use super::live::{DrawStats, FrameClock, Outcome, Pace, Run, Scenes, Snapshot};
 use super::raster::{Canvas, Painter};
 use super::{hud, Size, View};
 use std::num::NonZeroU32;
@@ -67,20 +67,8 @@ pub struct Options {
     pub fullscreen: bool,
     /// Show the heads-up display from the start.
     pub hud: bool,
-}
-
-/// The simulation's speed limit: unlimited, or a number of steps per second.
-/// `Faster` from the fastest limit lifts it; `Slower` from no limit starts
-/// at the rate last measured.
-fn change_rate(limit: u64, measured: f64, action: Action) -> u64 {
-    match (action, limit) {
-        (Action::Faster, 0) => 0,
-        (Action::Faster, l) if l >= 1 << 20 => 0,
-        (Action::Faster, l) => l * 2,
-        (Action::Slower, 0) => ((measured / 2.0) as u64).max(1),
-        (Action::Slower, l) => (l / 2).max(1),
-        (_, l) => l,
-    }
+    /// How fast the run goes (`+` and `-` change it).
+    pub pace: Pace,
 }
 
 /// Fails, with a message that says what to do, when there is plainly no
@@ -112,7 +100,7 @@ fn unreachable_display() -> String {
 pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), String> {
     check_display()?;
     let event_loop = EventLoop::new().map_err(|_| unreachable_display())?;
-    let run = Run::start(scenes);
+    let run = Run::start(scenes, options.pace);
     let mut app = App {
         run: &run,
         options,
@@ -221,7 +209,8 @@ impl App<'_> {
         self.painter
             .paint(&state.lines, &state.colors, &view, &mut canvas);
         if self.hud {
-            hud::draw(&mut canvas, &hud::lines(state, self.clock.recent_fps()));
+            let text = hud::lines(state, self.clock.recent_fps(), self.run.shared.pace());
+            hud::draw(&mut canvas, &text);
         }
         buffer.copy_from_slice(&self.frame);
         if let Err(e) = buffer.present() {
@@ -245,8 +234,8 @@ impl App<'_> {
             }
             Action::Faster | Action::Slower => {
                 let rate = self.state.as_ref().map_or(0.0, |s| s.rate);
-                let limit = change_rate(shared.limit.load(Ordering::Relaxed), rate, action);
-                shared.limit.store(limit, Ordering::Relaxed);
+                let pace = shared.pace().changed(action == Action::Faster, rate);
+                shared.set_pace(pace);
             }
             Action::ToggleHud => {
                 self.hud = !self.hud;
@@ -381,16 +370,5 @@ mod tests {
         );
         assert_eq!(action_for(&Key::Character("x".into())), None);
         assert_eq!(action_for(&Key::Named(NamedKey::ArrowLeft)), None);
-    }
-
-    #[test]
-    fn speed_changes_halve_and_double_the_limit() {
-        assert_eq!(change_rate(0, 1000.0, Action::Slower), 500);
-        assert_eq!(change_rate(500, 1000.0, Action::Slower), 250);
-        assert_eq!(change_rate(1, 1000.0, Action::Slower), 1);
-        assert_eq!(change_rate(250, 1000.0, Action::Faster), 500);
-        assert_eq!(change_rate(0, 1000.0, Action::Faster), 0);
-        assert_eq!(change_rate(1 << 20, 1000.0, Action::Faster), 0);
-        assert_eq!(change_rate(0, 0.5, Action::Slower), 1);
     }
 }
