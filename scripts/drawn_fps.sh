@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Frames drawn per second in the 1180 x 800 window, with the simulation
-# running beside it, for generated scenes of 10^4, 10^5 and 10^6 lines.
-# Each size runs SECONDS (default 10) under a virtual X server and is
-# stopped by SIGTERM; the figures are the program's own --stats.
-# Usage: scripts/drawn_fps.sh [SECONDS] [extra screensaver options...]
+# running beside it, for generated scenes of 10^4, 10^5 and 10^6 lines
+# (or the sizes in SIZES). Each size runs SECONDS (default 10) under a
+# virtual 1920 x 1080 X server and is stopped by SIGTERM; the figures are
+# the program's own --stats. Extra options go to every run: --speed max
+# for the simulation as fast as it goes beside the drawing (by default a
+# step a picture), --fullscreen for the whole screen.
+# Usage: [SIZES="N ..."] scripts/drawn_fps.sh [SECONDS] [extra screensaver options...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-10}
@@ -17,7 +20,7 @@ trap 'kill $xvfb 2>/dev/null' EXIT
 sleep 1
 echo "| lines | frames drawn per second | ms to draw a frame | steps per second |"
 echo "| ---: | ---: | ---: | ---: |"
-for n in 10000 100000 1000000; do
+for n in ${SIZES:-10000 100000 1000000}; do
     DISPLAY=$display $bin -g --lines "$n" --seed 1 --stats --json "$@" >/tmp/drawn_fps.$$ 2>/dev/null &
     pid=$!
     sleep "$seconds"

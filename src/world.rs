@@ -118,6 +118,8 @@ pub struct World {
     /// first (see [`World::slivers`]).
     slivers: u64,
     first_sliver: Option<(u64, Event)>,
+    /// Time spent checking steps against the oracle.
+    verifying: std::time::Duration,
     /// The lines' ids by slot, once the detector has had them stored in
     /// its own order (see [`crate::storage`]); until then slots are ids.
     storage: Option<Storage>,
@@ -166,6 +168,7 @@ impl World {
             pool: None,
             team: None,
             oracle: None,
+            verifying: std::time::Duration::ZERO,
             mismatch: None,
             slivers: 0,
             first_sliver: None,
@@ -354,6 +357,7 @@ impl World {
     fn step_here(&mut self, parallel: bool) {
         // The oracle's events, and the lines they were found on (to tell
         // the documented sliver exception from a mismatch).
+        let checking = Instant::now();
         let expected = match (&mut self.oracle, &self.mismatch) {
             (Some(oracle), None) => {
                 let lines = lines_by_id(&self.lines, self.storage.as_ref()).into_owned();
@@ -361,6 +365,9 @@ impl World {
             }
             _ => None,
         };
+        if expected.is_some() {
+            self.verifying += checking.elapsed();
+        }
         let t0 = self.timing.map(|_| Instant::now());
 
         self.events.clear();
@@ -386,10 +393,12 @@ impl World {
         }
         self.counters.line += self.events.len() as u64;
         if let Some((expected, before)) = expected {
+            let comparing = Instant::now();
             // Counted as the step it belongs to.
             self.steps += 1;
             self.mismatch = self.compare(expected, &before).err();
             self.steps -= 1;
+            self.verifying += comparing.elapsed();
         }
         let grain = parallel.then_some(self.grain);
         // The team, for the scenes it shares the sweep's phases of, up to
@@ -498,6 +507,12 @@ impl World {
     /// [`World::mismatch`].
     pub fn set_oracle(&mut self, oracle: Box<dyn Detector>) {
         self.oracle = Some(oracle);
+    }
+
+    /// The time spent so far checking steps against the oracle (finding its
+    /// events and comparing them), which a run's timing leaves out.
+    pub fn verifying_time(&self) -> std::time::Duration {
+        self.verifying
     }
 
     /// The first step whose events differed from the oracle's, if any.
@@ -907,5 +922,16 @@ mod tests {
         w.run(1);
         assert!(w.mismatch().is_some());
         assert_eq!(w.slivers().0, 0);
+    }
+
+    #[test]
+    fn the_time_spent_verifying_is_kept_apart() {
+        let scene = crate::generate::default_scene();
+        let mut w = World::with_detector(&scene, DetectorKind::Sweep);
+        w.step();
+        assert_eq!(w.verifying_time(), std::time::Duration::ZERO);
+        w.set_oracle(Box::new(Brute::default()));
+        w.step();
+        assert!(w.verifying_time() > std::time::Duration::ZERO);
     }
 }

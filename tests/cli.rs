@@ -363,3 +363,112 @@ fn speed_is_for_runs_on_screen_and_must_be_a_pace() {
         assert!(err.contains("is not a pace"), "{bad}: {err}");
     }
 }
+
+#[test]
+fn misplaced_arguments_get_messages_that_say_what_to_do() {
+    let path = temp_file("two-args.in", TWO_LINES);
+    let path = path.to_str().unwrap();
+    // A negative FRAMES is a bad FRAMES, not an unknown option.
+    let out = screensaver(&["-1", path]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(
+        err.contains("`-1` is not a whole number of frames"),
+        "{err}"
+    );
+    assert!(!err.contains("-- -1"), "{err}");
+    // A third positional argument is not a subcommand.
+    let out = screensaver(&["10", path, "extra"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = text(&out.stderr);
+    assert!(err.contains("unexpected argument `extra`"), "{err}");
+    assert!(!err.contains("subcommand"), "{err}");
+    // --cycle in a run of one scene.
+    let out = screensaver(&["10", "--cycle", "5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("--cycle sets how long"),
+        "{}",
+        text(&out.stderr)
+    );
+    // An SVG sequence.
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-svg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("s.svg");
+    let out = screensaver(&[
+        "10",
+        "--render",
+        svg.to_str().unwrap(),
+        "--render-every",
+        "5",
+    ]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("an SVG holds one picture"),
+        "{}",
+        text(&out.stderr)
+    );
+    assert!(!svg.exists());
+    // -h says nothing of text it does not show.
+    let out = screensaver(&["-h"]);
+    assert!(out.status.success());
+    assert!(
+        !text(&out.stdout).contains("see above"),
+        "{}",
+        text(&out.stdout)
+    );
+}
+
+#[test]
+fn xscreensavers_spellings_and_window_are_understood() {
+    // `-root`, as XScreenSaver hands it: read as --root, which needs a
+    // display.
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .arg("-root")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("XSCREENSAVER_WINDOW")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("cannot open a window: no display"), "{err}");
+    // Under XScreenSaver's window, pictures in files are refused, not
+    // skipped.
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["10", "--render", "x.png"])
+        .env("XSCREENSAVER_WINDOW", "0x200007")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("XSCREENSAVER_WINDOW is set"), "{err}");
+}
+
+#[test]
+fn a_png_sequence_times_the_simulation() {
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-seq-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = screensaver(&[
+        "300",
+        "--render",
+        dir.join("s.png").to_str().unwrap(),
+        "--render-every",
+        "10",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let stdout = text(&out.stdout);
+    // 301 steps of the built-in scene take time; the pictures' time is
+    // left out, not the steps' (the time of the first picture, drawn
+    // before the loop, was taken off the loop's time too, leaving 0).
+    let seconds: f64 = stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("Elapsed execution time: "))
+        .and_then(|t| t.strip_suffix('s'))
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert!(seconds > 0.0, "{stdout}");
+    let written = std::fs::read_dir(&dir).unwrap().count();
+    assert_eq!(written, 31, "steps 0, 10, ..., 300");
+}

@@ -195,6 +195,11 @@ pub enum RenderError {
     /// The file name does not end in a known extension.
     #[error("{0}: unknown picture type; use a name ending in .png, .gif or .svg")]
     UnknownType(PathBuf),
+    /// A frame every K steps asked of a type that holds one picture.
+    #[error(
+        "{0}: an SVG holds one picture, the last frame; leave out --render-every,          or name a .png (a numbered sequence) or a .gif"
+    )]
+    OneFrameOnly(PathBuf),
     /// Writing failed.
     #[error("{path}: cannot write: {message}")]
     Write {
@@ -235,6 +240,7 @@ impl Target {
             Some("png") if sequence => Ok(Target::PngSequence(path.to_path_buf())),
             Some("png") => Ok(Target::Png(path.to_path_buf())),
             Some("gif") => Ok(Target::Gif(path.to_path_buf())),
+            Some("svg") if sequence => Err(RenderError::OneFrameOnly(path.to_path_buf())),
             Some("svg") => Ok(Target::Svg(path.to_path_buf())),
             _ => Err(RenderError::UnknownType(path.to_path_buf())),
         }
