@@ -500,6 +500,13 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     let lines = cli.lines.unwrap_or(DEFAULT_LINES);
     let seed = first_seed(cli, endless);
     let kind_of = |k: u64| scene_kind(cli.kind, k);
+    let generated_name = |k: u64| {
+        format!(
+            "(none: generated {} scene, {lines} lines, seed {})",
+            kind_of(k),
+            seed.wrapping_add(k)
+        )
+    };
     let (scene, input_name) = match &input {
         Some(path) => {
             if cli.lines.is_some() || cli.kind.is_some() || cli.seed.is_some() {
@@ -519,10 +526,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             if cli.lines.is_none() && cli.kind.is_none() && cli.seed.is_none() && !endless {
                 format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})")
             } else {
-                format!(
-                    "(none: generated {} scene, {lines} lines, seed {seed})",
-                    kind_of(0)
-                )
+                generated_name(0)
             },
         ),
     };
@@ -573,10 +577,15 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         None => None,
     };
     let mut stdout = std::io::stdout().lock();
-    if !cli.json {
+    let header = |name: &str| {
         let frames = frames.map_or("endless".to_string(), |f| f.to_string());
-        let header = format!("Number of frames = {frames}\nInput file path is: {input_name}\n");
-        write_out(&mut stdout, &header)?;
+        format!("Number of frames = {frames}\nInput file path is: {name}\n")
+    };
+    // Generated scenes shown one after another: the results are the last
+    // scene's, so the header names it once the run has ended.
+    let cycling = display.is_some() && endless && input.is_none();
+    if !cli.json && !cycling {
+        write_out(&mut stdout, &header(&input_name))?;
     }
 
     let saver = cli.checkpoint.as_ref().map(|path| Saver {
@@ -632,15 +641,18 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             }?;
             if outcome.scenes > 1 {
                 eprintln!(
-                    "screensaver: showed {} scenes (seeds {} to {}); the counts are the last one's",
+                    "screensaver: showed {} scenes (seeds {} to {}); the results are the last one's",
                     outcome.scenes,
                     seed,
                     seed.wrapping_add(outcome.scenes - 1)
                 );
             }
+            if cycling && !cli.json {
+                write_out(&mut stdout, &header(&generated_name(outcome.scenes - 1)))?;
+            }
             world = outcome.world;
             drawn = Some(stats);
-            outcome.elapsed
+            outcome.scene_elapsed
         }
         None => {
             let (elapsed, pictures) =

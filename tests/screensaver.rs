@@ -273,6 +273,13 @@ fn endless_runs_start_new_scenes() {
         .unwrap_or_else(|| panic!("no scene count in {stderr}"));
     assert!(shown >= 3, "{stderr}");
     assert!(stderr.contains("(seeds 5 to "), "{stderr}");
+    // The results block is the last scene's, and its header names it.
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let last = 5 + shown - 1;
+    assert!(
+        stdout.contains(&format!("300 lines, seed {last})\n---- RESULTS ----")),
+        "{stdout}"
+    );
 }
 
 #[test]

@@ -210,6 +210,9 @@ pub struct Outcome {
     pub world: World,
     /// The time the simulation loop ran (pauses included).
     pub elapsed: Duration,
+    /// The time the last scene ran (all of `elapsed` unless generated
+    /// scenes were cycled).
+    pub scene_elapsed: Duration,
     /// Scenes shown (1 unless generated scenes were cycled).
     pub scenes: u64,
 }
@@ -345,6 +348,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
     Outcome {
         world,
         elapsed,
+        scene_elapsed: elapsed.min(scene_start.elapsed()),
         scenes: scene + 1,
     }
 }
@@ -483,6 +487,7 @@ mod tests {
         }
         let outcome = run.finish().unwrap();
         assert!(outcome.scenes >= 3, "{} scenes", outcome.scenes);
+        assert!(outcome.scene_elapsed < outcome.elapsed);
     }
 
     #[test]

@@ -368,12 +368,20 @@ impl GifWriter {
 
     /// Adds a frame, each pixel mapped to the nearest palette colour.
     pub fn add(&mut self, pixmap: &Pixmap) -> Result<(), RenderError> {
+        // Most pixels are the background or repeat their neighbour: the
+        // palette is searched only where the colour changes.
+        let mut last = None;
         let indices: Vec<u8> = pixmap
             .pixels()
             .iter()
-            .map(|p| {
-                let c = p.demultiply();
-                nearest(&self.palette, [c.red(), c.green(), c.blue()])
+            .map(|&p| match last {
+                Some((q, index)) if q == p => index,
+                _ => {
+                    let c = p.demultiply();
+                    let index = nearest(&self.palette, [c.red(), c.green(), c.blue()]);
+                    last = Some((p, index));
+                    index
+                }
             })
             .collect();
         let mut frame = gif::Frame {
