@@ -22,6 +22,31 @@
 //!
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
+//!
+//! Words the files use:
+//! - *box*: a line's padded swept hull, eight `f32` lanes ([`hull::Packed`]);
+//! - *slot*: where a line sits in the world's storage; the arrays of boxes
+//!   name lines by slot;
+//! - *key*: a box's least value along the direction swept ([`hull::lo`]);
+//! - *along*, *across*: the direction swept, and the one the bands cut;
+//! - *boxed*: the boxes with a finite hull, first in the order;
+//! - *band*: a stretch across; a box's *home* band holds its least value
+//!   across, and it is a *guest* in each band above that its hull reaches
+//!   into; *entries* are homes and guests together;
+//! - *layout*: the boxes band by band, homes then guests, each sorted;
+//!   *kept* (last step's, updated) or laid out *anew*;
+//! - *mover*: a box whose home band changed since the last step, a
+//!   *leaver* as its old band sees it and a *newcomer* as its new one does;
+//! - *reach*: what a box's lanes are compared with ([`hull::reach`]);
+//! - *group*: the consecutive bands one thread lays out and sweeps; a
+//!   *seam* is where two groups meet;
+//! - *plan*: the direction and the bands, chosen on a sample from the
+//!   *spread* of each direction; a *trial* is a step with another band
+//!   count;
+//! - *chunk*: a thread's findings (events, counts, pairs), and in the
+//!   one-band sweep on a team, a run of boxes swept at a time;
+//! - *dense*: last step's candidates per entry were many, so the scan
+//!   takes its loop for crowded bands.
 
 pub(crate) mod bands;
 pub(crate) mod hull;
@@ -483,7 +508,9 @@ impl Sweep {
     }
 
     /// Finds the events among `stored`'s lines (see [`Detector::detect`]
-    /// and [`Detector::detect_stored`]).
+    /// and [`Detector::detect_stored`]): the hulls (and now and then a
+    /// plan), the boxes in order (one band) or laid out band by band, the
+    /// sweep, then the wild lines against every box.
     fn detect_lines(&mut self, stored: Stored, dt: f64, events: &mut Vec<Event>) {
         let lines = stored.lines;
         let before = events.len();
@@ -506,74 +533,9 @@ impl Sweep {
 
         self.start_trial();
         self.seam_bands();
-        let bands = self.plan.bands;
         let n = lines.len();
-        // On a team, with the layout kept, each member sweeps its group of
-        // bands as soon as it has laid it out, into its chunk's findings:
-        // then `swept` holds when the caller's own layout ended.
-        let mut swept = None;
-        let (boxed, entries) = if bands.count > 1 {
-            let parallel = self.parallel(n);
-            // A handle of its own, as the boxes are about to be borrowed
-            // mutably.
-            let team = self.team_for(n).and(self.team.clone());
-            let groups = self.layout_groups(n);
-            // Last step's layout updated when it has the same bands;
-            // otherwise laid out anew.
-            self.lap(Phase::Sort);
-            let mut found = std::mem::take(&mut self.chunks);
-            let kept = match team.as_deref() {
-                Some(team) => {
-                    // Each member sweeps the bands it laid out while they are
-                    // at hand, with no wait for the others in between.
-                    // A member without a group (fewer bands than threads)
-                    // finds nothing: every member's chunk starts empty.
-                    found.resize_with(team.threads().max(found.len()), Mutex::default);
-                    for chunk in &mut found[..team.threads()] {
-                        chunk.get_mut().expect("a group's findings").counts = PairCounts::default();
-                    }
-                    let layout_end = Mutex::new(None);
-                    let (along, dense) = (self.plan.along, self.dense);
-                    let sweep_each = |group: GroupView| {
-                        if group.index == 0 {
-                            *layout_end.lock().expect("the layout's end") = Some(Instant::now());
-                        }
-                        let mut chunk = found[group.index].lock().expect("a group's findings");
-                        let Chunk {
-                            events,
-                            counts,
-                            pairs,
-                            entries,
-                        } = &mut *chunk;
-                        let test = tester(stored, dt, events, counts);
-                        let candidates = scan::sweep_group(&group, along, dense, pairs, test);
-                        counts.candidates = candidates;
-                        *entries = group.keys.len() + group.guest_count();
-                    };
-                    let then = Some(&sweep_each as layout::ThenEach);
-                    let kept =
-                        (self.layout).keep(&mut self.sorted, n, &bands, groups, Some(team), then);
-                    if kept.is_some() {
-                        swept = Some(layout_end.into_inner().expect("the layout's end"));
-                    }
-                    kept
-                }
-                None => self
-                    .layout
-                    .keep(&mut self.sorted, n, &bands, groups, None, None),
-            };
-            self.chunks = found;
-            let boxed = match kept {
-                Some(boxed) => boxed,
-                None => {
-                    self.layout
-                        .classify(&self.sorted, n, &bands, parallel, team.as_deref());
-                    self.lap(Phase::Sort);
-                    self.layout
-                        .lay_out(&mut self.sorted, n, &bands, groups, team.as_deref())
-                }
-            };
-            (boxed, boxed + self.layout.guest_count())
+        let (boxed, entries, swept) = if self.plan.bands.count > 1 {
+            self.lay_out_bands(stored, dt)
         } else {
             self.layout.forget();
             // A handle of its own, as the boxes are about to be borrowed
@@ -581,7 +543,7 @@ impl Sweep {
             let team = self.team_for(n).and(self.team.clone());
             let boxed = self.sorted.sort(team.as_deref());
             self.lap(Phase::Sort);
-            (boxed, boxed)
+            (boxed, boxed, None)
         };
         self.wild.clear();
         self.wild.extend(
@@ -598,21 +560,137 @@ impl Sweep {
             _ => self.lap(Phase::Layout),
         }
 
+        let mut counts = if swept.is_some() {
+            self.join_swept_groups(events)
+        } else {
+            self.sweep_boxes(stored, dt, boxed, entries, events)
+        };
+        test_wild(
+            lines,
+            |k| stored.id(k),
+            &self.wild,
+            self.sorted.ids[..boxed].iter().copied(),
+            dt,
+            events,
+            &mut counts,
+        );
+        self.end_step(entries, counts.candidates);
+        self.dense = counts.candidates as f64 > DENSE * entries as f64;
+        self.lap(Phase::Sweep);
+
+        self.stats.candidate_pairs += counts.candidates;
+        self.stats.exact_tests += counts.exact;
+        self.stats.events += (events.len() - before) as u64;
+    }
+
+    /// Lays the boxes out in this step's bands: last step's layout updated
+    /// when it has the same bands, otherwise laid out anew. Returns the
+    /// boxes with a finite hull, the entries (homes and guests), and, on a
+    /// team that kept the layout, `Some` of when the stepping thread's own
+    /// layout ended: each member has then swept its group of bands as soon
+    /// as it laid it out, into its chunk's findings.
+    fn lay_out_bands(
+        &mut self,
+        stored: Stored,
+        dt: f64,
+    ) -> (usize, usize, Option<Option<Instant>>) {
+        let n = stored.lines.len();
+        let bands = self.plan.bands;
+        let mut swept = None;
+        let parallel = self.parallel(n);
+        // A handle of its own, as the boxes are about to be borrowed
+        // mutably.
+        let team = self.team_for(n).and(self.team.clone());
+        let groups = self.layout_groups(n);
+        self.lap(Phase::Sort);
+        let mut found = std::mem::take(&mut self.chunks);
+        let kept = match team.as_deref() {
+            Some(team) => {
+                // Each member sweeps the bands it laid out while they are
+                // at hand, with no wait for the others in between.
+                // A member without a group (fewer bands than threads)
+                // finds nothing: every member's chunk starts empty.
+                found.resize_with(team.threads().max(found.len()), Mutex::default);
+                for chunk in &mut found[..team.threads()] {
+                    chunk.get_mut().expect("a group's findings").counts = PairCounts::default();
+                }
+                let layout_end = Mutex::new(None);
+                let (along, dense) = (self.plan.along, self.dense);
+                let sweep_each = |group: GroupView| {
+                    if group.index == 0 {
+                        *layout_end.lock().expect("the layout's end") = Some(Instant::now());
+                    }
+                    let mut chunk = found[group.index].lock().expect("a group's findings");
+                    let Chunk {
+                        events,
+                        counts,
+                        pairs,
+                        entries,
+                    } = &mut *chunk;
+                    let test = tester(stored, dt, events, counts);
+                    let candidates = scan::sweep_group(&group, along, dense, pairs, test);
+                    counts.candidates = candidates;
+                    *entries = group.keys.len() + group.guest_count();
+                };
+                let then = Some(&sweep_each as layout::ThenEach);
+                let kept =
+                    (self.layout).keep(&mut self.sorted, n, &bands, groups, Some(team), then);
+                if kept.is_some() {
+                    swept = Some(layout_end.into_inner().expect("the layout's end"));
+                }
+                kept
+            }
+            None => self
+                .layout
+                .keep(&mut self.sorted, n, &bands, groups, None, None),
+        };
+        self.chunks = found;
+        let boxed = match kept {
+            Some(boxed) => boxed,
+            None => {
+                self.layout
+                    .classify(&self.sorted, n, &bands, parallel, team.as_deref());
+                self.lap(Phase::Sort);
+                self.layout
+                    .lay_out(&mut self.sorted, n, &bands, groups, team.as_deref())
+            }
+        };
+        (boxed, boxed + self.layout.guest_count(), swept)
+    }
+
+    /// The findings of groups swept as they were laid out, put together in
+    /// group order (a member without a group found nothing); their times
+    /// go to the seams.
+    fn join_swept_groups(&mut self, events: &mut Vec<Event>) -> PairCounts {
         let mut counts = PairCounts::default();
+        let threads = self.team.as_deref().map_or(1, Team::threads);
+        if let Some(team) = self.team.as_deref() {
+            let entries = (self.chunks[..threads].iter_mut())
+                .map(|c| c.get_mut().expect("a group's findings").entries);
+            let groups = team.last_parts().zip(entries);
+            (self.seams).add_step(&self.plan.bands, &self.layout, groups);
+        }
+        join_findings(&mut self.chunks[..threads], events, &mut counts);
+        counts
+    }
+
+    /// Sweeps the boxed lines laid out (or sorted, with one band) and
+    /// tests the pairs whose hulls overlap: on the pool in groups of
+    /// bands, on a team one group of bands a member (or with one band,
+    /// chunks of the order as the members come), or on this thread.
+    fn sweep_boxes(
+        &mut self,
+        stored: Stored,
+        dt: f64,
+        boxed: usize,
+        entries: usize,
+        events: &mut Vec<Event>,
+    ) -> PairCounts {
+        let bands = self.plan.bands;
         // A handle of its own: the chunks' buffers are taken from `self`.
         let team = self.team_for(entries).and(self.team.clone());
-        if swept.is_some() {
-            // Swept as laid out: the findings put together in group order
-            // (a member without a group found nothing).
-            let threads = self.team.as_deref().map_or(1, Team::threads);
-            if let Some(team) = self.team.as_deref() {
-                let entries = (self.chunks[..threads].iter_mut())
-                    .map(|c| c.get_mut().expect("a group's findings").entries);
-                let groups = team.last_parts().zip(entries);
-                (self.seams).add_step(&bands, &self.layout, groups);
-            }
-            join_findings(&mut self.chunks[..threads], events, &mut counts);
-        } else if self.parallel(entries) && bands.count > 1 {
+        let mut counts = PairCounts::default();
+        if self.parallel(entries) && bands.count > 1 {
             use rayon::prelude::*;
             let groups = self
                 .layout
@@ -630,82 +708,91 @@ impl Sweep {
                 counts.add(&c);
             }
         } else if let (Some(team), true) = (team.as_deref(), bands.count > 1) {
-            // One group of bands per member, about the bands whose layout
-            // it kept: each reads the boxes it wrote and the lines it moved,
-            // where bands taken as the members finish one (four groups a
-            // member) mixed them between the cores' caches (`koch` two
-            // threads 0.090 s against 0.097, 10,000 lines 0.348 against
-            // 0.370, medians of 15 and 7 interleaved rounds). The findings
-            // are put together in group order.
-            let groups = self.layout.group_bounds(&bands, team.threads());
-            let mut found = std::mem::take(&mut self.chunks);
-            found.resize_with(groups.len().max(found.len()), Mutex::default);
-            let threads = team.threads();
-            team.run(&|k| {
-                for g in team::share(groups.len(), threads, k) {
-                    let mut chunk = found[g].lock().expect("a group's findings");
-                    let Chunk { events, counts, .. } = &mut *chunk;
-                    *counts = self.sweep_bands(stored, dt, boxed, groups[g].clone(), events);
-                }
-            });
-            join_findings(&mut found[..groups.len()], events, &mut counts);
-            self.chunks = found;
+            self.sweep_groups_on(team, stored, dt, boxed, events, &mut counts);
         } else if let Some(team) = team.as_deref() {
-            // One band: the boxes are swept a chunk at a time (each box
-            // against the boxes after it, wherever they lie), the members
-            // taking the next chunk as they finish one, since some stretches
-            // of the order meet far more pairs than others; the findings are
-            // put together in chunk order.
-            let chunks = boxed.div_ceil(TEAM_SWEEP_CHUNK);
-            let next = AtomicUsize::new(0);
-            let mut found = std::mem::take(&mut self.chunks);
-            found.resize_with(chunks.max(found.len()), Mutex::default);
-            let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
-            team.run(&|_| loop {
-                let c = next.fetch_add(1, Ordering::Relaxed);
-                if c >= chunks {
-                    break;
-                }
-                let mut chunk = found[c].lock().expect("a chunk's findings");
-                let Chunk {
-                    events,
-                    counts,
-                    pairs,
-                    ..
-                } = &mut *chunk;
-                *counts = PairCounts::default();
-                let range = c * TEAM_SWEEP_CHUNK..((c + 1) * TEAM_SWEEP_CHUNK).min(boxed);
-                let candidates = scan::sweep_sorted(
-                    sorted,
-                    range,
-                    along,
-                    dense,
-                    pairs,
-                    tester(stored, dt, events, counts),
-                );
-                counts.candidates = candidates;
-            });
-            join_findings(&mut found[..chunks], events, &mut counts);
-            self.chunks = found;
+            self.sweep_chunks_on(team, stored, dt, boxed, events, &mut counts);
         } else {
             counts.add(&self.sweep_bands(stored, dt, boxed, 0..bands.count, events));
         }
-        test_wild(
-            lines,
-            |k| stored.id(k),
-            &self.wild,
-            self.sorted.ids[..boxed].iter().copied(),
-            dt,
-            events,
-            &mut counts,
-        );
-        self.end_step(entries, counts.candidates);
-        self.dense = counts.candidates as f64 > DENSE * entries as f64;
-        self.lap(Phase::Sweep);
+        counts
+    }
 
-        self.stats.candidate_pairs += counts.candidates;
-        self.stats.exact_tests += counts.exact;
-        self.stats.events += (events.len() - before) as u64;
+    /// [`Sweep::sweep_boxes`] on a team, with several bands: one group of
+    /// bands per member, about the bands whose layout it kept, so that
+    /// each reads the boxes it wrote and the lines it moved, where bands
+    /// taken as the members finish one (four groups a member) mixed them
+    /// between the cores' caches (`koch` two threads 0.090 s against 0.097,
+    /// 10,000 lines 0.348 against 0.370, medians of 15 and 7 interleaved
+    /// rounds). The findings are put together in group order.
+    fn sweep_groups_on(
+        &mut self,
+        team: &Team,
+        stored: Stored,
+        dt: f64,
+        boxed: usize,
+        events: &mut Vec<Event>,
+        counts: &mut PairCounts,
+    ) {
+        let groups = self.layout.group_bounds(&self.plan.bands, team.threads());
+        let mut found = std::mem::take(&mut self.chunks);
+        found.resize_with(groups.len().max(found.len()), Mutex::default);
+        let threads = team.threads();
+        team.run(&|k| {
+            for g in team::share(groups.len(), threads, k) {
+                let mut chunk = found[g].lock().expect("a group's findings");
+                let Chunk { events, counts, .. } = &mut *chunk;
+                *counts = self.sweep_bands(stored, dt, boxed, groups[g].clone(), events);
+            }
+        });
+        join_findings(&mut found[..groups.len()], events, counts);
+        self.chunks = found;
+    }
+
+    /// [`Sweep::sweep_boxes`] on a team, with one band: the boxes are
+    /// swept a chunk at a time (each box against the boxes after it,
+    /// wherever they lie), the members taking the next chunk as they
+    /// finish one, since some stretches of the order meet far more pairs
+    /// than others; the findings are put together in chunk order.
+    fn sweep_chunks_on(
+        &mut self,
+        team: &Team,
+        stored: Stored,
+        dt: f64,
+        boxed: usize,
+        events: &mut Vec<Event>,
+        counts: &mut PairCounts,
+    ) {
+        let chunks = boxed.div_ceil(TEAM_SWEEP_CHUNK);
+        let next = AtomicUsize::new(0);
+        let mut found = std::mem::take(&mut self.chunks);
+        found.resize_with(chunks.max(found.len()), Mutex::default);
+        let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
+        team.run(&|_| loop {
+            let c = next.fetch_add(1, Ordering::Relaxed);
+            if c >= chunks {
+                break;
+            }
+            let mut chunk = found[c].lock().expect("a chunk's findings");
+            let Chunk {
+                events,
+                counts,
+                pairs,
+                ..
+            } = &mut *chunk;
+            *counts = PairCounts::default();
+            let range = c * TEAM_SWEEP_CHUNK..((c + 1) * TEAM_SWEEP_CHUNK).min(boxed);
+            let candidates = scan::sweep_sorted(
+                sorted,
+                range,
+                along,
+                dense,
+                pairs,
+                tester(stored, dt, events, counts),
+            );
+            counts.candidates = candidates;
+        });
+        join_findings(&mut found[..chunks], events, counts);
+        self.chunks = found;
     }
 }
 
