@@ -8,7 +8,7 @@ use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_D
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::output;
 use screensaver::render::live::{DrawStats, Pace, Scenes};
-use screensaver::render::{self, embedded, window, Frames, Recorder, Size, Target};
+use screensaver::render::{embedded, window, Frames, Recorder, Size, Target};
 use screensaver::stop::Signal;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
@@ -1030,15 +1030,7 @@ fn simulate(
     let pictures = match recorder {
         Some(recorder) => {
             let started = Instant::now();
-            let frames = recorder
-                .finish(
-                    world,
-                    match stopped {
-                        Some(_) => render::Ended::Early,
-                        None => render::Ended::Complete,
-                    },
-                )
-                .map_err(|e| e.to_string())?;
+            let frames = recorder.finish(world).map_err(|e| e.to_string())?;
             drawing += started.elapsed();
             Some(DrawStats {
                 frames,

@@ -142,11 +142,17 @@ fn sequences_number_every_kth_frame() {
         assert!(frame.is_file(), "{}", frame.display());
     }
     assert!(!dir.join("run-000001.png").exists());
-    // 12 frames run 13 steps: every fifth, and not the last step besides.
+    // 12 frames run 13 steps: every fifth, and the last step besides, so
+    // that the sequence shows where the run got to.
     let (_, written) = render_sequence("seq-end", "12", "5");
     assert_eq!(
         written,
-        ["run-000000.png", "run-000005.png", "run-000010.png"]
+        [
+            "run-000000.png",
+            "run-000005.png",
+            "run-000010.png",
+            "run-000013.png"
+        ]
     );
 }
 

@@ -210,15 +210,6 @@ pub enum RenderError {
     },
 }
 
-/// How a recorded run ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Ended {
-    /// Every step ran.
-    Complete,
-    /// Stopped before its last step (a signal, an error).
-    Early,
-}
-
 /// Which frames a run's pictures hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Frames {
@@ -463,15 +454,15 @@ impl Recorder {
 
     /// Closes the output: a PNG or SVG gets its one frame, the world as it
     /// ends; a sequence or GIF, which has a frame every `every` steps,
-    /// also gets the step a run [`Ended::Early`] at (so that an interrupted
-    /// run's last state is pictured), unless that frame was just written.
-    /// Returns the frames written in all.
-    pub fn finish(mut self, world: &World, ended: Ended) -> Result<u64, RenderError> {
+    /// also gets the last step, whether the run ended or was stopped (so
+    /// that the pictures show where the run got to), unless that frame was
+    /// just written. Returns the frames written in all.
+    pub fn finish(mut self, world: &World) -> Result<u64, RenderError> {
         match &self.target {
             Target::Png(path) => save_png(&frame(world, self.size), path)?,
             Target::Svg(path) => save_svg(world, self.size, path)?,
             Target::PngSequence(_) | Target::Gif(_) => {
-                if ended == Ended::Early && self.last_written != Some(world.steps()) {
+                if self.last_written != Some(world.steps()) {
                     self.write_frame(world)?;
                 }
                 if let Some(gif) = self.gif.take() {
