@@ -26,10 +26,10 @@
 //! The checksum (64-bit FNV-1a of every byte before its line) makes any
 //! edit or damage a located error rather than another run.
 
+use crate::counters::Counters;
 use crate::line::{Color, Line};
 use crate::plural;
 use crate::scene::Scene;
-use crate::world::Counters;
 use crate::Vec2;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

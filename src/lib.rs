@@ -22,11 +22,13 @@
 
 pub mod broad_phase;
 pub mod checkpoint;
+mod counters;
 pub mod detect;
 pub mod generate;
 pub mod geometry;
 pub mod line;
 pub mod maths;
+pub(crate) mod motion;
 pub mod narrow;
 pub mod output;
 #[cfg(feature = "render")]

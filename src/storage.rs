@@ -24,10 +24,10 @@
 //! [`Detector::storage_order`]: crate::detect::Detector::storage_order
 
 use crate::line::Line;
+use crate::motion::advance_and_bounce;
 use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::team::{self, Team};
-use crate::world::advance_and_bounce;
 
 /// Lines copied and moved at a time (6 KB of them).
 const BLOCK: usize = 128;

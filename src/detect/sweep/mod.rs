@@ -1001,7 +1001,7 @@ mod tests {
                 "step {step}, bands {:?}",
                 sweep.plan.bands
             );
-            crate::world::advance_and_bounce(&mut lines);
+            crate::motion::advance_and_bounce(&mut lines);
         }
         assert!(seamed > 30, "the scene was not cut into bands: {seamed}");
         assert!(
