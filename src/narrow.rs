@@ -93,16 +93,18 @@ pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
 /// of values that underflow, far below any distance that matters.
 const MARGIN_FLOOR: f64 = 1e-300;
 
-/// Whether `l2` slides along its own supporting line relative to `l1`
-/// (the relative motion parallel to it, to 1e-9) with both of `l1`'s
-/// endpoints on that line (to 1e-9 of the coordinates' magnitude): the
-/// "sliver" class of the contract. There the four corners of the swept
-/// parallelogram are nearly collinear and, once rounded, not quite
-/// parallel, so [`intersect`] can report [`IntersectionKind::L1WithL2`]
-/// for a segment lying on the line far outside the sweep; the fast
-/// detectors, which test only pairs whose swept hulls meet, do not report
-/// it. The documented exception to their agreement with the all-pairs
-/// detector (`--verify` names it).
+/// Whether the swept parallelogram of `l2` relative to `l1` is a sliver
+/// along `l2`'s supporting line, with both of `l1`'s endpoints on that line
+/// (to 1e-9 of the coordinates' magnitude): the "sliver" class of the
+/// contract. Its four corners are nearly collinear when `l2` slides along
+/// its own line (the relative motion parallel to it, to 1e-9) or when the
+/// relative motion is itself within 1e-9 of the coordinates' magnitude
+/// (rounding the corners then moves them as far as the motion does). Once
+/// rounded they are not quite parallel, so [`intersect`] can report
+/// [`IntersectionKind::L1WithL2`] for a segment lying on the line far
+/// outside the sweep; the fast detectors, which test only pairs whose
+/// swept hulls meet, do not report it. The documented exception to their
+/// agreement with the all-pairs detector (`--verify` names it).
 pub fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
     let cross = |a: Vec2, b: Vec2| a.x * b.y - a.y * b.x;
     let (d, rel) = (l2.p2 - l2.p1, (l2.v - l1.v) * dt);
@@ -111,8 +113,9 @@ pub fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
         .map(|p| p.x.abs().max(p.y.abs()))
         .fold(0.0, f64::max);
     let along = cross(d, rel).abs() <= 1e-9 * d.length() * rel.length();
+    let negligible = rel.length() <= 1e-9 * magnitude;
     let on_line = |p: Vec2| cross(d, p - l2.p1).abs() <= 1e-9 * magnitude * d.length();
-    along && on_line(l1.p1) && on_line(l1.p2)
+    (along || negligible) && on_line(l1.p1) && on_line(l1.p2)
 }
 
 /// A cheap, conservative test for [`intersect`]: returns `false` only when
@@ -147,7 +150,39 @@ pub fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    use crate::line::DT;
     use crate::test_util::line;
+
+    #[test]
+    fn a_motion_within_rounding_makes_a_sliver_too() {
+        // Found by the step fuzz target: a point on the extension of a
+        // long segment, which moves by a few units in the last place
+        // relative to it, diagonally. Rounding the swept corners makes a
+        // sliver along the segment's line that takes the point in.
+        let point = Line {
+            p1: Vec2::new(1.2965673932653858, 1.3604056655850714),
+            p2: Vec2::new(1.2965673932653858, 1.3604056655850714),
+            v: Vec2::new(2.220446049250313e-16, 2.220446049250313e-16),
+        };
+        let segment = Line {
+            p1: Vec2::new(0.711020828564889, 1.0393705653467613),
+            p2: Vec2::new(1.9172849974227967e-230, 0.6495422293430991),
+            v: Vec2::new(-0.0, 0.0),
+        };
+        assert_eq!(
+            intersect(&point, &segment, DT),
+            Some(IntersectionKind::L1WithL2)
+        );
+        assert!(is_sliver(&point, &segment, DT));
+        // The same motion with the point off the line is no sliver.
+        let off = Line {
+            p1: Vec2::new(1.2965673932653858, 1.4),
+            p2: Vec2::new(1.2965673932653858, 1.4),
+            ..point
+        };
+        assert!(!is_sliver(&off, &segment, DT));
+    }
 
     #[test]
     fn crossing_lines_are_already_intersected() {
