@@ -491,3 +491,48 @@ fn a_png_sequence_times_the_simulation() {
     names.sort();
     assert_eq!(names, ["s-000000.png", "s-000300.png"]);
 }
+
+#[test]
+fn every_option_the_xscreensaver_settings_offer_is_accepted() {
+    let xml = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("contrib/xscreensaver/screensaver.xml"),
+    )
+    .unwrap();
+    // Each arg-set as it is; each number control at its low, default and
+    // high values.
+    let attribute = |element: &str, name: &str| {
+        let start = element.find(&format!("{name}=\""))? + name.len() + 2;
+        let end = element[start..].find('"')? + start;
+        Some(element[start..end].to_string())
+    };
+    let mut sets = Vec::new();
+    for element in xml.split('<').skip(1) {
+        if let Some(set) = attribute(element, "arg-set") {
+            sets.push(set);
+        }
+        if let Some(arg) = attribute(element, "arg") {
+            for bound in ["low", "default", "high"] {
+                let value = attribute(element, bound).expect("a number control's bounds");
+                sets.push(arg.replace('%', &value));
+            }
+        }
+    }
+    assert!(sets.len() >= 20, "{sets:?}");
+    for set in sets {
+        // On the root window with no display: past the command line, the
+        // run stops at the display (status 1); a refused option is a usage
+        // error (status 2).
+        let mut args = vec!["--root"];
+        args.extend(set.split_whitespace());
+        let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+            .args(&args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .env_remove("XSCREENSAVER_WINDOW")
+            .output()
+            .unwrap();
+        let err = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{set}: {err}");
+        assert!(err.contains("no display"), "{set}: {err}");
+    }
+}
