@@ -4,7 +4,7 @@
 //! once, removing the temporary files of outputs being written.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::OnceLock;
+use std::sync::Mutex;
 
 /// The signals that stop a run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -36,13 +36,23 @@ impl Signal {
             Signal::Terminate => signal_hook::consts::SIGTERM,
         }
     }
+
+    /// The signal of this number (SIGTERM's, or else SIGINT: the only two
+    /// the handlers take).
+    fn from_number(number: i32) -> Signal {
+        if number == signal_hook::consts::SIGTERM {
+            Signal::Terminate
+        } else {
+            Signal::Interrupt
+        }
+    }
 }
 
 /// The number of the first signal received (0 for none).
 static RECEIVED: AtomicUsize = AtomicUsize::new(0);
 
 /// Whether the handlers are installed.
-static INSTALLED: OnceLock<()> = OnceLock::new();
+static INSTALLED: Mutex<bool> = Mutex::new(false);
 
 /// Installs the handlers (once; later calls do nothing). Until it is
 /// called, signals end the process as they do by default.
@@ -52,7 +62,8 @@ static INSTALLED: OnceLock<()> = OnceLock::new();
 /// written ([`crate::output::remove_temporaries`]) before the process
 /// ends with the usual status.
 pub fn install() -> std::io::Result<()> {
-    if INSTALLED.get().is_some() {
+    let mut installed = INSTALLED.lock().unwrap_or_else(|e| e.into_inner());
+    if *installed {
         return Ok(());
     }
     let numbers = [Signal::Interrupt, Signal::Terminate].map(Signal::number);
@@ -68,11 +79,11 @@ pub fn install() -> std::io::Result<()> {
                     .is_err()
                 {
                     crate::output::remove_temporaries();
-                    std::process::exit(128 + number);
+                    std::process::exit(i32::from(Signal::from_number(number).exit_status()));
                 }
             }
         })?;
-    let _ = INSTALLED.set(());
+    *installed = true;
     Ok(())
 }
 
@@ -80,7 +91,6 @@ pub fn install() -> std::io::Result<()> {
 pub fn requested() -> Option<Signal> {
     match RECEIVED.load(Ordering::Relaxed) as i32 {
         0 => None,
-        n if n == signal_hook::consts::SIGTERM => Some(Signal::Terminate),
-        _ => Some(Signal::Interrupt),
+        n => Some(Signal::from_number(n)),
     }
 }
