@@ -390,12 +390,13 @@ impl Checkpoint {
             lines.push(l);
             colors.push(color);
         }
+        // The line where the next row (or the checksum) should be: the
+        // text's last line, if it ends without one.
+        let next_line =
+            || (5 + lines.len() + 1).min(text.iter().filter(|&&b| b == b'\n').count() + 1);
         if lines.len() < count {
-            // The line where the next row should be (the text's last line,
-            // if it ends without one).
-            let last = text.iter().filter(|&&b| b == b'\n').count() + 1;
             return Err(fail(
-                (5 + lines.len() + 1).min(last),
+                next_line(),
                 format!(
                     "the checkpoint declares {} but ends after {}",
                     plural(count as u64, "line"),
@@ -404,9 +405,8 @@ impl Checkpoint {
             ));
         }
         if !summed {
-            let last = text.iter().filter(|&&b| b == b'\n').count() + 1;
             return Err(fail(
-                (5 + lines.len() + 1).min(last),
+                next_line(),
                 format!("the checkpoint ends without its `{CHECKSUM}` line: cut short?"),
             ));
         }
