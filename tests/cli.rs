@@ -471,25 +471,6 @@ fn a_png_sequence_times_the_simulation() {
     assert!(seconds > 0.0, "{stdout}");
     let written = std::fs::read_dir(&dir).unwrap().count();
     assert_eq!(written, 32, "steps 0, 10, ..., 300, and the last, 301");
-    // A K longer than the run: the first step and the last.
-    let dir = dir.join("long");
-    std::fs::create_dir_all(&dir).unwrap();
-    let out = screensaver(&[
-        "299",
-        "--render",
-        dir.join("s.png").to_str().unwrap(),
-        "--render-every",
-        "301",
-        "--size",
-        "118x80",
-    ]);
-    assert!(out.status.success(), "{}", text(&out.stderr));
-    let mut names: Vec<String> = std::fs::read_dir(&dir)
-        .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    names.sort();
-    assert_eq!(names, ["s-000000.png", "s-000300.png"]);
 }
 
 #[test]

@@ -154,6 +154,9 @@ fn sequences_number_every_kth_frame() {
             "run-000013.png"
         ]
     );
+    // A K longer than the run: the first step and the last.
+    let (_, written) = render_sequence("seq-long", "12", "20");
+    assert_eq!(written, ["run-000000.png", "run-000013.png"]);
 }
 
 #[test]
