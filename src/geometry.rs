@@ -80,23 +80,13 @@ impl Vec2 {
     /// `|self| |other|`, and the product's rounding error below `2^-51 T`),
     /// the exact angles differ by more than 2^-41, many units in the last
     /// place of any angle, so their correctly rounded values keep their
-    /// order and differ. Anything else (nearly parallel, zero `y`, huge,
-    /// tiny, infinite, NaN) takes both angles.
+    /// order and differ. Vectors along an axis have the exact angles 0,
+    /// pi/2 and pi (see [`axis_against`]). Anything else (nearly
+    /// parallel, huge, tiny, infinite, NaN) takes both angles.
     #[inline]
     pub fn angle_difference_sign(self, other: Self) -> f64 {
-        if let Some(sign) = self.angle_order_fast(other) {
-            return sign;
-        }
-        let difference = self.angle() - other.angle();
-        if difference.is_nan() {
-            difference
-        } else if difference > 0.0 {
-            1.0
-        } else if difference < 0.0 {
-            -1.0
-        } else {
-            0.0
-        }
+        self.angle_order_fast(other)
+            .unwrap_or_else(|| sign_of(self.angle() - other.angle()))
     }
 
     /// The fast path of [`Vec2::angle_difference_sign`]: `None` where it
@@ -132,12 +122,7 @@ impl Vec2 {
                         std::f64::consts::PI.copysign(v.y)
                     }
                 };
-                let difference = on_axis(self) - on_axis(other);
-                return Some(if difference == 0.0 {
-                    0.0
-                } else {
-                    sign(difference > 0.0)
-                });
+                return Some(sign_of(on_axis(self) - on_axis(other)));
             }
             (true, false) => {
                 if !(ordinary(self.x) && ordinary(other.y) && x_ok(other.x)) {
@@ -156,7 +141,7 @@ impl Vec2 {
             return None;
         }
         if (self.y > 0.0) != (other.y > 0.0) {
-            return Some(if self.y > 0.0 { 1.0 } else { -1.0 });
+            return Some(sign(self.y > 0.0));
         }
         if self.x == 0.0 && other.x == 0.0 {
             // Both pi/2, or both -pi/2.
@@ -165,7 +150,7 @@ impl Vec2 {
         let cross = other.x * self.y - other.y * self.x;
         let bound = (self.x.abs() + self.y.abs()) * (other.x.abs() + other.y.abs());
         if cross.abs() > bound * MARGIN {
-            Some(if cross > 0.0 { 1.0 } else { -1.0 })
+            Some(sign(cross > 0.0))
         } else {
             None
         }
@@ -175,6 +160,20 @@ impl Vec2 {
     #[inline]
     pub fn has_nan(self) -> bool {
         self.x.is_nan() || self.y.is_nan()
+    }
+}
+
+/// `-1.0`, `0.0` or `1.0` by the sign of `difference` (either zero gives
+/// `0.0`), NaN for NaN.
+fn sign_of(difference: f64) -> f64 {
+    if difference > 0.0 {
+        1.0
+    } else if difference < 0.0 {
+        -1.0
+    } else if difference == 0.0 {
+        0.0
+    } else {
+        difference
     }
 }
 

@@ -112,7 +112,7 @@ pub struct World {
     slivers: u64,
     first_sliver: Option<(u64, Event)>,
     /// Time spent checking steps against the oracle.
-    verifying: std::time::Duration,
+    verifying: Duration,
     /// The lines' ids by slot, once the detector has had them stored in
     /// its own order (see [`crate::storage`]); until then slots are ids.
     storage: Option<Storage>,
@@ -161,7 +161,7 @@ impl World {
             pool: None,
             team: None,
             oracle: None,
-            verifying: std::time::Duration::ZERO,
+            verifying: Duration::ZERO,
             mismatch: None,
             slivers: 0,
             first_sliver: None,
@@ -505,7 +505,7 @@ impl World {
 
     /// The time spent so far checking steps against the oracle (finding its
     /// events and comparing them), which a run's timing leaves out.
-    pub fn verifying_time(&self) -> std::time::Duration {
+    pub fn verifying_time(&self) -> Duration {
         self.verifying
     }
 
