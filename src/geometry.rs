@@ -81,7 +81,7 @@ impl Vec2 {
     /// the exact angles differ by more than 2^-41, many units in the last
     /// place of any angle, so their correctly rounded values keep their
     /// order and differ. Vectors along an axis have the exact angles 0,
-    /// pi/2 and pi (see [`axis_against`]). Anything else (nearly
+    /// pi/2 and pi (see `axis_against`). Anything else (nearly
     /// parallel, huge, tiny, infinite, NaN) takes both angles.
     #[inline]
     pub fn angle_difference_sign(self, other: Self) -> f64 {
