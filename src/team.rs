@@ -31,12 +31,14 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// Grains of work up to which the step shares a phase among its team rather
-/// than on rayon's pool: 4,194,304 boxes or lines at the default grain.
-/// With a grain of a few lines (as in tests) every phase goes to the pool.
+/// Grains of work up to which the world shares its own phases (moving the
+/// lines, resolving the events) among its team rather than on rayon's
+/// pool: 4,194,304 lines at the default grain. With a grain of a few lines
+/// (as in tests) they go to the pool. (The sweep's phases always go to the
+/// team.)
 pub const TEAM_GRAINS: usize = 256;
 
-/// Whether `work` boxes or lines of a phase go to the team: from `least`
+/// Whether `work` lines of the world's phases go to the team: from `least`
 /// (below, one thread does better) up to [`TEAM_GRAINS`] grains of
 /// `grain` (from there, rayon's pool).
 pub(crate) fn takes(work: usize, least: usize, grain: usize) -> bool {
@@ -140,13 +142,6 @@ struct Shared {
     busy: AtomicBool,
     /// Whether jobs are timed ([`Team::set_timing`]).
     timing: AtomicBool,
-    /// How long each piece of the last timed job took, in nanoseconds
-    /// (pieces past the first `threads` are not timed): written before the
-    /// piece counts as done.
-    parts: Vec<AtomicU64>,
-    /// Whether the current job's pieces are timed (set before the job is
-    /// handed out): by [`Team::run_timed`].
-    time_parts: AtomicBool,
     /// Tests: the longest a member waits, in nanoseconds, before it claims
     /// a piece of a job it has seen (a pseudo-random time up to this), as
     /// a member switched out by the scheduler would.
@@ -182,17 +177,9 @@ impl Shared {
     }
 
     /// Runs piece `k` of `job`, catching a panic (raised by the caller once
-    /// every piece is done), and timing it if asked.
+    /// every piece is done).
     fn run_piece(&self, job: &Job<'_>, k: usize) {
-        let took = (self.time_parts.load(Ordering::Relaxed))
-            .then(|| self.parts.get(k))
-            .flatten();
-        let start = took.map(|_| Instant::now());
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| job(k)));
-        if let (Some(took), Some(start)) = (took, start) {
-            let nanos = start.elapsed().as_nanos().try_into().unwrap_or(u64::MAX);
-            took.store(nanos, Ordering::Relaxed);
-        }
         if outcome.is_err() {
             self.panicked.store(true, Ordering::Relaxed);
         }
@@ -230,6 +217,11 @@ impl std::fmt::Debug for Team {
 }
 
 impl Team {
+    /// A team of one: jobs run on the caller alone.
+    pub fn solo() -> Team {
+        Team::new(1).expect("a team of one starts no thread")
+    }
+
     /// A team of `threads` threads in all (at least 1; with 1, jobs run on
     /// the caller alone).
     pub fn new(threads: usize) -> std::io::Result<Team> {
@@ -248,8 +240,6 @@ impl Team {
             caller_parked: AtomicBool::new(false),
             busy: AtomicBool::new(false),
             timing: AtomicBool::new(false),
-            parts: (0..threads).map(|_| AtomicU64::new(0)).collect(),
-            time_parts: AtomicBool::new(false),
             #[cfg(test)]
             delay: AtomicU64::new(0),
         });
@@ -295,13 +285,7 @@ impl Team {
     /// all have finished. A panic in any piece is raised here once all
     /// have finished.
     pub fn run(&self, job: &Job<'_>) {
-        self.run_pieces(self.threads(), job, false);
-    }
-
-    /// [`Team::run`], each piece timed for [`Team::last_parts`] (two clock
-    /// reads a piece: the other jobs of a step skip them).
-    pub fn run_timed(&self, job: &Job<'_>) {
-        self.run_pieces(self.threads(), job, true);
+        self.run_pieces(self.threads(), job);
     }
 
     /// [`Team::run`] of a job whose pieces each count something: returns
@@ -316,11 +300,10 @@ impl Team {
 
     /// Runs `job(k)` once for every `k` in `0..pieces` (at most
     /// [`MAX_PIECES`]), as [`Team::run`] does.
-    pub fn run_pieces(&self, pieces: usize, job: &Job<'_>, time_parts: bool) {
+    pub fn run_pieces(&self, pieces: usize, job: &Job<'_>) {
         assert!(pieces <= MAX_PIECES, "at most {MAX_PIECES} pieces a job");
         let s = &*self.shared;
         if self.members.is_empty() || pieces <= 1 {
-            s.time_parts.store(time_parts, Ordering::Relaxed);
             (0..pieces).for_each(|k| s.run_piece(job, k));
             if s.panicked.swap(false, Ordering::Relaxed) {
                 panic!("a piece of a team's job panicked");
@@ -333,7 +316,6 @@ impl Team {
         s.done.store(0, Ordering::Relaxed);
         s.member_pieces.store(0, Ordering::Relaxed);
         s.panicked.store(false, Ordering::Relaxed);
-        s.time_parts.store(time_parts, Ordering::Relaxed);
         let erased: &Job<'_> = job;
         s.job
             .store(&erased as *const &Job<'_> as usize, Ordering::Relaxed);
@@ -408,15 +390,6 @@ impl Team {
             return true;
         }
         false
-    }
-
-    /// How long each piece of the last timed job took (piece `k` at `k`,
-    /// for the first `threads()` pieces; see [`Team::run_timed`]): for
-    /// evening out the next job's pieces where they take different times.
-    pub fn last_parts(&self) -> impl ExactSizeIterator<Item = Duration> + '_ {
-        // Each piece stored its time before it counted as done, which
-        // `run` waited for (Acquire).
-        (self.shared.parts.iter()).map(|t| Duration::from_nanos(t.load(Ordering::Relaxed)))
     }
 
     /// Turns the timing of the hand-offs on or off (off at first; it costs
@@ -607,13 +580,9 @@ mod tests {
             for round in 0..1500usize {
                 let pieces = [0, 1, 2, threads, 3 * threads + 1, 64][round % 6];
                 let seen: Vec<AtomicU64> = (0..pieces).map(|_| AtomicU64::new(0)).collect();
-                team.run_pieces(
-                    pieces,
-                    &|k| {
-                        seen[k].fetch_add(1, Ordering::Relaxed);
-                    },
-                    false,
-                );
+                team.run_pieces(pieces, &|k| {
+                    seen[k].fetch_add(1, Ordering::Relaxed);
+                });
                 assert!(seen.iter().all(|s| s.load(Ordering::Relaxed) == 1));
                 if round % 500 == 0 {
                     // Long enough for the members to park.
@@ -662,13 +631,9 @@ mod tests {
             team.delay_members(Duration::from_millis(2));
             let count = AtomicUsize::new(0);
             for _ in 0..300 {
-                team.run_pieces(
-                    16,
-                    &|_| {
-                        count.fetch_add(1, Ordering::Relaxed);
-                    },
-                    false,
-                );
+                team.run_pieces(16, &|_| {
+                    count.fetch_add(1, Ordering::Relaxed);
+                });
             }
             assert_eq!(count.load(Ordering::Relaxed), 300 * 16);
             let h = team.hand_offs();
@@ -712,22 +677,6 @@ mod tests {
     }
 
     #[test]
-    fn only_timed_jobs_time_their_pieces() {
-        let team = Team::new(2).unwrap();
-        let slow = Duration::from_millis(2);
-        team.run_timed(&|k| {
-            if k == 1 {
-                std::thread::sleep(slow);
-            }
-        });
-        let parts: Vec<Duration> = team.last_parts().collect();
-        assert!(parts[1] >= slow && parts[0] < parts[1], "{parts:?}");
-        // An untimed job leaves the last timed one's parts.
-        team.run(&|_| std::thread::sleep(2 * slow));
-        assert_eq!(team.last_parts().collect::<Vec<_>>(), parts);
-    }
-
-    #[test]
     fn woken_members_still_run_every_piece_once() {
         for threads in [2, 3] {
             let team = Team::new(threads).unwrap();
@@ -764,14 +713,10 @@ mod tests {
             let team = Team::new(threads).unwrap();
             let ran = AtomicUsize::new(0);
             let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                team.run_pieces(
-                    4,
-                    &|k| {
-                        ran.fetch_add(1, Ordering::Relaxed);
-                        assert!(k != 1, "piece 1 fails");
-                    },
-                    false,
-                );
+                team.run_pieces(4, &|k| {
+                    ran.fetch_add(1, Ordering::Relaxed);
+                    assert!(k != 1, "piece 1 fails");
+                });
             }));
             assert!(outcome.is_err());
             assert_eq!(ran.load(Ordering::Relaxed), 4);

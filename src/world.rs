@@ -198,7 +198,7 @@ impl World {
         };
         // The same number of threads as a team, for the sweep's phases,
         // which the pool's hand-offs and chunks serve less well; without one
-        // (threads could not be started) the sweep uses the pool.
+        // (threads could not be started) the sweep runs on this thread.
         let team = (threads > 1)
             .then(|| Team::new(threads).ok().map(Arc::new))
             .flatten();

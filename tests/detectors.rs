@@ -216,11 +216,9 @@ fn thousands_of_lines_agree_with_the_oracle() {
 }
 
 /// The sweep in bands over many steps, event for event with the oracle:
-/// boxes moving between bands; on rayon's pool (a grain of a few lines)
-/// the bands laid out anew every step, for 130 steps, past the first
-/// trial of another band count (every 128 steps); on one thread and on
-/// the team (the default grain, above the scene) the layout kept from
-/// step to step.
+/// boxes moving between bands and the layout kept from step to step, on
+/// one thread and on teams of two and three; with a grain of a few lines
+/// (the world's own phases on rayon's pool) for 130 steps.
 #[test]
 fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
     use screensaver::generate::{generate, SceneKind};

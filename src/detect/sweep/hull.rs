@@ -85,9 +85,6 @@ fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
     [x, y, x_ + y_, x_ - y_]
 }
 
-/// Lines gathered at a time by [`make_gathered`].
-const GATHER_BLOCK: usize = 256;
-
 /// Makes the packed hull of each line `ids[k]` into `hulls[k]`, and its
 /// least value along direction `along` into `keys[k]` ([`NO_KEY`] for a
 /// line without a hull).
@@ -216,35 +213,6 @@ fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
             lo(hull, along)
         }
         None => NO_KEY,
-    }
-}
-
-/// [`make`] for scenes larger than the cache: the lines are gathered a
-/// block at a time in a loop that does nothing else, so that many of their
-/// cache misses are under way at once, and then their hulls are made.
-#[multiversion(targets("x86_64+avx2"))]
-pub(crate) fn make_gathered(
-    lines: &[Line],
-    ids: &[u32],
-    hulls: &mut [Packed],
-    keys: &mut [f32],
-    along: usize,
-    dt: f64,
-) {
-    let mut block = [Line::default(); GATHER_BLOCK];
-    for ((ids, hulls), keys) in ids
-        .chunks(GATHER_BLOCK)
-        .zip(hulls.chunks_mut(GATHER_BLOCK))
-        .zip(keys.chunks_mut(GATHER_BLOCK))
-    {
-        for (line, &id) in block.iter_mut().zip(ids) {
-            *line = lines[id as usize];
-        }
-        let line = |k: usize| &block[k];
-        multiversion::target::match_target! {
-            "x86_64+avx2" => avx2::make_each(line, hulls, keys, along, dt),
-            _ => make_each(line, hulls, keys, along, dt, make_batch),
-        }
     }
 }
 
@@ -578,12 +546,10 @@ mod tests {
     fn lines_made_in_batches_get_the_bits_of_lines_made_alone() {
         let lines = awkward_lines();
         let ids: Vec<u32> = (0..lines.len() as u32).rev().collect();
-        type Maker = fn(&[Line], &[u32], &mut [Packed], &mut [f32], usize, f64);
-        let makers: [Maker; 2] = [make, make_gathered];
-        for (along, maker) in (0..DIRECTIONS).flat_map(|a| makers.map(|m| (a, m))) {
+        for along in 0..DIRECTIONS {
             let mut hulls = vec![[0.0; 8]; ids.len()];
             let mut keys = vec![0.0; ids.len()];
-            maker(&lines, &ids, &mut hulls, &mut keys, along, 0.5);
+            make(&lines, &ids, &mut hulls, &mut keys, along, 0.5);
             for (k, &id) in ids.iter().enumerate() {
                 match of_line(&lines[id as usize], 0.5) {
                     Some(packed) => {

@@ -68,17 +68,14 @@ impl Boxes {
 
     /// Sorts the boxes by key (ties in any order: the sweep tests tied
     /// boxes both ways round), the sentinel staying last, sharing the work
-    /// with `team` if there is one. Keys are never NaN. Returns the number
+    /// with `team`. Keys are never NaN. Returns the number
     /// of boxes with a real key, which now come first.
-    pub(crate) fn sort(&mut self, team: Option<&Team>) -> usize {
+    pub(crate) fn sort(&mut self, team: &Team) -> usize {
         let n = self.len();
         let budget = RESTLESS_MOVES * n;
         if self.restless {
             self.sort_by_slot(n);
-        } else if !match team {
-            Some(team) => self.insertion_sort_shared(n, budget, team),
-            None => insert(self.arrays(n), 1, budget, false).is_some(),
-        } {
+        } else if !self.insertion_sort_shared(n, budget, team) {
             self.restless = true;
             self.sort_by_slot(n);
         }
@@ -302,7 +299,7 @@ mod tests {
         );
         assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 2), None);
         let mut b = boxes(&keys);
-        assert_eq!(b.sort(None), 999);
+        assert_eq!(b.sort(&Team::solo()), 999);
         check(&b, &keys, 999);
     }
 
@@ -316,14 +313,14 @@ mod tests {
         let n = keys.len();
         assert!(insert(b.arrays(n), 1, 8 * n, false).is_none());
         let mut b = boxes(&keys);
-        assert_eq!(b.sort(None), keys.len() - 1);
+        assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
         assert!(b.restless);
         // Sorting again (now in order) keeps it so, and calms down.
-        assert_eq!(b.sort(None), keys.len() - 1);
+        assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
         assert!(!b.restless);
-        assert_eq!(b.sort(None), keys.len() - 1);
+        assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
     }
 
@@ -338,18 +335,18 @@ mod tests {
             keys[600] = 3.5;
             keys[7] = NO_KEY;
             let mut b = boxes(&keys);
-            assert_eq!(b.sort(Some(&team)), 999);
+            assert_eq!(b.sort(&team), 999);
             check(&b, &keys, 999);
             assert!(!b.restless);
             // Scrambled: the team gives up and the radix sort takes over.
             let keys: Vec<f32> = (0..1000u32).map(|i| ((i * 7919) % 1000) as f32).collect();
             let mut b = boxes(&keys);
-            assert_eq!(b.sort(Some(&team)), 1000);
+            assert_eq!(b.sort(&team), 1000);
             check(&b, &keys, 1000);
             // Fewer boxes than members.
             let keys = [2.0, 1.0];
             let mut b = boxes(&keys);
-            assert_eq!(b.sort(Some(&team)), 2);
+            assert_eq!(b.sort(&team), 2);
             check(&b, &keys, 2);
         }
     }

@@ -17,9 +17,6 @@ pub(crate) struct Plan {
     pub along: usize,
     /// The bands the plane is cut into.
     pub bands: Bands,
-    /// Where the bulk of the boxes lies across the sweep direction: where
-    /// bands are cut, whatever their number.
-    pub spread: (f32, f32),
 }
 
 /// The direction bands are cut across when sweeping along `a`: the one at
@@ -233,7 +230,6 @@ pub(crate) fn choose_from(layout: LayoutCost, spreads: &[Spread], total: usize) 
         Plan {
             along: 0,
             bands: Bands::one(),
-            spread: (0.0, 0.0),
         },
     );
     for along in 0..directions {
@@ -250,15 +246,7 @@ pub(crate) fn choose_from(layout: LayoutCost, spreads: &[Spread], total: usize) 
             let estimate = cost(layout, total, s.candidates, share, count);
             if estimate < best.0 {
                 let bands = Bands::spanning(across(along), count, c.from, c.to);
-                let spread = (c.from, c.to);
-                best = (
-                    estimate,
-                    Plan {
-                        along,
-                        bands,
-                        spread,
-                    },
-                );
+                best = (estimate, Plan { along, bands });
             }
             if share.is_infinite() {
                 break;

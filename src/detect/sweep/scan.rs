@@ -3,9 +3,8 @@
 //! ones its packed hull overlaps are reported.
 
 use super::hull::{hi, overlaps, reach, Packed};
-use super::layout::{GroupView, Layout};
+use super::layout::GroupView;
 use super::order::Boxes;
-use super::plan::Plan;
 use crate::line::READ_AHEAD;
 use multiversion::multiversion;
 
@@ -40,40 +39,10 @@ fn hand_on(pairs: &[(u32, u32)], first: &[u32], second: &[u32], to: &mut impl Fo
     }
 }
 
-/// Sweeps the bands `bands` of a plan: with one band, the first `boxed`
-/// of `sorted`; with several, each band's homes in `sorted` among
-/// themselves and against its guests, as `layout` lays them out. Calls
-/// `found(a, b)` with the ids of every pair whose hulls overlap, once
-/// each. Returns the candidates met.
-pub(crate) fn sweep_bands(
-    sorted: &Boxes,
-    boxed: usize,
-    layout: &Layout,
-    plan: &Plan,
-    bands: std::ops::Range<usize>,
-    dense: bool,
-    mut found: impl Found,
-) -> u64 {
-    // The sweep only notes the pairs (its loops stay small, with nothing
-    // else live in registers); they are handed on afterwards.
-    let mut pairs = Vec::new();
-    if plan.bands.count == 1 {
-        return sweep_sorted(sorted, 0..boxed, plan.along, dense, &mut pairs, found);
-    }
-    let all = (&sorted.keys[..], &sorted.hulls[..], &sorted.ids[..]);
-    bands
-        .map(|band| {
-            let guests = layout.guests(band);
-            let homes = layout.homes(band);
-            sweep_band(
-                all, homes, guests, plan.along, dense, &mut pairs, &mut found,
-            )
-        })
-        .sum()
-}
-
-/// [`sweep_bands`] of the bands of one group, as its member laid it out
-/// ([`GroupView`]).
+/// Sweeps the bands of one group as its member laid it out
+/// ([`GroupView`]): each band's homes among themselves and against its
+/// guests. Calls `found(a, b)` with the ids of every pair whose hulls
+/// overlap, once each, through `pairs`. Returns the candidates met.
 pub(crate) fn sweep_group(
     group: &GroupView,
     along: usize,

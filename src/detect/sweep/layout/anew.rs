@@ -11,7 +11,7 @@
 
 use super::{
     end_guests, finish_band, groups_of_bands, run_each, set_starts, sort_movers, stretches, Group,
-    Layout, Stretch,
+    GroupView, Layout, Stretch, ThenEach,
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::hull::{hi, Packed};
@@ -19,9 +19,6 @@ use crate::detect::sweep::order::{Boxes, NO_KEY};
 use crate::team::{self, Team};
 use std::ops::Range;
 use std::sync::Mutex;
-
-/// Boxes classified at a time by one thread.
-const CLASSIFY_CHUNK: usize = 1 << 15;
 
 /// What every group reads: the arriving boxes and what [`Layout::classify`]
 /// found of them.
@@ -37,16 +34,8 @@ struct Arrivals<'a> {
 
 impl Layout {
     /// Finds the home band of each of the first `n` boxes of `slots` and
-    /// counts each band's homes: on the current rayon pool when `parallel`,
-    /// else shared with `team` if there is one.
-    pub(crate) fn classify(
-        &mut self,
-        slots: &Boxes,
-        n: usize,
-        bands: &Bands,
-        parallel: bool,
-        team: Option<&Team>,
-    ) {
+    /// counts each band's homes, shared with `team`.
+    pub(crate) fn classify(&mut self, slots: &Boxes, n: usize, bands: &Bands, team: &Team) {
         let buckets = bands.count + 1;
         self.home.resize(n, 0);
         self.counts.clear();
@@ -54,55 +43,29 @@ impl Layout {
         self.reach.clear();
         self.reach.resize(buckets, 0);
         let (keys, hulls) = (&slots.keys[..n], &slots.hulls[..n]);
-        if parallel && n > CLASSIFY_CHUNK {
-            use rayon::prelude::*;
-            let found: Vec<(Vec<u32>, Vec<u32>)> = self
-                .home
-                .par_chunks_mut(CLASSIFY_CHUNK)
-                .zip(keys.par_chunks(CLASSIFY_CHUNK))
-                .zip(hulls.par_chunks(CLASSIFY_CHUNK))
-                .map(|((home, keys), hulls)| {
-                    let (mut counts, mut reach) = (vec![0; buckets], vec![0; buckets]);
-                    classify(keys, hulls, bands, home, &mut counts, &mut reach);
-                    (counts, reach)
-                })
-                .collect();
-            for (counts, reach) in found {
-                self.add_counts(&counts, &reach);
-            }
-        } else if let Some(team) = team {
-            let threads = team.threads();
-            let homes = team::shares_mut(&mut self.home, threads);
-            let found: Vec<Mutex<(Vec<u32>, Vec<u32>)>> = (0..threads)
-                .map(|_| Mutex::new((vec![0; buckets], vec![0; buckets])))
-                .collect();
-            team.run(&|k| {
-                let share = team::share(n, threads, k);
-                let mut found = found[k].lock().expect("a member's counts");
-                let (counts, reach) = &mut *found;
-                classify(
-                    &keys[share.clone()],
-                    &hulls[share],
-                    bands,
-                    &mut homes[k].lock().expect("a share"),
-                    counts,
-                    reach,
-                );
-            });
-            drop(homes);
-            for found in found {
-                let (counts, reach) = found.into_inner().expect("a member's counts");
-                self.add_counts(&counts, &reach);
-            }
-        } else {
+        let threads = team.threads();
+        let homes = team::shares_mut(&mut self.home, threads);
+        let found: Vec<Mutex<(Vec<u32>, Vec<u32>)>> = (0..threads)
+            .map(|_| Mutex::new((vec![0; buckets], vec![0; buckets])))
+            .collect();
+        team.run(&|k| {
+            let share = team::share(n, threads, k);
+            let mut found = found[k].lock().expect("a member's counts");
+            let (counts, reach) = &mut *found;
+            let home = &mut homes[k].lock().expect("a share");
             classify(
-                keys,
-                hulls,
+                &keys[share.clone()],
+                &hulls[share],
                 bands,
-                &mut self.home,
-                &mut self.counts,
-                &mut self.reach,
+                home,
+                counts,
+                reach,
             );
+        });
+        drop(homes);
+        for found in found {
+            let (counts, reach) = found.into_inner().expect("a member's counts");
+            self.add_counts(&counts, &reach);
         }
     }
 
@@ -117,19 +80,19 @@ impl Layout {
     }
 
     /// Lays out the first `n` boxes of `slots`, as [`Layout::classify`]
-    /// found them, band by band in `groups` groups (when more than one,
-    /// shared with `team` if there is one, else on the current rayon pool),
-    /// and leaves them in `slots`, sentinel last; returns the boxes with a
-    /// key, which come first.
+    /// found them, band by band in groups of bands, one a member of
+    /// `team`, calling `then_each` with each group as soon as it is laid
+    /// out, by the thread that laid it out; leaves them in `slots`,
+    /// sentinel last; returns the boxes with a key, which come first.
     pub(crate) fn lay_out(
         &mut self,
         slots: &mut Boxes,
         n: usize,
         bands: &Bands,
-        groups: usize,
-        team: Option<&Team>,
+        team: &Team,
+        then_each: ThenEach,
     ) -> usize {
-        let count = bands.count;
+        let (count, groups) = (bands.count, team.threads());
         std::mem::swap(&mut self.starts, &mut self.old_starts);
         set_starts(&self.counts, &mut self.starts, n);
         // Last step's layout is what the boxes arrive in only if it had as
@@ -144,7 +107,7 @@ impl Layout {
         self.ids[n] = u32::MAX;
 
         // Groups of bands, the last also holding the boxes without a key.
-        let bounds = groups_of_bands(&self.starts, bands, groups);
+        let bounds = groups_of_bands(&self.starts, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
         let Layout {
@@ -170,8 +133,21 @@ impl Layout {
         let stretches = stretches(starts, keys, hulls, ids, &bounds);
         // Stretch `k` to member `k`: the boxes whose hulls it made, near
         // enough.
-        let work: Vec<_> = stretches.into_iter().zip(group_bufs.iter_mut()).collect();
-        run_each(work, team, |(s, g)| lay_out_group(s, g, &arrivals));
+        let work: Vec<_> = (stretches.into_iter().zip(group_bufs.iter_mut()))
+            .enumerate()
+            .collect();
+        run_each(work, team, |(index, (s, g))| {
+            let (range, offset) = (s.bands.start..s.bands.end.min(count), s.offset);
+            let laid_out = lay_out_group(s, g, &arrivals);
+            then_each(GroupView::of(
+                index,
+                range,
+                offset,
+                laid_out,
+                arrivals.starts,
+                g,
+            ));
+        });
 
         self.hand_over(slots, &bounds, count);
         if self.kept != Some(*bands) {
@@ -252,8 +228,13 @@ pub(super) fn group_bounds(starts: &[usize], groups: usize) -> Vec<Range<usize>>
     bounds
 }
 
-/// Lays out one group's stretch (see the [module docs](self)).
-fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
+/// Lays out one group's stretch (see the [module docs](self)); returns
+/// its keys, hulls and ids, laid out.
+fn lay_out_group<'a>(
+    s: Stretch<'a>,
+    group: &mut Group,
+    a: &Arrivals,
+) -> (&'a [f32], &'a [Packed], &'a [u32]) {
     let Stretch {
         bands: range,
         offset,
@@ -353,6 +334,7 @@ fn lay_out_group(s: Stretch, group: &mut Group, a: &Arrivals) {
         let next = band + 1 < range.end.min(count);
         end_guests((guests, guest_starts), homes, band, next, a.bands, spare);
     }
+    (keys, hulls, ids)
 }
 
 #[cfg(test)]

@@ -29,8 +29,6 @@
 mod anew;
 mod kept;
 
-pub(crate) use kept::Leavers;
-
 use super::bands::Bands;
 use super::hull::{hi, Packed};
 use super::order::{insert, Boxes};
@@ -180,7 +178,7 @@ impl Run {
 
 /// One group of bands as its member laid it out: its homes (the group's
 /// stretch of the laid-out boxes) and its guests, band by band, for the
-/// member to go on with ([`Layout::keep`]) before the others finish.
+/// member to sweep before the others finish.
 pub(crate) struct GroupView<'a> {
     /// The group's number, in band order.
     pub index: usize,
@@ -198,19 +196,34 @@ pub(crate) struct GroupView<'a> {
     guest_starts: &'a [u32],
 }
 
-impl GroupView<'_> {
+impl<'a> GroupView<'a> {
+    /// Group `index` of bands `bands`, laid out in its stretch (`keys`,
+    /// `hulls` and `ids`, from `offset` among all the boxes, whose bands
+    /// start at `starts`), its guests in `group`.
+    fn of(
+        index: usize,
+        bands: Range<usize>,
+        offset: usize,
+        (keys, hulls, ids): (&'a [f32], &'a [Packed], &'a [u32]),
+        starts: &'a [usize],
+        group: &'a Group,
+    ) -> Self {
+        GroupView {
+            index,
+            bands,
+            keys,
+            hulls,
+            ids,
+            offset,
+            starts,
+            guests: &group.guests,
+            guest_starts: &group.guest_starts,
+        }
+    }
+
     /// Where the homes of band `band` lie in the stretch.
     pub(crate) fn homes(&self, band: usize) -> Range<usize> {
         self.starts[band] - self.offset..self.starts[band + 1] - self.offset
-    }
-
-    /// The guests of all the group's bands.
-    pub(crate) fn guest_count(&self) -> usize {
-        let starts = self.guest_starts;
-        match (starts.first(), starts.last()) {
-            (Some(&first), Some(&last)) => (last - first) as usize,
-            _ => 0,
-        }
     }
 
     /// The guests of band `band`: keys, hulls and ids, sorted by key.
@@ -222,7 +235,8 @@ impl GroupView<'_> {
     }
 }
 
-/// What a member does with its group once laid out ([`Layout::keep`]).
+/// What a member does with its group once laid out ([`Layout::keep`],
+/// [`Layout::lay_out`]).
 pub(crate) type ThenEach<'a> = &'a (dyn Fn(GroupView<'_>) + Sync);
 
 /// One group's guests and working buffers.
@@ -243,28 +257,9 @@ struct Group {
 }
 
 impl Layout {
-    /// Consecutive ranges of `bands`, at most `groups` of them: between
-    /// its seams where it has one for each meeting of the groups, else each
-    /// holding about the same number of homes.
-    pub(crate) fn group_bounds(&self, bands: &Bands, groups: usize) -> Vec<Range<usize>> {
-        seamed_bounds(bands, groups)
-            .unwrap_or_else(|| anew::group_bounds(&self.starts[..self.starts.len() - 1], groups))
-    }
-
-    /// Whether last step's layout was of `bands`, but perhaps for where its
-    /// seams lie, and so may be kept; if so, it takes `bands`' seams (and
-    /// their edges), and the boxes a seam passed leave their bands like
-    /// any others.
-    fn can_keep(&mut self, bands: &Bands) -> bool {
-        match self.kept {
-            Some(kept) if kept == *bands => true,
-            Some(kept) if kept.same_but_seams(bands) => {
-                self.set_edges(bands);
-                self.kept = Some(*bands);
-                true
-            }
-            _ => false,
-        }
+    /// Whether last step's layout was of `bands`, and so may be kept.
+    fn can_keep(&self, bands: &Bands) -> bool {
+        self.kept == Some(*bands)
     }
 
     /// The least value of each of `bands`, for the layouts kept from this
@@ -277,11 +272,13 @@ impl Layout {
     }
 
     /// Where the homes of band `band` lie among the laid-out boxes.
+    #[cfg(test)]
     pub(crate) fn homes(&self, band: usize) -> Range<usize> {
         self.starts[band]..self.starts[band + 1]
     }
 
     /// The guests of band `band`: keys, hulls and ids, sorted by key.
+    #[cfg(test)]
     pub(crate) fn guests(&self, band: usize) -> (&[f32], &[Packed], &[u32]) {
         let (g, range) = &self.guest_at[band];
         let run = &self.groups[*g as usize].guests;
@@ -362,13 +359,11 @@ fn stretches<'a>(
 
 /// Consecutive ranges of the bands that start at `starts` (`count + 2`
 /// values: the boxes without a key are one more band), at most `groups`
-/// of them: between the seams of `bands` where it has one for each
-/// meeting of the groups, else with about the same number of homes; the
-/// last also holding the boxes without a key.
-fn groups_of_bands(starts: &[usize], bands: &Bands, groups: usize) -> Vec<Range<usize>> {
+/// of them, with about the same number of homes; the last also holding
+/// the boxes without a key.
+fn groups_of_bands(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
     let count = starts.len() - 2;
-    let mut bounds = seamed_bounds(bands, groups)
-        .unwrap_or_else(|| anew::group_bounds(&starts[..=count], groups));
+    let mut bounds = anew::group_bounds(&starts[..=count], groups);
     match bounds.last_mut() {
         Some(last) => last.end = count + 1,
         None => bounds.push(0..count + 1),
@@ -376,39 +371,17 @@ fn groups_of_bands(starts: &[usize], bands: &Bands, groups: usize) -> Vec<Range<
     bounds
 }
 
-/// The groups of bands between the seams of `bands`, if it has one for
-/// each meeting of `groups` groups.
-fn seamed_bounds(bands: &Bands, groups: usize) -> Option<Vec<Range<usize>>> {
-    if groups < 2 || bands.seams().len() + 1 != groups {
-        return None;
-    }
-    let firsts: Vec<usize> = std::iter::once(0)
-        .chain(bands.seam_bands())
-        .chain(std::iter::once(bands.count))
-        .collect();
-    Some(firsts.windows(2).map(|w| w[0]..w[1]).collect())
-}
-
-/// Runs `each` on every item of `work`: item `k` on member `k` of `team`
-/// if there is one (there are no more items than members; each member's
-/// part timed, for the seams between the groups), else on the current
-/// rayon pool when there is more than one, else here.
-fn run_each<W: Send>(work: Vec<W>, team: Option<&Team>, each: impl Fn(W) + Sync) {
-    if let Some(team) = team.filter(|_| work.len() > 1) {
-        debug_assert!(work.len() <= team.threads());
-        let work: Vec<Mutex<Option<W>>> = work.into_iter().map(|w| Mutex::new(Some(w))).collect();
-        team.run_timed(&|k| {
-            let taken = work.get(k).and_then(|w| w.lock().expect("an item").take());
-            if let Some(w) = taken {
-                each(w);
-            }
-        });
-    } else if work.len() > 1 {
-        use rayon::prelude::*;
-        work.into_par_iter().for_each(&each);
-    } else {
-        work.into_iter().for_each(each);
-    }
+/// Runs `each` on every item of `work` with `team`, item `k` as piece `k`
+/// (there are no more items than members).
+fn run_each<W: Send>(work: Vec<W>, team: &Team, each: impl Fn(W) + Sync) {
+    debug_assert!(work.len() <= team.threads());
+    let work: Vec<Mutex<Option<W>>> = work.into_iter().map(|w| Mutex::new(Some(w))).collect();
+    team.run_pieces(work.len(), &|k| {
+        let taken = work[k].lock().expect("an item").take();
+        if let Some(w) = taken {
+            each(w);
+        }
+    });
 }
 
 /// Sets `starts` to where each band's homes start, from the homes counted
@@ -664,31 +637,24 @@ mod tests {
         b
     }
 
-    /// Lays out `b` in `groups` groups: on rayon's pool, or with `team`.
-    fn lay_out(
-        b: &mut Boxes,
-        bands: &Bands,
-        groups: usize,
-        layout: &mut Layout,
-        team: Option<&Team>,
-    ) -> usize {
+    /// Lays out `b` in a group of bands a member of `team`.
+    fn lay_out(b: &mut Boxes, bands: &Bands, layout: &mut Layout, team: &Team) -> usize {
         let n = b.len();
-        layout.classify(b, n, bands, groups > 1 && team.is_none(), team);
-        layout.lay_out(b, n, bands, groups, team)
+        layout.classify(b, n, bands, team);
+        layout.lay_out(b, n, bands, team, &|_| {})
     }
 
-    /// Updates the layout of `b` in place if it can, else lays it out as
+    /// Updates the layout of `b` if it can, else lays it out as
     /// [`lay_out`] does; says which.
     fn keep_or_lay_out(
         b: &mut Boxes,
         bands: &Bands,
-        groups: usize,
         layout: &mut Layout,
-        team: Option<&Team>,
+        team: &Team,
     ) -> (usize, bool) {
-        match layout.keep(b, b.len(), bands, groups, team, None) {
+        match layout.keep(b, b.len(), bands, team, &|_| {}) {
             Some(boxed) => (boxed, true),
-            None => (lay_out(b, bands, groups, layout, team), false),
+            None => (lay_out(b, bands, layout, team), false),
         }
     }
 
@@ -698,10 +664,11 @@ mod tests {
         // Ids 10..14; 11 spans both bands; 13 takes no part.
         let keys = [0.5, 0.0, 0.7, NO_KEY, 0.1];
         let ys = [(0.1, 0.2), (0.1, 0.9), (0.6, 0.7), (0.0, 0.0), (0.8, 0.9)];
-        for groups in [1, 2, 3] {
+        for threads in [1, 2, 3] {
             let mut b = slots(&keys, &ys);
             let mut layout = Layout::default();
-            assert_eq!(lay_out(&mut b, &bands, groups, &mut layout, None), 4);
+            let team = Team::new(threads).unwrap();
+            assert_eq!(lay_out(&mut b, &bands, &mut layout, &team), 4);
             assert_eq!(layout.starts, vec![0, 2, 4, 5]);
             assert_eq!(b.ids, vec![11, 10, 14, 12, 13, u32::MAX]);
             assert_eq!(b.keys[..4], [0.0, 0.5, 0.1, 0.7]);
@@ -735,15 +702,14 @@ mod tests {
         keys[100] = NO_KEY;
         let mut layout = Layout::default();
         let mut b = slots(&keys, &ys);
-        let teams = [Team::new(2).unwrap(), Team::new(3).unwrap()];
+        let teams = [1, 2, 3, 8].map(|threads| Team::new(threads).unwrap());
         let mut kept = 0;
         for step in 0..16 {
             let count = [7, 7, 7, 13, 1000, 7, 7, 7, 7, 7, 3, 3, 9, 9, 9, 9][step];
             let bands = Bands::spanning(1, count, 0.0, 1.0);
             let groups = [1, 2, 3, 2, 8, 1, 2, 3, 1, 1, 2, 1, 2, 3, 2, 3][step];
-            // Steps 6, 7, 13 and 14 with a team of as many members as
-            // groups; the other steps of several groups on rayon's pool.
-            let team = [6, 7, 13, 14].contains(&step).then(|| &teams[groups - 2]);
+            // A group of bands a member.
+            let team = teams.iter().find(|t| t.threads() == groups).unwrap();
             // Boxes move a little (and a few far) between steps, arriving
             // in last step's layout order.
             if step > 0 {
@@ -778,11 +744,11 @@ mod tests {
                 2
             };
             let boxed = if step >= 8 {
-                let (boxed, was_kept) = keep_or_lay_out(&mut b, &bands, groups, &mut layout, team);
+                let (boxed, was_kept) = keep_or_lay_out(&mut b, &bands, &mut layout, team);
                 kept += usize::from(was_kept);
                 boxed
             } else {
-                lay_out(&mut b, &bands, groups, &mut layout, team)
+                lay_out(&mut b, &bands, &mut layout, team)
             };
             assert_eq!(boxed, n - no_key);
             let mut seen: Vec<u32> = b.ids[..n].to_vec();
@@ -833,13 +799,13 @@ mod tests {
             .collect();
         let keys: Vec<f32> = (0..n).map(key).collect();
         let bands = Bands::spanning(1, 40, 0.0, 1.0);
-        let team = Team::new(3).unwrap();
-        for (groups, team) in [(1, None), (2, None), (3, Some(&team))] {
+        for groups in [1, 2, 3] {
+            let team = &Team::new(groups).unwrap();
             let mut laid = Vec::new();
             for noted in [false, true] {
                 let mut b = slots(&keys, &ys);
                 let mut layout = Layout::default();
-                lay_out(&mut b, &bands, groups, &mut layout, team);
+                lay_out(&mut b, &bands, &mut layout, team);
                 // A few boxes move to other bands, one loses its key.
                 for k in 0..n {
                     let id = b.ids[k] as usize - 10;
@@ -881,19 +847,13 @@ mod tests {
                         .collect();
                     handed.lock().unwrap().push((g.index, per_band));
                 };
-                let then = Some(&collect as ThenEach);
-                assert_eq!(
-                    layout.keep(&mut b, n, &bands, groups, team, then),
-                    Some(n - 1)
-                );
+                assert_eq!(layout.keep(&mut b, n, &bands, team, &collect), Some(n - 1));
                 let mut handed = handed.into_inner().unwrap();
-                assert_eq!(handed.len(), if groups > 1 { groups } else { 0 });
+                assert_eq!(handed.len(), groups);
                 handed.sort_by_key(|h| h.0);
                 let handed: Vec<_> = handed.into_iter().flat_map(|h| h.1).collect();
-                if groups > 1 {
-                    let bands_handed: Vec<usize> = handed.iter().map(|h| h.0).collect();
-                    assert_eq!(bands_handed, (0..40).collect::<Vec<_>>(), "{groups} groups");
-                }
+                let bands_handed: Vec<usize> = handed.iter().map(|h| h.0).collect();
+                assert_eq!(bands_handed, (0..40).collect::<Vec<_>>(), "{groups} groups");
                 for (band, homes, guests) in handed {
                     assert_eq!(homes, b.ids[layout.homes(band)], "band {band}");
                     assert_eq!(guests, layout.guests(band).2, "band {band}");
