@@ -8,8 +8,6 @@
 //! first of these, so once. (The boxes themselves are laid out in
 //! [`super::layout`].)
 
-use super::hull::{hi, lo, Packed};
-
 /// How the plane is cut: across which direction, into how many bands,
 /// where they start and how wide they are.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -85,12 +83,6 @@ impl Bands {
             v = v.next_up();
         }
         v
-    }
-
-    /// The first and last band a packed box reaches.
-    #[inline]
-    pub(crate) fn span(&self, p: &Packed) -> (usize, usize) {
-        (self.of(lo(p, self.across)), self.of(hi(p, self.across)))
     }
 }
 

@@ -367,8 +367,7 @@ impl Sweep {
 
     /// Lays the boxes out in this step's bands and sweeps them, a group of
     /// bands a member of the team, each member sweeping its group as soon
-    /// as it laid it out (while its boxes are at hand): last step's layout
-    /// updated when it has the same bands, else laid out anew. Returns the
+    /// as it laid it out (while its boxes are at hand). Returns the
     /// boxes with a finite hull, the entries (homes and guests) and what
     /// the groups found, put together in group order.
     fn lay_out_and_sweep(
@@ -405,17 +404,7 @@ impl Sweep {
             let candidates = scan::sweep_group(&group, along, dense, pairs, test);
             counts.candidates = candidates;
         };
-        let layout = &mut self.layout;
-        let boxed = match layout.keep(&mut self.sorted, n, &bands, &team, &sweep_each) {
-            Some(boxed) => boxed,
-            None => {
-                layout.classify(&self.sorted, n, &bands, &team);
-                if let Some(clock) = &mut self.clock {
-                    clock.lap(Phase::Sort as usize);
-                }
-                layout.lay_out(&mut self.sorted, n, &bands, &team, &sweep_each)
-            }
-        };
+        let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
             let end = layout_end.into_inner().expect("the layout's end");
             clock.lap_at(Phase::Layout as usize, end.unwrap_or_else(Instant::now));

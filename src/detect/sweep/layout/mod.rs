@@ -11,23 +11,19 @@
 //! it.
 //!
 //! The homes, band by band, are the order next step's hulls are made in,
-//! so a step lays out boxes that arrive nearly in place, in one of two
-//! ways:
-//! - [`anew`]: every box's home band found, then each box copied to its
-//!   home band in arrival order, a group of bands per thread (on the first
-//!   step and whenever the bands change);
-//! - [`kept`]: last step's layout updated, only the boxes that changed
-//!   band moved apart (every other step; in place on one thread, copied
-//!   band by band into the other arrays by groups of bands on several).
+//! so a step lays out boxes that arrive nearly in place: [`update`] keeps
+//! last step's layout and moves only the boxes that changed band. A layout
+//! made anew (on the first step, and whenever the bands change) is the
+//! same update of a layout that held every box among the boxes without a
+//! key: every box is then a newcomer to its band.
 //!
-//! Either way a box that stayed in its band arrives nearly sorted and is
-//! finished by an insertion sort in place; the few that moved in are
-//! sorted apart and inserted; and each band's guests are the entries of
-//! the band below that reach up into it, taken in sorted order as that band
-//! is done. This file holds what both share.
+//! A box that stayed in its band arrives nearly sorted and is finished by
+//! an insertion sort in place; the few that moved in are sorted apart and
+//! merged in; and each band's guests are the entries of the band below
+//! that reach up into it, taken in sorted order as that band is done.
+//! This file holds the layout's arrays and the steps of a band.
 
-mod anew;
-mod kept;
+mod update;
 
 use super::bands::Bands;
 use super::hull::{hi, Packed};
@@ -54,9 +50,6 @@ pub(crate) struct Layout {
     /// Per group, its bands' guests one band after another, and its
     /// working buffers; kept from step to step.
     groups: Vec<Group>,
-    /// Per box (in arrival order), its home band; `count` for a box
-    /// without a key.
-    home: Vec<u32>,
     /// Per band (and the boxes without a key), its homes, then the
     /// furthest band they reach.
     counts: Vec<u32>,
@@ -78,11 +71,11 @@ pub(crate) struct Layout {
     gap_starts: Vec<usize>,
     /// What shares of the arriving boxes noted as their hulls were made
     /// (the first `noted_shares`), and the bands they were noted for.
-    noted: Vec<kept::Leavers>,
+    noted: Vec<update::Leavers>,
     noted_shares: usize,
     noted_for: Option<(Bands, usize)>,
     /// Per band, where the guests of the next group's first band begin
-    /// (see [`kept::LeaverCheck`]), for the bands and groups noted for.
+    /// (see [`update::LeaverCheck`]), for the bands and groups noted for.
     carry: Vec<f32>,
     /// The laid-out keys, hulls and ids, exchanged with the arriving
     /// boxes' arrays once laid out.
@@ -247,21 +240,15 @@ struct Group {
     /// Where each of the group's bands' guests start in `guests`, and
     /// their end.
     guest_starts: Vec<u32>,
-    /// The boxes that moved into the group's bands from other bands, with
-    /// their home band in place of an end.
-    movers: Run,
     /// Keys and positions, to sort.
     order: Vec<(f32, u32)>,
+    /// Bands and keys of the movers, and their positions, to sort.
+    by_band: Vec<(u64, u32)>,
     /// Spare entries for sorting.
     spare: Run,
 }
 
 impl Layout {
-    /// Whether last step's layout was of `bands`, and so may be kept.
-    fn can_keep(&self, bands: &Bands) -> bool {
-        self.kept == Some(*bands)
-    }
-
     /// The least value of each of `bands`, for the layouts kept from this
     /// one: a box that stays in its band is told by two comparisons.
     fn set_edges(&mut self, bands: &Bands) {
@@ -363,10 +350,42 @@ fn stretches<'a>(
 /// the boxes without a key.
 fn groups_of_bands(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
     let count = starts.len() - 2;
-    let mut bounds = anew::group_bounds(&starts[..=count], groups);
+    let mut bounds = group_bounds(&starts[..=count], groups);
     match bounds.last_mut() {
         Some(last) => last.end = count + 1,
         None => bounds.push(0..count + 1),
+    }
+    bounds
+}
+
+/// Consecutive ranges of the bands that start at `starts` (one past the
+/// last band's start being its end), at most `groups` of them, each holding
+/// about the same number of entries.
+fn group_bounds(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
+    let count = starts.len() - 1;
+    let (first_start, total) = (starts[0], starts[count]);
+
+    let groups = groups.clamp(1, count.max(1));
+    let mut bounds = Vec::with_capacity(groups);
+    let mut first = 0;
+    for g in 1..=groups {
+        let target = first_start + (total - first_start) * g / groups;
+        // The band boundary nearest the target.
+        let mut last = if g == groups {
+            count
+        } else {
+            let after = starts.partition_point(|&s| s < target).min(count);
+            if after > 0 && target - starts[after - 1] < starts[after] - target {
+                after - 1
+            } else {
+                after
+            }
+        };
+        last = last.max(first);
+        if last > first {
+            bounds.push(first..last);
+        }
+        first = last;
     }
     bounds
 }
@@ -474,18 +493,40 @@ fn push_next_guests(
     guests.extend_from(spare, 0..len);
 }
 
+/// Movers from which [`sort_movers`] sorts by radix: a layout made anew
+/// has every box a mover.
+const RADIX_MOVERS: usize = 1024;
+
 /// Sorts movers by band, then by key (through `order` and `spare`).
-fn sort_movers(movers: &mut Run, order: &mut Vec<(f32, u32)>, spare: &mut Run) {
+fn sort_movers(movers: &mut Run, order: &mut Vec<(u64, u32)>, spare: &mut Run) {
     order.clear();
-    order.extend(movers.keys.iter().zip(0u32..).map(|(&k, at)| (k, at)));
-    let bands = &movers.ends;
-    order.sort_unstable_by(|x, y| {
-        (bands[x.1 as usize].cmp(&bands[y.1 as usize])).then(x.0.total_cmp(&y.0))
-    });
+    // The band in the high half, the key's bits in `f32`'s total order in
+    // the low half.
+    let keyed = |(&key, &band): (&f32, &u32)| {
+        let bits = key.to_bits();
+        let ordered = if bits >> 31 == 1 {
+            !bits
+        } else {
+            bits | 1 << 31
+        };
+        u64::from(band) << 32 | u64::from(ordered)
+    };
+    let keys = movers.keys.iter().zip(&movers.ends).map(keyed);
+    order.extend(keys.zip(0u32..));
+    if order.len() < RADIX_MOVERS {
+        order.sort_unstable_by_key(|k| k.0);
+    } else {
+        radsort::sort_by_key(order, |k| k.0);
+    }
     spare.clear();
-    for &(key, at) in order.iter() {
+    for &(_, at) in order.iter() {
         let at = at as usize;
-        spare.push(key, movers.hulls[at], movers.ids[at], movers.ends[at]);
+        spare.push(
+            movers.keys[at],
+            movers.hulls[at],
+            movers.ids[at],
+            movers.ends[at],
+        );
     }
     std::mem::swap(movers, spare);
 }
@@ -515,54 +556,6 @@ fn sort_in_place(
     keys.copy_from_slice(&spare.keys);
     hulls.copy_from_slice(&spare.hulls);
     ids.copy_from_slice(&spare.ids);
-}
-
-/// Finishes a band whose first `stayed` entries are the boxes that stayed
-/// in it (nearly sorted) and whose rest is free: sorts them in place and
-/// inserts its newcomers, `moved` of the sorted `movers`.
-fn finish_band(
-    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
-    stayed: usize,
-    movers: &Run,
-    moved: Range<usize>,
-    order: &mut Vec<(f32, u32)>,
-    spare: &mut Run,
-) {
-    sort_in_place(
-        &mut keys[..stayed],
-        &mut hulls[..stayed],
-        &mut ids[..stayed],
-        order,
-        spare,
-    );
-    insert_runs((keys, hulls, ids), stayed, movers, moved);
-}
-
-/// Inserts the sorted movers `moved` into a band whose first `stayed`
-/// entries are sorted and whose rest is free: from the largest down, each
-/// found by binary search and the entries above it moved up in one copy,
-/// so that each entry moves at most once and a few newcomers cost a few
-/// copies of contiguous memory.
-fn insert_runs(
-    band: (&mut [f32], &mut [Packed], &mut [u32]),
-    stayed: usize,
-    movers: &Run,
-    moved: Range<usize>,
-) {
-    let (keys, hulls, ids) = band;
-    debug_assert_eq!(keys.len(), stayed + moved.len());
-    let mut end = stayed;
-    for (up, m) in (1..=moved.len()).rev().zip(moved.rev()) {
-        let key = movers.keys[m];
-        let at = keys[..end].partition_point(|&k| k <= key);
-        keys.copy_within(at..end, at + up);
-        hulls.copy_within(at..end, at + up);
-        ids.copy_within(at..end, at + up);
-        keys[at + up - 1] = key;
-        hulls[at + up - 1] = movers.hulls[m];
-        ids[at + up - 1] = movers.ids[m];
-        end = at;
-    }
 }
 
 #[cfg(test)]
@@ -637,25 +630,22 @@ mod tests {
         b
     }
 
-    /// Lays out `b` in a group of bands a member of `team`.
+    /// Lays out `b` anew, a group of bands a member of `team`.
     fn lay_out(b: &mut Boxes, bands: &Bands, layout: &mut Layout, team: &Team) -> usize {
-        let n = b.len();
-        layout.classify(b, n, bands, team);
-        layout.lay_out(b, n, bands, team, &|_| {})
+        layout.forget();
+        layout.lay_out(b, b.len(), bands, team, &|_| {})
     }
 
-    /// Updates the layout of `b` if it can, else lays it out as
-    /// [`lay_out`] does; says which.
+    /// Updates the layout of `b` if it can, else lays it out anew; says
+    /// which.
     fn keep_or_lay_out(
         b: &mut Boxes,
         bands: &Bands,
         layout: &mut Layout,
         team: &Team,
     ) -> (usize, bool) {
-        match layout.keep(b, b.len(), bands, team, &|_| {}) {
-            Some(boxed) => (boxed, true),
-            None => (lay_out(b, bands, layout, team), false),
-        }
+        let kept = layout.keeps(bands, b.len());
+        (layout.lay_out(b, b.len(), bands, team, &|_| {}), kept)
     }
 
     #[test]
@@ -847,7 +837,8 @@ mod tests {
                         .collect();
                     handed.lock().unwrap().push((g.index, per_band));
                 };
-                assert_eq!(layout.keep(&mut b, n, &bands, team, &collect), Some(n - 1));
+                assert!(layout.keeps(&bands, n));
+                assert_eq!(layout.lay_out(&mut b, n, &bands, team, &collect), n - 1);
                 let mut handed = handed.into_inner().unwrap();
                 assert_eq!(handed.len(), groups);
                 handed.sort_by_key(|h| h.0);
