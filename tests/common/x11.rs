@@ -105,6 +105,10 @@ fn start_server(screen: &str) -> (Child, String) {
             screen,
             "-nolisten",
             "tcp",
+            // Without it the server resets when its last client leaves
+            // (the check below), and a client connecting meanwhile has
+            // its connection reset.
+            "-noreset",
         ])
         .stdout(Stdio::piped())
         .stderr(Stdio::null())

@@ -133,8 +133,8 @@ enum Phase {
     /// Making the packed hulls, noting the boxes that left their band
     /// (and, now and then, the plan).
     Hulls,
-    /// With one band, sorting them along the sweep direction; with
-    /// several, finding each one's home band.
+    /// With one band, sorting them along the sweep direction (with
+    /// several, the layout sorts each band).
     Sort,
     /// With several bands, laying them out band by band, each sorted, with
     /// their guests. (Each thread sweeps its bands as soon as it has laid
@@ -200,8 +200,7 @@ impl Sweep {
     /// A sweep detector on the calling thread alone, until
     /// [`Detector::set_threads`] gives it a team. (`config` has nothing
     /// the sweep tunes.)
-    pub fn new(config: &DetectorConfig) -> Self {
-        let _ = config;
+    pub fn new(_config: &DetectorConfig) -> Self {
         let solo = Arc::new(Team::solo());
         Self {
             plan: Plan {

@@ -19,16 +19,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 /// scan.
 pub(crate) const NO_KEY: f32 = f32::INFINITY;
 
-/// Moves an insertion sort of keys and slots may make per element before
-/// it gives way to a radix sort, which costs about as much as this many
-/// moves.
-const MOVES_PER_ELEMENT: usize = 8;
-
-/// Boxes are moved in place while a sort makes fewer than this many moves
-/// per box; beyond that, keys and slots are sorted and the boxes gathered
-/// once (a box is five times the size of a key and a slot, and the gather
-/// costs about two moves of a box per box).
-const RESTLESS_MOVES: usize = 2;
+/// Moves an insertion sort may make per box before it gives way to a
+/// radix sort of keys and slots and one gather of the boxes. (Going to
+/// the radix sort at once for a while after it was needed, and from two
+/// moves a box, gained nothing on `smalllines`, whose boxes overtake each
+/// other most: 1.10x and 0.99x without it, two threads and one; medians
+/// of 7 and 5 interleaved rounds.)
+const MOVES_PER_BOX: usize = 8;
 
 /// Boxes as parallel arrays, followed by one sentinel entry (key
 /// [`NO_KEY`]) so that a scan always stops.
@@ -40,13 +37,10 @@ pub(crate) struct Boxes {
     pub hulls: Vec<Packed>,
     /// Line id.
     pub ids: Vec<u32>,
-    /// Spare arrays for the gather after a sort by slot.
+    /// Spare arrays for the gather after a radix sort.
     spare: Option<Box<Boxes>>,
-    /// Keys and slots, for sorting by slot.
+    /// Keys and slots, for the radix sort.
     keyed: Vec<(f32, u32)>,
-    /// Whether the last sort moved so many boxes that sorting slots and
-    /// gathering the boxes once is cheaper than moving them.
-    restless: bool,
 }
 
 impl Boxes {
@@ -72,12 +66,8 @@ impl Boxes {
     /// of boxes with a real key, which now come first.
     pub(crate) fn sort(&mut self, team: &Team) -> usize {
         let n = self.len();
-        let budget = RESTLESS_MOVES * n;
-        if self.restless {
-            self.sort_by_slot(n);
-        } else if !self.insertion_sort_shared(n, budget, team) {
-            self.restless = true;
-            self.sort_by_slot(n);
+        if !self.insertion_sort_shared(n, MOVES_PER_BOX * n, team) {
+            self.sort_by_radix(n);
         }
         self.keys[..n].partition_point(|&k| k != NO_KEY)
     }
@@ -140,24 +130,9 @@ impl Boxes {
         true
     }
 
-    /// Sorts keys and slots of the first `n` boxes (by insertion, or by
-    /// radix if that goes on too long), then gathers the boxes in that
-    /// order. Notes whether the boxes were restless enough for it.
-    fn sort_by_slot(&mut self, n: usize) {
-        self.key_slots(n);
-        let moves = insertion_sort(&mut self.keyed, MOVES_PER_ELEMENT * n + 64);
-        if moves.is_none() {
-            radsort::sort_by_key(&mut self.keyed, |k| k.0);
-        }
-        // Calm again only well below the threshold (a quarter of it), so
-        // that a scene near it does not try (and abandon) the in-place sort
-        // every other step.
-        self.restless = moves.is_none_or(|m| m > n / 2);
-        self.gather();
-    }
-
-    /// Fills `keyed` with the first `n` boxes' keys and slots.
-    fn key_slots(&mut self, n: usize) {
+    /// Sorts the first `n` boxes' keys and slots by radix, then gathers
+    /// the boxes in that order.
+    fn sort_by_radix(&mut self, n: usize) {
         self.keyed.clear();
         self.keyed.extend(
             self.keys[..n]
@@ -165,6 +140,8 @@ impl Boxes {
                 .enumerate()
                 .map(|(k, &key)| (key, k as u32)),
         );
+        radsort::sort_by_key(&mut self.keyed, |k| k.0);
+        self.gather();
     }
 
     /// Puts the boxes in the order of `keyed`.
@@ -231,29 +208,6 @@ pub(crate) fn insert(
     Some(moves)
 }
 
-/// Insertion sort of keys and slots that gives up after `budget` moves.
-/// Returns the moves made, if it finished.
-fn insertion_sort(keyed: &mut [(f32, u32)], budget: usize) -> Option<usize> {
-    let mut moves = 0;
-    for i in 1..keyed.len() {
-        let item = keyed[i];
-        if keyed[i - 1].0 <= item.0 {
-            continue;
-        }
-        let mut j = i;
-        while j > 0 && keyed[j - 1].0 > item.0 {
-            keyed[j] = keyed[j - 1];
-            j -= 1;
-        }
-        keyed[j] = item;
-        moves += i - j;
-        if moves > budget {
-            return None;
-        }
-    }
-    Some(moves)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,11 +247,6 @@ mod tests {
         let mut b = boxes(&keys);
         let n = keys.len();
         assert!(insert(b.arrays(n), 1, 1000, false).is_some());
-        assert_eq!(
-            insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 10),
-            Some(3)
-        );
-        assert_eq!(insertion_sort(&mut [(2.0, 0), (1.0, 1), (0.0, 2)], 2), None);
         let mut b = boxes(&keys);
         assert_eq!(b.sort(&Team::solo()), 999);
         check(&b, &keys, 999);
@@ -315,11 +264,7 @@ mod tests {
         let mut b = boxes(&keys);
         assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
-        assert!(b.restless);
-        // Sorting again (now in order) keeps it so, and calms down.
-        assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
-        check(&b, &keys, keys.len() - 1);
-        assert!(!b.restless);
+        // Sorting again (now in order) keeps it so.
         assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
     }
@@ -337,7 +282,6 @@ mod tests {
             let mut b = boxes(&keys);
             assert_eq!(b.sort(&team), 999);
             check(&b, &keys, 999);
-            assert!(!b.restless);
             // Scrambled: the team gives up and the radix sort takes over.
             let keys: Vec<f32> = (0..1000u32).map(|i| ((i * 7919) % 1000) as f32).collect();
             let mut b = boxes(&keys);

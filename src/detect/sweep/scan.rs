@@ -111,31 +111,18 @@ fn sweep_across(
 ) -> u64 {
     let mut candidates = 0;
     let mut i = 0;
-    // The homes passed that reach the guest at hand, a few at a time.
-    let mut reaching = [0u32; REACHING];
     for (j, (&guest_key, guest_hull)) in guest_keys.iter().zip(guest_hulls).enumerate() {
         // The homes whose key is at most this guest's: those that reach
-        // it meet the guests from it on within their extent. Few do, and
-        // not in any order a predictor follows, so they are listed without
-        // a branch first.
-        loop {
-            let stop = (i + REACHING).min(keys.len());
-            let mut listed = 0;
-            while i < stop && keys[i] <= guest_key {
-                reaching[listed] = i as u32;
-                listed += usize::from(guest_key <= hi(&hulls[i], along).min(f32::MAX));
-                i += 1;
-            }
-            for &h in &reaching[..listed] {
-                let end = hi(&hulls[h as usize], along).min(f32::MAX);
-                let reach_h = reach(&hulls[h as usize]);
+        // it meet the guests from it on within their extent.
+        while i < keys.len() && keys[i] <= guest_key {
+            let end = hi(&hulls[i], along).min(f32::MAX);
+            if guest_key <= end {
+                let (home, reach_h) = (i as u32, reach(&hulls[i]));
                 let guests = (guest_keys, guest_hulls);
-                let met = meet(guests, j, end, &reach_h, |g| found.push((h, g)));
+                let met = meet(guests, j, end, &reach_h, |g| found.push((home, g)));
                 candidates += (met - j) as u64;
             }
-            if i < stop || stop == keys.len() {
-                break;
-            }
+            i += 1;
         }
         // The guest meets the homes beyond its key within its extent.
         let end = hi(guest_hull, along).min(f32::MAX);
@@ -147,9 +134,6 @@ fn sweep_across(
     }
     candidates
 }
-
-/// Homes listed at a time by [`sweep_across`] as reaching a guest.
-const REACHING: usize = 32;
 
 /// Meets the boxes from `from` on (keys and hulls, sorted by key) whose
 /// key is at most `end`, one at a time, calling `hit` with each one whose

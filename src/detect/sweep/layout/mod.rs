@@ -84,12 +84,6 @@ pub(crate) struct Layout {
     ids: Vec<u32>,
 }
 
-/// Runs up to this long are sorted by insertion: a radix sort's passes
-/// cost about a microsecond however few the entries (on `koch` a group's
-/// first band has about 8 guests from the bands below, on the member's
-/// path before it can lay out anything).
-const INSERTION_UP_TO: usize = 32;
-
 /// Entries as parallel arrays, with the band after the last they reach.
 #[derive(Debug, Default)]
 struct Run {
@@ -119,20 +113,6 @@ impl Run {
         self.ends.push(end);
     }
 
-    /// [`Run::sort`] of a few entries, by insertion.
-    fn insertion_sort(&mut self, range: Range<usize>) {
-        for i in range.start + 1..range.end {
-            let mut j = i;
-            while j > range.start && self.keys[j - 1].total_cmp(&self.keys[j]).is_gt() {
-                self.keys.swap(j - 1, j);
-                self.hulls.swap(j - 1, j);
-                self.ids.swap(j - 1, j);
-                self.ends.swap(j - 1, j);
-                j -= 1;
-            }
-        }
-    }
-
     /// Appends the entries `range` of `other`.
     fn extend_from(&mut self, other: &Run, range: Range<usize>) {
         self.keys.extend_from_slice(&other.keys[range.clone()]);
@@ -144,10 +124,6 @@ impl Run {
     /// Sorts the entries `range` by key (through `order` and `spare`), in
     /// `f32`'s total order, entries with equal keys kept in their order.
     fn sort(&mut self, range: Range<usize>, order: &mut Vec<(f32, u32)>, spare: &mut Run) {
-        if range.len() <= INSERTION_UP_TO {
-            self.insertion_sort(range);
-            return;
-        }
         order.clear();
         order.extend(
             self.keys[range.clone()]
@@ -563,55 +539,6 @@ mod tests {
     use super::*;
     use crate::detect::sweep::order::{Boxes, NO_KEY};
     use crate::team::Team;
-
-    #[test]
-    fn a_few_entries_sort_as_many_do() {
-        // Keys with ties, both zeros, infinities and NaNs of both signs;
-        // each entry's id gives its place before the sort.
-        let pool = [
-            1.5,
-            -2.0,
-            0.0,
-            -0.0,
-            1.5,
-            f32::INFINITY,
-            f32::NEG_INFINITY,
-            f32::NAN,
-            -f32::NAN,
-            f32::MIN_POSITIVE,
-            -1e30,
-            1.5,
-        ];
-        let mut seed = 7u64;
-        for len in 0..=INSERTION_UP_TO {
-            for _ in 0..20 {
-                let mut run = Run::default();
-                for id in 0..len as u32 {
-                    seed = seed
-                        .wrapping_mul(6364136223846793005)
-                        .wrapping_add(1442695040888963407);
-                    let key = pool[(seed >> 33) as usize % pool.len()];
-                    run.push(key, [key; 8], id, id + 1);
-                }
-                // The radix sort's order, which larger runs get.
-                let mut order: Vec<(f32, u32)> = run
-                    .keys
-                    .iter()
-                    .zip(0u32..)
-                    .map(|(&k, at)| (k, at))
-                    .collect();
-                radsort::sort_by_key(&mut order, |k| k.0);
-                let expected: Vec<u32> =
-                    order.iter().map(|&(_, at)| run.ids[at as usize]).collect();
-                run.insertion_sort(0..len);
-                assert_eq!(run.ids, expected, "{len} entries");
-                for (k, &id) in run.ids.iter().enumerate() {
-                    assert_eq!(run.keys[k].to_bits(), run.hulls[k][0].to_bits());
-                    assert_eq!(run.ends[k], id + 1);
-                }
-            }
-        }
-    }
 
     fn hull(key: f32, lo_y: f32, hi_y: f32) -> Packed {
         let n = f32::NEG_INFINITY;

@@ -239,7 +239,20 @@ impl Layout {
         team: &Team,
         then_each: ThenEach,
     ) -> usize {
-        let (count, groups) = (bands.count, team.threads());
+        let groups = team.threads();
+        let kept = self.note_leavers(slots, n, bands, groups);
+        let (bounds, mover_starts) = self.place_movers(n, bands, groups, kept);
+        self.finish_groups(slots, n, bands, team, (&bounds, &mover_starts), then_each);
+        self.hand_over(slots, &bounds, bands.count);
+        self.starts[bands.count]
+    }
+
+    /// Takes last step's layout to update if it was of `bands` and `n`
+    /// boxes (and says so), else an empty one (every box among the boxes
+    /// without a key); notes the boxes that left their band here unless
+    /// the hulls' shares noted them for these bands in `groups` groups.
+    fn note_leavers(&mut self, slots: &Boxes, n: usize, bands: &Bands, groups: usize) -> bool {
+        let count = bands.count;
         // Noted for these bands in as many groups (the guests that reach
         // each group's first band are noted with the leavers).
         let noted = self.noted_for.take() == Some((*bands, groups));
@@ -252,26 +265,33 @@ impl Layout {
             self.starts.push(n);
         }
         if !(kept && noted) {
-            // Not noted as the hulls were made: the boxes are read here.
             let (check, noted) = self.leaver_check(n, bands, 1, groups);
-            let check = check.expect("a layout to keep");
+            let check = check.expect("a layout to update");
             noted[0].clear();
             let arrays = (&slots.keys[..n], &slots.hulls[..n], &slots.ids[..n]);
             check.note(0, arrays, &mut noted[0]);
             self.noted_for = None;
         }
+        kept
+    }
+
+    /// Sets the new layout's starts from the boxes that stayed in each
+    /// band and the movers (sorted by band and key), and each band's
+    /// reach; returns the groups of bands, one per thread, and where each
+    /// band's movers start.
+    fn place_movers(
+        &mut self,
+        n: usize,
+        bands: &Bands,
+        groups: usize,
+        kept: bool,
+    ) -> (Vec<Range<usize>>, Vec<usize>) {
+        let count = bands.count;
         let mut tops = self.gather_leavers(count);
         std::mem::swap(&mut self.starts, &mut self.old_starts);
-
-        // The new starts; the movers sorted by band and key.
-        let (mut movers, gaps, gap_starts) = (
-            std::mem::take(&mut self.movers),
-            std::mem::take(&mut self.gaps),
-            std::mem::take(&mut self.gap_starts),
-        );
         self.counts.clear();
         self.counts.extend(self.stayed.iter().map(|&s| s as u32));
-        for (&b, hull) in movers.ends.iter().zip(&movers.hulls) {
+        for (&b, hull) in self.movers.ends.iter().zip(&self.movers.hulls) {
             self.counts[b as usize] += 1;
             if (b as usize) < count {
                 let top = &mut tops[b as usize];
@@ -286,9 +306,9 @@ impl Layout {
         let bounds = groups_of_bands(by, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
-        if movers.len() > 0 {
+        if self.movers.len() > 0 {
             let g = &mut self.groups[0];
-            sort_movers(&mut movers, &mut g.by_band, &mut g.spare);
+            sort_movers(&mut self.movers, &mut g.by_band, &mut g.spare);
         }
         let mut mover_starts = Vec::with_capacity(count + 2);
         mover_starts.push(0);
@@ -305,58 +325,59 @@ impl Layout {
                     false => b as u32,
                 }),
         );
+        (bounds, mover_starts)
+    }
 
-        // Each group copies its bands' stayers to their new places in the
-        // other arrays and finishes them there, with their guests.
+    /// Each group of bands (`bounds`) copies its bands' stayers and
+    /// newcomers to their new places in the layout's arrays and finishes
+    /// them there, with their guests, on its member of `team`, then hands
+    /// itself to `then_each`.
+    fn finish_groups(
+        &mut self,
+        slots: &Boxes,
+        n: usize,
+        bands: &Bands,
+        team: &Team,
+        (bounds, mover_starts): (&[Range<usize>], &[usize]),
+        then_each: ThenEach,
+    ) {
         self.keys.resize(n + 1, NO_KEY);
         self.hulls.resize(n + 1, [0.0; 8]);
         self.ids.resize(n + 1, u32::MAX);
         self.keys[n] = NO_KEY;
         self.ids[n] = u32::MAX;
-        {
-            let closed = Closed {
-                keys: &slots.keys[..n],
-                hulls: &slots.hulls[..n],
-                ids: &slots.ids[..n],
-                old_starts: &self.old_starts,
-                starts: &self.starts,
-                gaps: &gaps,
-                gap_starts: &gap_starts,
-                reach: &self.reach,
-                movers: &movers,
-                mover_starts: &mover_starts,
-                bands,
-                carried: &self.noted[..self.noted_shares],
-            };
-            let stretches = stretches(
-                &self.starts,
-                &mut self.keys,
-                &mut self.hulls,
-                &mut self.ids,
-                &bounds,
-            );
-            let work: Vec<_> = stretches
-                .into_iter()
-                .zip(self.groups.iter_mut())
-                .enumerate()
-                .collect();
-            run_each(work, team, |(index, (s, g))| {
-                let (range, offset) = (s.bands.start..s.bands.end.min(count), s.offset);
-                let laid_out = finish_group(s, g, &closed);
-                then_each(GroupView::of(
-                    index,
-                    range,
-                    offset,
-                    laid_out,
-                    closed.starts,
-                    g,
-                ));
-            });
-        }
-        (self.movers, self.gaps, self.gap_starts) = (movers, gaps, gap_starts);
-
-        self.hand_over(slots, &bounds, count);
-        self.starts[count]
+        let closed = Closed {
+            keys: &slots.keys[..n],
+            hulls: &slots.hulls[..n],
+            ids: &slots.ids[..n],
+            old_starts: &self.old_starts,
+            starts: &self.starts,
+            gaps: &self.gaps,
+            gap_starts: &self.gap_starts,
+            reach: &self.reach,
+            movers: &self.movers,
+            mover_starts,
+            bands,
+            carried: &self.noted[..self.noted_shares],
+        };
+        let (keys, hulls, ids) = (&mut self.keys, &mut self.hulls, &mut self.ids);
+        let stretches = stretches(closed.starts, keys, hulls, ids, bounds);
+        let work: Vec<_> = (stretches.into_iter().zip(self.groups.iter_mut()))
+            .enumerate()
+            .collect();
+        let count = bands.count;
+        run_each(work, team, |(index, (s, g))| {
+            let (range, offset) = (s.bands.start..s.bands.end.min(count), s.offset);
+            let laid_out = finish_group(s, g, &closed);
+            then_each(GroupView::of(
+                index,
+                range,
+                offset,
+                laid_out,
+                closed.starts,
+                g,
+            ));
+        });
     }
 
     /// Puts together what the shares noted (see [`Layout::leaver_check`]):
