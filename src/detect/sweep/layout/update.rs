@@ -240,19 +240,21 @@ impl Layout {
         then_each: ThenEach,
     ) -> usize {
         let groups = team.threads();
-        let kept = self.note_leavers(slots, n, bands, groups);
+        let kept = self.note_leavers(slots, n, bands, team);
         let (bounds, mover_starts) = self.place_movers(n, bands, groups, kept);
         self.finish_groups(slots, n, bands, team, (&bounds, &mover_starts), then_each);
-        self.hand_over(slots, &bounds, bands.count);
+        self.hand_over(slots);
+        self.list_guests(&bounds, bands.count);
         self.starts[bands.count]
     }
 
     /// Takes last step's layout to update if it was of `bands` and `n`
     /// boxes (and says so), else an empty one (every box among the boxes
-    /// without a key); notes the boxes that left their band here unless
-    /// the hulls' shares noted them for these bands in `groups` groups.
-    fn note_leavers(&mut self, slots: &Boxes, n: usize, bands: &Bands, groups: usize) -> bool {
-        let count = bands.count;
+    /// without a key); notes the boxes that left their band here, a share
+    /// a thread of `team`, unless the hulls' shares noted them for these
+    /// bands in as many groups.
+    fn note_leavers(&mut self, slots: &Boxes, n: usize, bands: &Bands, team: &Team) -> bool {
+        let (count, groups) = (bands.count, team.threads());
         // Noted for these bands in as many groups (the guests that reach
         // each group's first band are noted with the leavers).
         let noted = self.noted_for.take() == Some((*bands, groups));
@@ -265,11 +267,24 @@ impl Layout {
             self.starts.push(n);
         }
         if !(kept && noted) {
-            let (check, noted) = self.leaver_check(n, bands, 1, groups);
+            let (check, noted) = self.leaver_check(n, bands, groups, groups);
             let check = check.expect("a layout to update");
-            noted[0].clear();
-            let arrays = (&slots.keys[..n], &slots.hulls[..n], &slots.ids[..n]);
-            check.note(0, arrays, &mut noted[0]);
+            let noted = crate::team::shares_mut(noted, groups);
+            team.run(&|k| {
+                let share = crate::team::share(n, groups, k);
+                let into = &mut noted[k].lock().expect("a share")[0];
+                into.clear();
+                let r = share.clone();
+                check.note(
+                    share.start,
+                    (
+                        &slots.keys[r.clone()],
+                        &slots.hulls[r.clone()],
+                        &slots.ids[r],
+                    ),
+                    into,
+                );
+            });
             self.noted_for = None;
         }
         kept
@@ -308,7 +323,10 @@ impl Layout {
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
         if self.movers.len() > 0 {
             let g = &mut self.groups[0];
-            sort_movers(&mut self.movers, &mut g.by_band, &mut g.spare);
+            // Made anew, the bands have no stayers to merge the movers
+            // among: each band sorts them itself, on its group's thread.
+            let by_key = kept;
+            sort_movers(&mut self.movers, by_key, &mut g.by_band, &mut g.spare);
         }
         let mut mover_starts = Vec::with_capacity(count + 2);
         mover_starts.push(0);
