@@ -559,6 +559,33 @@ fn sort_in_place(
     ids.copy_from_slice(&spare.ids);
 }
 
+/// Inserts the sorted movers `moved` into a band whose first `stayed`
+/// entries are sorted and whose rest is free: from the largest down, each
+/// found by binary search and the entries above it moved up in one copy,
+/// so that each entry moves at most once and a few newcomers cost a few
+/// copies of contiguous memory.
+fn insert_runs(
+    band: (&mut [f32], &mut [Packed], &mut [u32]),
+    stayed: usize,
+    movers: &Run,
+    moved: Range<usize>,
+) {
+    let (keys, hulls, ids) = band;
+    debug_assert_eq!(keys.len(), stayed + moved.len());
+    let mut end = stayed;
+    for (up, m) in (1..=moved.len()).rev().zip(moved.rev()) {
+        let key = movers.keys[m];
+        let at = keys[..end].partition_point(|&k| k <= key);
+        keys.copy_within(at..end, at + up);
+        hulls.copy_within(at..end, at + up);
+        ids.copy_within(at..end, at + up);
+        keys[at + up - 1] = key;
+        hulls[at + up - 1] = movers.hulls[m];
+        ids[at + up - 1] = movers.ids[m];
+        end = at;
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -634,14 +661,9 @@ mod tests {
             ((state >> 33) as f32) / (1u64 << 31) as f32
         };
         let mut keys: Vec<f32> = (0..n).map(|_| rand()).collect();
-        let mut ys: Vec<(f32, f32)> = (0..n)
-            .map(|_| {
-                let y = rand();
-                (y, y + rand() * rand() * 0.3)
-            })
-            .collect();
-        keys[7] = NO_KEY;
-        keys[100] = NO_KEY;
+        let spans = (0..n).map(|_| (rand(), rand() * rand() * 0.3));
+        let mut ys: Vec<(f32, f32)> = spans.map(|(y, h)| (y, y + h)).collect();
+        (keys[7], keys[100]) = (NO_KEY, NO_KEY);
         let mut layout = Layout::default();
         let mut b = slots(&keys, &ys);
         let teams = [1, 2, 3, 8].map(|threads| Team::new(threads).unwrap());
