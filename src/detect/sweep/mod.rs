@@ -640,9 +640,10 @@ mod tests {
             sweep.set_threads(threads, Some(Arc::new(Team::new(threads).expect("a team"))));
             let (mut banded, mut events, mut expected) = (0, Vec::new(), Vec::new());
             for step in 0..40 {
-                // A new plan (and a layout made anew) every tenth step.
+                // A new plan and a layout made anew every tenth step.
                 if step % 10 == 0 {
                     sweep.until_plan = 0;
+                    sweep.layout.forget();
                 }
                 events.clear();
                 sweep.detect(&lines, 0.5, &mut events);

@@ -1,7 +1,7 @@
 //! Last step's layout updated ([`Layout::lay_out`]): only the boxes that
 //! changed band are moved apart and merged in. Kept from step to step, a
 //! layout costs about 65 instructions a box on `koch` (made anew every
-//! step, 230): 10,000 lines, 1000 frames, took 0.246 s on two threads
+//! step, 230): 10,000 lines, 1000 frames, took 0.262 s on two threads
 //! against 0.372 made anew every step, and `koch` 0.063 against 0.093
 //! (medians of 5 interleaved rounds).
 //!
@@ -183,7 +183,7 @@ impl Layout {
     /// hulls of the `n` boxes are made, if the layout of `bands` may be
     /// kept this step (else `None`), in `groups` groups of bands; and
     /// `shares` buffers to note them in, one per share of the boxes in
-    /// order. [`Layout::keep`] then takes what they hold.
+    /// order. [`Layout::lay_out`] then takes what they hold.
     pub(crate) fn leaver_check(
         &mut self,
         n: usize,
