@@ -5,8 +5,10 @@
 //! scenes: up to a thousand lines they use course-like sizes; beyond that,
 //! lengths and speeds shrink with `1/sqrt(n)` so that the fraction of the
 //! window covered, and the collisions per line per step, stay about the same.
-//! The same kind, count and seed always give the same scene (ChaCha8 has a
-//! fixed, documented output stream).
+//! The same kind, count and seed always give the same scene, on every
+//! platform: ChaCha8 has a fixed, documented output stream, and directions
+//! take their sine and cosine from the `libm` crate (the same code
+//! everywhere) rather than from the platform's maths library.
 
 use crate::geometry::Vec2;
 use crate::line::{Color, WINDOW_HEIGHT, WINDOW_WIDTH};
@@ -160,7 +162,7 @@ impl Generator {
                 let ring = i % rings;
                 let angle = TAU * (i / rings) as f64 / (self.n / rings).max(1) as f64
                     + self.rng.random_range(0.0..0.01);
-                let dir = Vec2::new(angle.cos(), angle.sin());
+                let dir = Vec2::new(libm::cos(angle), libm::sin(angle));
                 let radius = 20.0 + 360.0 * (ring as f64 + 0.5) / rings as f64;
                 let centre = Vec2::new(WINDOW_WIDTH / 2.0, WINDOW_HEIGHT / 2.0)
                     + Vec2::new(dir.x * radius * 1.4, dir.y * radius);
@@ -203,7 +205,7 @@ impl Generator {
 
 fn random_direction(rng: &mut ChaCha8Rng) -> Vec2 {
     let a = rng.random_range(0.0..TAU);
-    Vec2::new(a.cos(), a.sin())
+    Vec2::new(libm::cos(a), libm::sin(a))
 }
 
 /// Rounds to six decimals, like the course files, so written scenes stay

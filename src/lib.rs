@@ -33,6 +33,7 @@ pub mod narrow;
 pub mod output;
 #[cfg(feature = "render")]
 pub mod render;
+pub mod report;
 pub(crate) mod response;
 pub mod scene;
 #[cfg(feature = "signals")]

@@ -6,10 +6,10 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::checkpoint::{self, Checkpoint};
 use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
-use screensaver::output;
 use screensaver::render::live::{DrawStats, Pace, Scenes};
 use screensaver::render::{embedded, window, Frames, Recorder, Size, Target};
 use screensaver::stop::Signal;
+use screensaver::{output, report};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
 use std::ops::ControlFlow;
@@ -500,13 +500,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     let lines = cli.lines.unwrap_or(DEFAULT_LINES);
     let seed = first_seed(cli, endless);
     let kind_of = |k: u64| scene_kind(cli.kind, k);
-    let generated_name = |k: u64| {
-        format!(
-            "(none: generated {} scene, {lines} lines, seed {})",
-            kind_of(k),
-            seed.wrapping_add(k)
-        )
-    };
+    let generated_name = |k: u64| report::generated_input(kind_of(k), lines, seed.wrapping_add(k));
     let (scene, input_name) = match &input {
         Some(path) => {
             if cli.lines.is_some() || cli.kind.is_some() || cli.seed.is_some() {
@@ -524,7 +518,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         None => (
             generate(kind_of(0), lines, seed),
             if cli.lines.is_none() && cli.kind.is_none() && cli.seed.is_none() && !endless {
-                format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})")
+                report::built_in_input()
             } else {
                 generated_name(0)
             },
@@ -577,10 +571,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         None => None,
     };
     let mut stdout = std::io::stdout().lock();
-    let header = |name: &str| {
-        let frames = frames.map_or("endless".to_string(), |f| f.to_string());
-        format!("Number of frames = {frames}\nInput file path is: {name}\n")
-    };
+    let header = |name: &str| report::header(frames, name);
     // Generated scenes shown one after another: the results are the last
     // scene's, so the header names it once the run has ended.
     let cycling = display.is_some() && endless && input.is_none();
@@ -725,12 +716,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         }
         format!("{value}\n")
     } else {
-        let mut text = format!(
-            "---- RESULTS ----\nElapsed execution time: {:.6}s\n{} Line-Wall Collisions\n{} Line-Line Collisions\n---- END RESULTS ----\n",
-            elapsed.as_secs_f64(),
-            counts.wall,
-            counts.line
-        );
+        let mut text = report::results(elapsed.as_secs_f64(), counts);
         if cli.stats {
             text.push_str(&stats_text(&world, &config, cli.detector, drawn));
         }

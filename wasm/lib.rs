@@ -1,19 +1,27 @@
 //! The screensaver library for a JavaScript host, through WebAssembly: one
 //! world at a time, a C-style interface of numbers and byte buffers in the
 //! module's memory (no bindings generator needed). `scripts/wasm.sh` builds
-//! it; `scripts/wasm-conformance.mjs` runs the reference scenes through it.
+//! it; `scripts/wasm-conformance.mjs` runs the reference scenes through it
+//! and the page in `web/` shows it.
 //!
 //! Texts go in through a buffer from [`ss_alloc`] and come out as a pointer
 //! ([`ss_text_ptr`]) and a length ([`ss_text_len`]) valid until the next
-//! call.
+//! call. Pictures come out as RGBA bytes ([`ss_frame`]), as a canvas's
+//! `ImageData` holds them.
 
-use screensaver::generate::{generate, SceneKind};
-use screensaver::{DetectorConfig, DetectorKind, Scene, World};
+use screensaver::generate::{default_scene, generate, SceneKind};
+use screensaver::render::raster::{draw_thin, Canvas};
+use screensaver::render::{died_out, Size, View};
+use screensaver::{report, Color, DetectorConfig, DetectorKind, Scene, World};
 use std::cell::RefCell;
 
 thread_local! {
     static WORLD: RefCell<Option<World>> = const { RefCell::new(None) };
     static TEXT: RefCell<String> = const { RefCell::new(String::new()) };
+    /// The name of the world's input, as the command line gives it.
+    static INPUT: RefCell<String> = const { RefCell::new(String::new()) };
+    static POINTS: RefCell<Vec<f32>> = const { RefCell::new(Vec::new()) };
+    static PIXELS: RefCell<Vec<u32>> = const { RefCell::new(Vec::new()) };
 }
 
 fn set_text(text: String) {
@@ -28,7 +36,7 @@ fn detector(code: u32) -> DetectorKind {
     }
 }
 
-fn start(scene: &Scene, code: u32) -> i32 {
+fn start(scene: &Scene, code: u32, input: String) -> i32 {
     let config = DetectorConfig {
         threads: 1,
         ..DetectorConfig::default()
@@ -36,6 +44,7 @@ fn start(scene: &Scene, code: u32) -> i32 {
     match World::with_config(scene, detector(code), &config) {
         Ok(world) => {
             WORLD.with(|w| *w.borrow_mut() = Some(world));
+            INPUT.with(|i| *i.borrow_mut() = input);
             0
         }
         Err(e) => {
@@ -88,7 +97,7 @@ pub unsafe extern "C" fn ss_load(
     };
     let name = String::from_utf8_lossy(name);
     match Scene::parse(text, &name) {
-        Ok(scene) => start(&scene, code),
+        Ok(scene) => start(&scene, code, name.into_owned()),
         Err(e) => {
             set_text(e.to_string());
             1
@@ -96,12 +105,30 @@ pub unsafe extern "C" fn ss_load(
     }
 }
 
-/// Starts a world from a generated scene (kind 0 uniform, 1 clustered,
-/// 2 ring, 3 grid), as `screensaver gen` makes it.
+/// Starts a world from a generated scene, as `screensaver gen` makes it:
+/// kind number `kind` of the names [`ss_kinds`] gives, `lines` lines, the
+/// seed `seed_hi * 2^32 + seed_lo`.
 #[no_mangle]
-pub extern "C" fn ss_generate(kind: u32, lines: u32, seed: f64, code: u32) -> i32 {
+pub extern "C" fn ss_generate(kind: u32, lines: u32, seed_lo: u32, seed_hi: u32, code: u32) -> i32 {
     let kind = SceneKind::ALL[kind as usize % SceneKind::ALL.len()];
-    start(&generate(kind, lines as usize, seed as u64), code)
+    let seed = u64::from(seed_hi) << 32 | u64::from(seed_lo);
+    let lines = lines as usize;
+    let name = report::generated_input(kind, lines, seed);
+    start(&generate(kind, lines, seed), code, name)
+}
+
+/// Starts a world from the built-in scene.
+#[no_mangle]
+pub extern "C" fn ss_built_in(code: u32) -> i32 {
+    start(&default_scene(), code, report::built_in_input())
+}
+
+/// Makes the text the names of the generated scenes' kinds, in
+/// [`ss_generate`]'s order, separated by commas.
+#[no_mangle]
+pub extern "C" fn ss_kinds() {
+    let names: Vec<&str> = SceneKind::ALL.iter().map(|k| k.name()).collect();
+    set_text(names.join(","));
 }
 
 fn with_world<R>(f: impl FnOnce(&mut World) -> R) -> Option<R> {
@@ -149,4 +176,79 @@ pub extern "C" fn ss_text_ptr() -> *const u8 {
 #[no_mangle]
 pub extern "C" fn ss_text_len() -> usize {
     TEXT.with(|t| t.borrow().len())
+}
+
+/// The number of lines.
+#[no_mangle]
+pub extern "C" fn ss_lines() -> u32 {
+    with_world(|w| w.lines().len() as u32).unwrap_or(0)
+}
+
+/// 1 when nothing more can happen: every line is NaN or none moves.
+#[no_mangle]
+pub extern "C" fn ss_died_out() -> u32 {
+    with_world(|w| u32::from(died_out(&w.lines()))).unwrap_or(1)
+}
+
+/// Makes the text what the command line prints for the run: its header
+/// (`frames` asked for, negative for an endless run) and its results
+/// block, with `seconds` of simulation.
+#[no_mangle]
+pub extern "C" fn ss_report(frames: f64, seconds: f64) {
+    let frames = (frames >= 0.0).then_some(frames as u64);
+    let counters = with_world(|w| w.counters()).unwrap_or_default();
+    let input = INPUT.with(|i| i.borrow().clone());
+    set_text(report::header(frames, &input) + &report::results(seconds, counters));
+}
+
+/// Draws the world over black into a picture of `width` x `height`
+/// pixels, the box stretched over it, with the project's own rasteriser
+/// (anti-aliased lines a pixel wide), and gives where its RGBA bytes
+/// start (valid until the next call).
+#[no_mangle]
+pub extern "C" fn ss_frame(width: u32, height: u32) -> *const u8 {
+    let (w, h) = (width as usize, height as usize);
+    PIXELS.with(|p| {
+        let mut pixels = p.borrow_mut();
+        pixels.resize(w * h, 0);
+        let mut canvas = Canvas::new(&mut pixels, w, h);
+        let view = View::filling(Size { width, height });
+        with_world(|world| draw_thin(&world.lines(), world.colors(), &view, &mut canvas))
+            .unwrap_or_else(|| canvas.fill(0));
+        // 0x00RRGGBB to the bytes R, G, B, 255 (a little-endian word).
+        for p in pixels.iter_mut() {
+            *p = 0xff00_0000 | (*p & 0xff) << 16 | (*p & 0xff00) | (*p >> 16 & 0xff);
+        }
+        pixels.as_ptr().cast()
+    })
+}
+
+/// The lines' ends in a picture of `width` x `height` pixels, the box
+/// stretched over it, for the host to stroke: five numbers a line (x and
+/// y of each end, then 0 for red or 1 for gray), lines that are not
+/// finite left out. Gives where they start; [`ss_points_len`] says how
+/// many numbers there are (valid until the next call).
+#[no_mangle]
+pub extern "C" fn ss_points(width: u32, height: u32) -> *const f32 {
+    let view = View::filling(Size { width, height });
+    POINTS.with(|p| {
+        let mut points = p.borrow_mut();
+        points.clear();
+        with_world(|world| {
+            for (line, color) in world.lines().iter().zip(world.colors()) {
+                let (a, b) = (view.point(line.p1.x, line.p1.y), view.point(line.p2.x, line.p2.y));
+                if [a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()) {
+                    let gray = f32::from(u8::from(*color == Color::Gray));
+                    points.extend([a.0 as f32, a.1 as f32, b.0 as f32, b.1 as f32, gray]);
+                }
+            }
+        });
+        points.as_ptr()
+    })
+}
+
+/// How many numbers [`ss_points`] gave.
+#[no_mangle]
+pub extern "C" fn ss_points_len() -> usize {
+    POINTS.with(|p| p.borrow().len())
 }

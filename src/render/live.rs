@@ -4,6 +4,7 @@
 //! pace. Endless runs go on until told to stop; runs of generated scenes
 //! start a new scene every so often, and whenever a scene has died out.
 
+use super::died_out;
 use crate::line::{Color, Line};
 use crate::World;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -34,14 +35,6 @@ pub enum Scenes {
 
 /// How often a generated scene is checked for having died out.
 const DEATH_CHECK_EVERY: Duration = Duration::from_millis(500);
-
-/// True when nothing more can happen in the world: every line is NaN, or
-/// none of them moves.
-pub fn died_out(lines: &[Line]) -> bool {
-    lines
-        .iter()
-        .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
-}
 
 /// How fast a live run goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

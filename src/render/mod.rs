@@ -25,6 +25,14 @@ use tiny_skia::{LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 /// How red lines are drawn (dark red, as in the original).
 pub const RED: [u8; 3] = [170, 20, 20];
+/// True when nothing more can happen in the world: every line is NaN, or
+/// none of them moves.
+pub fn died_out(lines: &[Line]) -> bool {
+    lines
+        .iter()
+        .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
+}
+
 /// How gray lines are drawn.
 pub const GRAY: [u8; 3] = [150, 150, 150];
 

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# Builds the web page into web/dist/: the simulation for WebAssembly
+# (scripts/wasm.sh, which installs what it needs) and the page's files.
+# Serve it with `python3 -m http.server -d web/dist` and open
+# http://localhost:8000/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/wasm.sh >/dev/null
+rm -rf web/dist
+mkdir -p web/dist
+cp web/index.html web/screensaver.js web/screensaver.css web/dist/
+cp wasm/target/wasm32-unknown-unknown/release/screensaver_wasm.wasm web/dist/screensaver.wasm
+du -b web/dist/* | awk '{ total += $1; print } END { print total, "bytes in all" }'

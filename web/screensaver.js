@@ -1,0 +1,490 @@
+// The screensaver in a web page: the project's simulation, built for
+// WebAssembly (wasm/lib.rs), stepped and drawn on this page's thread.
+// Scenes: the built-in one, generated ones, a `.in` file (picked, dropped,
+// or given by URL). URL parameters: lines, kind, seed, frames, speed, hud,
+// cycle, scene, detector; see the README's "In a web browser".
+
+const SMOOTH_UP_TO = 5000; // larger scenes are drawn by the project's rasteriser
+const RED = "rgb(170, 20, 20)";
+const GRAY = "rgb(150, 150, 150)";
+const DETECTORS = { sweep: 0, quadtree: 1, brute: 2 };
+const MAX_LINES = 1_000_000;
+const STEP_BUDGET_MS = 14; // time for steps in one picture at `max` speed
+const DEATH_CHECK_MS = 500;
+const MAX_RATE = 2 ** 20; // faster than this is `max`
+
+const $ = (id) => document.getElementById(id);
+const canvas = $("picture");
+const ctx = canvas.getContext("2d", { alpha: false });
+const encoder = new TextEncoder();
+const decoder = new TextDecoder();
+
+let ss; // the module's exports
+const state = {
+  scene: null, // { type: "built-in" } | { type: "generated", kind, lines, seed } | { type: "file", name, bytes }
+  detector: "sweep",
+  frames: null, // frames asked for, or null: endless
+  seconds: 0, // simulation time of this run
+  ended: false,
+  paused: false,
+  pace: { kind: "frame" }, // | { kind: "rate", rate } | { kind: "max" }
+  owed: 0, // steps owed at a set rate
+  hud: false,
+  cycle: 0, // seconds each generated scene shows, 0: no cycle
+  sceneIndex: 0, // the k-th scene of a cycle
+  sceneStarted: 0,
+  lastDeathCheck: 0,
+  perStepMs: 1,
+  stepTimes: [], // [time, steps so far] of recent pictures, for the rate
+  frameTimes: [],
+  lastFrame: 0,
+};
+
+// ---- the WebAssembly module -------------------------------------------
+
+async function loadModule() {
+  const response = fetch("screensaver.wasm");
+  try {
+    return (await WebAssembly.instantiateStreaming(response, {})).instance.exports;
+  } catch {
+    // A server that does not say application/wasm.
+    const bytes = await (await fetch("screensaver.wasm")).arrayBuffer();
+    return (await WebAssembly.instantiate(bytes, {})).instance.exports;
+  }
+}
+
+function put(bytes) {
+  const at = ss.ss_alloc(bytes.length);
+  new Uint8Array(ss.memory.buffer, at, bytes.length).set(bytes);
+  return at;
+}
+
+function text() {
+  return decoder.decode(new Uint8Array(ss.memory.buffer, ss.ss_text_ptr(), ss.ss_text_len()));
+}
+
+function kindNames() {
+  ss.ss_kinds();
+  return text().split(",");
+}
+
+// Starts a world from a scene; on failure shows the error and keeps the
+// world there was.
+function startWorld(scene) {
+  const code = DETECTORS[state.detector];
+  let status;
+  if (scene.type === "built-in") {
+    status = ss.ss_built_in(code);
+  } else if (scene.type === "generated") {
+    const seed = BigInt.asUintN(64, scene.seed);
+    const [lo, hi] = [Number(seed & 0xffffffffn), Number(seed >> 32n)];
+    status = ss.ss_generate(kindNames().indexOf(scene.kind), scene.lines, lo, hi, code);
+  } else {
+    const name = encoder.encode(scene.name);
+    const [t, n] = [put(scene.bytes), put(name)];
+    status = ss.ss_load(t, scene.bytes.length, n, name.length, code);
+    ss.ss_free(t, scene.bytes.length);
+    ss.ss_free(n, name.length);
+  }
+  if (status !== 0) {
+    showError(text());
+    return false;
+  }
+  showError(null);
+  state.scene = scene;
+  state.seconds = 0;
+  state.ended = false;
+  state.owed = 0;
+  state.sceneStarted = performance.now();
+  state.stepTimes = [];
+  $("results").hidden = true;
+  syncForm();
+  return true;
+}
+
+// ---- running -----------------------------------------------------------
+
+function stepsLeft() {
+  if (state.ended) return 0;
+  if (state.frames === null) return Infinity;
+  return Math.max(0, state.frames + 1 - ss.ss_steps()); // N frames are N + 1 steps
+}
+
+function runSteps(n) {
+  if (n <= 0) return;
+  const started = performance.now();
+  ss.ss_step(n);
+  const ms = performance.now() - started;
+  state.seconds += ms / 1000;
+  state.perStepMs = 0.7 * state.perStepMs + 0.3 * (ms / n);
+}
+
+// Steps for the picture about to be drawn, at the pace set.
+function stepsThisFrame(dtMs) {
+  const pace = state.pace;
+  if (pace.kind === "frame") return 1;
+  if (pace.kind === "rate") {
+    state.owed = Math.min(state.owed + (pace.rate * dtMs) / 1000, pace.rate / 4 + 1);
+    const n = Math.floor(state.owed);
+    state.owed -= n;
+    return Math.min(n, Math.max(1, Math.floor(STEP_BUDGET_MS / state.perStepMs)));
+  }
+  return Math.max(1, Math.floor(STEP_BUDGET_MS / state.perStepMs));
+}
+
+function endRun() {
+  if (state.ended) return;
+  state.ended = true;
+  ss.ss_report(state.frames ?? -1, state.seconds);
+  const results = $("results");
+  results.textContent = text();
+  results.hidden = false;
+}
+
+function measuredRate() {
+  const t = state.stepTimes;
+  if (t.length < 2) return 0;
+  const [t0, s0] = t[0];
+  const [t1, s1] = t[t.length - 1];
+  return t1 > t0 ? ((s1 - s0) * 1000) / (t1 - t0) : 0;
+}
+
+function changePace(faster) {
+  const pace = state.pace;
+  let rate;
+  if (pace.kind === "rate") rate = pace.rate;
+  else if (pace.kind === "max" && faster) return;
+  else rate = Math.max(1, measuredRate());
+  rate = faster ? rate * 2 : rate / 2;
+  state.pace = rate >= MAX_RATE ? { kind: "max" } : { kind: "rate", rate: Math.max(1, Math.floor(rate)) };
+  state.owed = 0;
+  syncLink();
+}
+
+function paceText() {
+  const pace = state.pace;
+  if (pace.kind === "frame") return "1 step/frame";
+  if (pace.kind === "rate") return `${pace.rate} steps/s max`;
+  return "max speed";
+}
+
+// The k-th scene of a cycle: the kind asked for, or each in turn; the
+// seed counts on from the first.
+function cycleScene(k) {
+  const first = state.firstGenerated;
+  const kinds = kindNames();
+  const kind = first.kindGiven ? first.kind : kinds[k % kinds.length];
+  return { type: "generated", kind, kindGiven: first.kindGiven, lines: first.lines, seed: first.seed + BigInt(k) };
+}
+
+function maybeNextScene(now) {
+  if (!state.cycle || !state.firstGenerated || state.frames !== null || state.ended) return;
+  let due = now - state.sceneStarted >= state.cycle * 1000;
+  if (!due && now - state.lastDeathCheck >= DEATH_CHECK_MS) {
+    state.lastDeathCheck = now;
+    due = ss.ss_died_out() === 1;
+  }
+  if (due) {
+    state.sceneIndex += 1;
+    startWorld(cycleScene(state.sceneIndex));
+  }
+}
+
+// ---- drawing -------------------------------------------------------------
+
+function fitCanvas() {
+  const ratio = Math.min(window.devicePixelRatio || 1, 2);
+  const [w, h] = [Math.round(canvas.clientWidth * ratio), Math.round(canvas.clientHeight * ratio)];
+  if (canvas.width !== w || canvas.height !== h) [canvas.width, canvas.height] = [w, h];
+  return [w, h];
+}
+
+function draw() {
+  const [w, h] = fitCanvas();
+  if (w === 0 || h === 0) return;
+  if (ss.ss_lines() > SMOOTH_UP_TO) {
+    const at = ss.ss_frame(w, h);
+    ctx.putImageData(new ImageData(new Uint8ClampedArray(ss.memory.buffer, at, w * h * 4), w, h), 0, 0);
+    return;
+  }
+  // Small scenes: the browser's anti-aliased strokes, as wide as the
+  // window's (1.5 pixels at 1180 x 800).
+  const at = ss.ss_points(w, h); // first: it may grow the memory, detaching the old buffer
+  const points = new Float32Array(ss.memory.buffer, at, ss.ss_points_len());
+  ctx.fillStyle = "#000";
+  ctx.fillRect(0, 0, w, h);
+  ctx.lineWidth = Math.max(1, 1.5 * Math.min(w / 1180, h / 800));
+  ctx.lineCap = "round";
+  for (const [gray, colour] of [[0, RED], [1, GRAY]]) {
+    ctx.beginPath();
+    for (let i = 0; i < points.length; i += 5) {
+      if (points[i + 4] !== gray) continue;
+      ctx.moveTo(points[i], points[i + 1]);
+      ctx.lineTo(points[i + 2], points[i + 3]);
+    }
+    ctx.strokeStyle = colour;
+    ctx.stroke();
+  }
+}
+
+function recent(list, now, entry) {
+  list.push(entry);
+  while (list.length > 2 && now - list[0][0] > 1000) list.shift();
+}
+
+function showHud(now) {
+  const steps = ss.ss_steps();
+  recent(state.stepTimes, now, [now, steps]);
+  recent(state.frameTimes, now, [now, 0]);
+  document.body.dataset.step = steps;
+  if (!state.hud) return;
+  const ft = state.frameTimes;
+  const fps = ft.length > 1 ? ((ft.length - 1) * 1000) / (ft[ft.length - 1][0] - ft[0][0]) : 0;
+  const lines = [
+    `step ${steps}`,
+    `${ss.ss_wall()} line-wall`,
+    `${ss.ss_line()} line-line`,
+    `${measuredRate().toFixed(0)} steps/s  ${fps.toFixed(0)} fps`,
+    `pace: ${paceText()}`,
+  ];
+  if (state.sceneIndex > 0) lines.push(`scene ${state.sceneIndex + 1}`);
+  $("hud").textContent = lines.join("\n");
+}
+
+function frame(now) {
+  const dt = state.lastFrame ? now - state.lastFrame : 16.7;
+  state.lastFrame = now;
+  try {
+    if (!state.paused) runSteps(Math.min(stepsThisFrame(dt), stepsLeft()));
+    if (stepsLeft() === 0) endRun();
+    maybeNextScene(now);
+    draw();
+    showHud(now);
+  } catch (e) {
+    showError(`the page stopped: ${e.message}`);
+    return;
+  }
+  requestAnimationFrame(frame);
+}
+
+// ---- controls ------------------------------------------------------------
+
+function showError(message) {
+  const box = $("error");
+  box.textContent = message ?? "";
+  box.hidden = message === null;
+}
+
+function act(action) {
+  switch (action) {
+    case "pause":
+      state.paused = !state.paused;
+      $("controls").querySelector("[data-action=pause]").textContent = state.paused ? "Resume" : "Pause";
+      break;
+    case "step":
+      if (state.paused) runSteps(Math.min(1, stepsLeft()));
+      break;
+    case "faster":
+    case "slower":
+      changePace(action === "faster");
+      break;
+    case "hud":
+      state.hud = !state.hud;
+      $("hud").hidden = !state.hud;
+      syncLink();
+      break;
+    case "fullscreen":
+      if (document.fullscreenElement) document.exitFullscreen();
+      else document.documentElement.requestFullscreen?.().catch((e) => showError(`full screen refused: ${e.message}`));
+      break;
+    case "stop":
+      endRun();
+      break;
+    case "run":
+      runFromForm();
+      break;
+  }
+}
+
+const KEYS = { " ": "pause", ArrowRight: "step", "+": "faster", "=": "faster", "-": "slower", _: "slower",
+  h: "hud", H: "hud", f: "fullscreen", F: "fullscreen", q: "stop", Q: "stop" };
+
+function onKey(event) {
+  if (event.target instanceof HTMLInputElement || event.target instanceof HTMLSelectElement) return;
+  const action = KEYS[event.key];
+  if (!action || event.ctrlKey || event.metaKey || event.altKey) return;
+  event.preventDefault();
+  act(action);
+}
+
+function runFromForm() {
+  const kind = $("kind").value;
+  state.cycle = Math.max(0, Number($("cycle").value) || 0);
+  state.sceneIndex = 0;
+  if (kind === "built-in") {
+    state.firstGenerated = null;
+    startWorld({ type: "built-in" });
+  } else {
+    const lines = Math.min(MAX_LINES, Math.max(1, Math.floor(Number($("lines").value) || 1000)));
+    const scene = { type: "generated", kind, kindGiven: true, lines, seed: parseSeed($("seed").value) ?? 1n };
+    state.firstGenerated = scene;
+    startWorld(scene);
+  }
+  syncLink();
+}
+
+async function openFile(file) {
+  const bytes = new Uint8Array(await file.arrayBuffer());
+  state.firstGenerated = null;
+  state.sceneIndex = 0;
+  if (startWorld({ type: "file", name: file.name, bytes })) syncLink();
+}
+
+function syncForm() {
+  const scene = state.scene;
+  $("kind").value = scene.type === "generated" ? scene.kind : "built-in";
+  if (scene.type === "generated") {
+    $("lines").value = scene.lines;
+    $("seed").value = scene.seed.toString();
+  }
+  $("cycle").value = state.cycle;
+}
+
+// The link that reproduces what is on show.
+function syncLink() {
+  const p = new URLSearchParams();
+  const scene = state.firstGenerated ?? state.scene;
+  if (scene?.type === "generated") {
+    p.set("lines", scene.lines);
+    if (scene.kindGiven) p.set("kind", scene.kind);
+    p.set("seed", scene.seed.toString());
+  } else if (scene?.type === "file" && state.sceneUrl) {
+    p.set("scene", state.sceneUrl);
+  }
+  if (state.frames !== null) p.set("frames", state.frames);
+  if (state.pace.kind !== "frame") p.set("speed", state.pace.kind === "max" ? "max" : state.pace.rate);
+  if (state.hud) p.set("hud", "1");
+  if (state.cycle) p.set("cycle", state.cycle);
+  if (state.detector !== "sweep") p.set("detector", state.detector);
+  const query = p.toString();
+  $("link").href = query ? `?${query}` : location.pathname;
+}
+
+function parseSeed(s) {
+  if (s === null || !/^\d+$/.test(s.trim())) return null;
+  const seed = BigInt(s.trim());
+  return seed < 2n ** 64n ? seed : null;
+}
+
+// ---- the URL -------------------------------------------------------------
+
+// Reads the URL's parameters into the state; gives the scene to start
+// with, or an error text.
+async function fromUrl() {
+  const p = new URLSearchParams(location.search);
+  const problems = [];
+  const number = (name, lo, hi) => {
+    const v = p.get(name);
+    if (v === null) return null;
+    const n = Number(v);
+    if (!/^\d+(\.\d+)?$/.test(v.trim()) || n < lo || n > hi) {
+      problems.push(`${name}=${v}: expected a number from ${lo} to ${hi}`);
+      return null;
+    }
+    return n;
+  };
+  const frames = number("frames", 0, Number.MAX_SAFE_INTEGER - 1);
+  state.frames = frames === null ? null : Math.floor(frames);
+  const speed = p.get("speed");
+  if (speed === "max") state.pace = { kind: "max" };
+  else if (speed === "frame" || speed === null) state.pace = { kind: "frame" };
+  else {
+    const rate = number("speed", 1, MAX_RATE);
+    if (rate !== null) state.pace = { kind: "rate", rate: Math.floor(rate) };
+  }
+  state.hud = ["1", "true", "yes", ""].includes(p.get("hud"));
+  state.cycle = number("cycle", 0, 1e9) ?? 0;
+  const detector = p.get("detector") ?? "sweep";
+  if (detector in DETECTORS) state.detector = detector;
+  else problems.push(`detector=${detector}: expected one of ${Object.keys(DETECTORS).join(", ")}`);
+
+  const kinds = kindNames();
+  let kind = p.get("kind");
+  if (kind !== null && !kinds.includes(kind)) {
+    problems.push(`kind=${kind}: expected one of ${kinds.join(", ")}`);
+    kind = null;
+  }
+  const lines = number("lines", 1, MAX_LINES);
+  const seedText = p.get("seed");
+  const seed = seedText === null ? null : parseSeed(seedText);
+  if (seedText !== null && seed === null) problems.push(`seed=${seedText}: expected a whole number below 2^64`);
+
+  const sceneUrl = p.get("scene");
+  let scene = { type: "built-in" };
+  if (sceneUrl !== null) {
+    try {
+      const response = await fetch(sceneUrl);
+      if (!response.ok) throw new Error(`HTTP ${response.status}`);
+      scene = { type: "file", name: sceneUrl, bytes: new Uint8Array(await response.arrayBuffer()) };
+      state.sceneUrl = sceneUrl;
+    } catch (e) {
+      problems.push(`${sceneUrl}: cannot be read (${e.message})`);
+    }
+  } else if (kind !== null || lines !== null || seed !== null || state.cycle) {
+    // As the command line: a generated scene, its kind uniform (a cycle:
+    // each in turn) unless given, 1000 lines, seed 6172 unless given.
+    scene = { type: "generated", kind: kind ?? kinds[0], kindGiven: kind !== null, lines: Math.floor(lines ?? 1000),
+      seed: seed ?? 6172n };
+    state.firstGenerated = scene;
+  }
+  return { scene, problems };
+}
+
+// ---- start ---------------------------------------------------------------
+
+async function main() {
+  ss = await loadModule();
+  for (const kind of kindNames()) $("kind").add(new Option(kind, kind));
+  const { scene, problems } = await fromUrl();
+  if (!startWorld(scene)) startWorld({ type: "built-in" });
+  if (problems.length) showError(problems.join("\n"));
+  $("hud").hidden = !state.hud;
+  syncLink();
+
+  document.addEventListener("keydown", onKey);
+  $("controls").addEventListener("click", (e) => {
+    const action = e.target.closest("[data-action]")?.dataset.action;
+    if (action) act(action);
+  });
+  $("controls").addEventListener("submit", (e) => {
+    e.preventDefault();
+    runFromForm();
+  });
+  $("file").addEventListener("change", (e) => {
+    const file = e.target.files[0];
+    if (file) openFile(file);
+    e.target.value = "";
+  });
+  document.addEventListener("dragover", (e) => {
+    e.preventDefault();
+    $("drop").hidden = false;
+  });
+  document.addEventListener("dragleave", (e) => {
+    if (e.relatedTarget === null) $("drop").hidden = true;
+  });
+  document.addEventListener("drop", (e) => {
+    e.preventDefault();
+    $("drop").hidden = true;
+    const file = e.dataTransfer?.files[0];
+    if (file) openFile(file);
+  });
+  let idle;
+  document.addEventListener("mousemove", () => {
+    $("controls").classList.remove("idle");
+    clearTimeout(idle);
+    idle = setTimeout(() => $("controls").classList.add("idle"), 3000);
+  });
+  requestAnimationFrame(frame);
+}
+
+main().catch((e) => showError(`the page could not start: ${e.message}`));
