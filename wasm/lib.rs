@@ -236,7 +236,10 @@ pub extern "C" fn ss_points(width: u32, height: u32) -> *const f32 {
         points.clear();
         with_world(|world| {
             for (line, color) in world.lines().iter().zip(world.colors()) {
-                let (a, b) = (view.point(line.p1.x, line.p1.y), view.point(line.p2.x, line.p2.y));
+                let (a, b) = (
+                    view.point(line.p1.x, line.p1.y),
+                    view.point(line.p2.x, line.p2.y),
+                );
                 if [a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()) {
                     let gray = f32::from(u8::from(*color == Color::Gray));
                     points.extend([a.0 as f32, a.1 as f32, b.0 as f32, b.1 as f32, gray]);
