@@ -1,12 +1,13 @@
 //! Time a frame's drawing at several scene sizes, with tiny-skia's strokes
-//! and with the thin-line rasteriser: `cargo run --release --example
+//! and with the thin-line rasteriser (lines in id order, and in the order
+//! a world stepped by the sweep stores them): `cargo run --release --example
 //! draw_speed -- [WIDTHxHEIGHT] [KIND]`. Prints the median of several
 //! frames for each, in milliseconds.
 
 use screensaver::generate::{generate, SceneKind};
-use screensaver::render::raster::{draw_thin, Canvas};
+use screensaver::render::raster::{draw_thin, draw_thin_each, Canvas};
 use screensaver::render::{draw_in_view, Size, View};
-use screensaver::World;
+use screensaver::{DetectorKind, World};
 use std::time::Instant;
 
 fn median(mut times: Vec<f64>) -> f64 {
@@ -27,7 +28,10 @@ fn main() {
     let view = View::new(size);
     let (w, h) = (size.width as usize, size.height as usize);
     println!("{}x{} {}: milliseconds a frame (median)", w, h, kind.name());
-    println!("{:>9} {:>12} {:>12}", "lines", "tiny-skia", "thin");
+    println!(
+        "{:>9} {:>12} {:>12} {:>12}",
+        "lines", "tiny-skia", "thin", "thin stored"
+    );
     for lines in [1_000, 10_000, 100_000, 1_000_000] {
         let world = World::from_scene(
             &generate(kind, lines, 1),
@@ -60,6 +64,25 @@ fn main() {
                 start.elapsed().as_secs_f64() * 1e3
             })
             .collect();
-        println!("{lines:>9} {smooth:>12} {:>12.2}", median(thin));
+        // The same, in the order a world stepped by the sweep stores its
+        // lines (nearby lines together).
+        let mut stepped = World::with_detector(&generate(kind, lines, 1), DetectorKind::Sweep);
+        stepped.run(1);
+        let stored: Vec<f64> = (0..rounds)
+            .map(|_| {
+                let start = Instant::now();
+                draw_thin_each(
+                    stepped.lines_as_stored(),
+                    &view,
+                    &mut Canvas::new(&mut pixels, w, h),
+                );
+                start.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        println!(
+            "{lines:>9} {smooth:>12} {:>12.2} {:>12.2}",
+            median(thin),
+            median(stored)
+        );
     }
 }

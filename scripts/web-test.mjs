@@ -5,13 +5,13 @@
 // Prints one line a check and `N passed, M failed`; exits 1 on a failure.
 //
 //   node scripts/web-test.mjs DIST_DIR NATIVE_BINARY
-import { spawn, execFileSync } from "node:child_process";
-import { createServer } from "node:http";
+import { execFileSync } from "node:child_process";
 import { readFileSync, existsSync, mkdtempSync, writeFileSync } from "node:fs";
-import { join, dirname, resolve, extname } from "node:path";
+import { join, dirname, resolve } from "node:path";
 import { tmpdir } from "node:os";
 import { fileURLToPath } from "node:url";
 import { inflateSync } from "node:zlib";
+import { startBrowser } from "./web-browser.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const [dist, native] = process.argv.slice(2).map((p) => resolve(p));
@@ -25,79 +25,8 @@ if (!existsSync(join(reference, "inputs"))) {
   process.exit(2);
 }
 
-// ---- the page's server ----------------------------------------------------
-
-const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css", ".wasm": "application/wasm" };
-const server = createServer((request, response) => {
-  const path = decodeURIComponent(new URL(request.url, "http://x").pathname);
-  const file = path.startsWith("/reference/")
-    ? join(reference, path.slice("/reference/".length))
-    : join(dist, path === "/" ? "index.html" : path);
-  if (path.includes("..") || !existsSync(file)) {
-    response.writeHead(404).end("not found");
-    return;
-  }
-  response.writeHead(200, { "content-type": TYPES[extname(file)] ?? "text/plain" });
-  response.end(readFileSync(file));
-});
-await new Promise((ok) => server.listen(0, "127.0.0.1", ok));
-const page = `http://127.0.0.1:${server.address().port}/`;
-
-// ---- the browser ----------------------------------------------------------
-
-const driverPort = 20000 + (process.pid % 20000);
-const driver = spawn("chromedriver", [`--port=${driverPort}`], { stdio: "ignore" });
-const base = `http://127.0.0.1:${driverPort}`;
-const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
-
-async function call(method, path, body) {
-  const response = await fetch(base + path, {
-    method,
-    headers: { "content-type": "application/json" },
-    body: body === undefined ? undefined : JSON.stringify(body),
-  });
-  const json = await response.json();
-  if (!response.ok) throw new Error(`${method} ${path}: ${json.value?.message ?? response.status}`);
-  return json.value;
-}
-
-for (let i = 0; ; i++) {
-  try {
-    if ((await call("GET", "/status")).ready) break;
-  } catch (e) {
-    if (i > 100) throw new Error(`chromedriver did not start: ${e.message}`);
-  }
-  await sleep(100);
-}
-const { sessionId } = await call("POST", "/session", {
-  capabilities: {
-    alwaysMatch: {
-      browserName: "chrome",
-      "goog:chromeOptions": {
-        binary: process.env.CHROMIUM ?? "/usr/bin/chromium",
-        args: ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--window-size=1180,800",
-          "--hide-scrollbars"],
-      },
-    },
-  },
-});
-const session = (path) => `/session/${sessionId}${path}`;
-const open = (query) => call("POST", session("/url"), { url: page + query });
-const run = (script, ...args) => call("POST", session("/execute/sync"), { script, args });
-const textOf = (id) => run(`const e = document.getElementById(arguments[0]); return e.hidden ? null : e.textContent;`, id);
-
-async function until(what, check, seconds = Number(process.env.WEB_TEST_WAIT ?? 120)) {
-  const end = Date.now() + seconds * 1000;
-  for (;;) {
-    const value = await check();
-    if (value !== null && value !== undefined && value !== false) return value;
-    if (Date.now() > end) {
-      const seen = await run("return [document.body.dataset.step, document.getElementById('error').textContent];");
-      throw new Error(`timed out waiting for ${what} (step ${seen[0]}, error: ${seen[1] || "none"})`);
-    }
-    await sleep(100);
-  }
-}
+const browser = await startBrowser({ dist, reference });
+const { call, session, run, open, textOf, until } = browser;
 
 // ---- screenshots ---------------------------------------------------------
 
@@ -145,7 +74,7 @@ function decodePng(png) {
 // and near-white (the HUD's text) inside `box` ([x0, y0, x1, y1]).
 // With WEB_TEST_SHOTS set, each screenshot is also saved there as NAME.png.
 async function colours(name, box) {
-  const png = Buffer.from(await call("GET", session("/screenshot")), "base64");
+  const png = await browser.screenshot();
   if (process.env.WEB_TEST_SHOTS) writeFileSync(join(process.env.WEB_TEST_SHOTS, `${name}.png`), png);
   const { width, height, pixels } = decodePng(png);
   const [x0, y0, x1, y1] = box ?? [0, 0, width, height];
@@ -271,8 +200,6 @@ await check("a bad URL parameter is named on the page, and the page runs the bui
   return got;
 });
 
-await call("DELETE", session(""));
-driver.kill();
-server.close();
+await browser.close();
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed === 0 ? 0 : 1);

@@ -54,7 +54,6 @@ impl Storage {
     }
 
     /// The id of the line in each slot.
-    #[cfg(test)]
     pub(crate) fn ids(&self) -> &[u32] {
         &self.ids
     }

@@ -268,6 +268,20 @@ impl World {
         lines_by_id(&self.lines, self.storage.as_ref())
     }
 
+    /// Each line with its colour, in the order the world stores them: the
+    /// detector's, which keeps lines near each other together (by id until
+    /// the detector has stored them). For drawing, where the order shows
+    /// only where lines cross: 100,000 or a million lines drawn in this
+    /// order at 1920 x 1080 take 0.4x the time of id order
+    /// (`examples/draw_speed.rs`), since nearby pixels are drawn together.
+    pub fn lines_as_stored(&self) -> impl Iterator<Item = (&Line, Color)> + '_ {
+        let ids = self.storage.as_ref().map(Storage::ids);
+        self.lines.iter().enumerate().map(move |(slot, line)| {
+            let id = ids.map_or(slot, |ids| ids[slot] as usize);
+            (line, self.colors[id])
+        })
+    }
+
     /// The colour of each line, indexed by id.
     pub fn colors(&self) -> &[Color] {
         &self.colors

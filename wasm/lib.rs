@@ -6,12 +6,13 @@
 //!
 //! Texts go in through a buffer from [`ss_alloc`] and come out as a pointer
 //! ([`ss_text_ptr`]) and a length ([`ss_text_len`]) valid until the next
-//! call. Pictures come out as RGBA bytes ([`ss_frame`]), as a canvas's
-//! `ImageData` holds them.
+//! call. Lines come out mapped to a picture's pixels ([`ss_points`]) and
+//! are drawn as RGBA bytes ([`ss_draw`]), as a canvas's `ImageData` holds
+//! them: the page steps in one instance (a worker) and draws in another.
 
 use screensaver::generate::{default_scene, generate, SceneKind};
-use screensaver::render::raster::{draw_thin, Canvas};
-use screensaver::render::{died_out, Size, View};
+use screensaver::render::raster::{draw_segment, pixel, Canvas};
+use screensaver::render::{died_out, Size, View, GRAY, RED};
 use screensaver::{report, Color, DetectorConfig, DetectorKind, Scene, World};
 use std::cell::RefCell;
 
@@ -201,20 +202,37 @@ pub extern "C" fn ss_report(frames: f64, seconds: f64) {
     set_text(report::header(frames, &input) + &report::results(seconds, counters));
 }
 
-/// Draws the world over black into a picture of `width` x `height`
-/// pixels, the box stretched over it, with the project's own rasteriser
-/// (anti-aliased lines a pixel wide), and gives where its RGBA bytes
-/// start (valid until the next call).
+/// Draws lines over black into a picture of `width` x `height` pixels
+/// with the project's own rasteriser (anti-aliased lines a pixel wide):
+/// `len` numbers at `points`, five a line as [`ss_points`] gives them, so
+/// that one instance of the module can draw what another stepped. Gives
+/// where the picture's RGBA bytes start (valid until the next call).
+///
+/// # Safety
+/// `points` must point to `len` readable `f32`s.
 #[no_mangle]
-pub extern "C" fn ss_frame(width: u32, height: u32) -> *const u8 {
+pub unsafe extern "C" fn ss_draw(
+    points: *const f32,
+    len: usize,
+    width: u32,
+    height: u32,
+) -> *const u8 {
+    // SAFETY: the caller vouches for the buffer.
+    let points = unsafe { std::slice::from_raw_parts(points, len) };
     let (w, h) = (width as usize, height as usize);
+    let (red, gray) = (pixel(RED), pixel(GRAY));
     PIXELS.with(|p| {
         let mut pixels = p.borrow_mut();
         pixels.resize(w * h, 0);
         let mut canvas = Canvas::new(&mut pixels, w, h);
-        let view = View::filling(Size { width, height });
-        with_world(|world| draw_thin(&world.lines(), world.colors(), &view, &mut canvas))
-            .unwrap_or_else(|| canvas.fill(0));
+        canvas.fill(0);
+        for line in points.chunks_exact(5) {
+            let (a, b) = (
+                (line[0].into(), line[1].into()),
+                (line[2].into(), line[3].into()),
+            );
+            draw_segment(&mut canvas, a, b, if line[4] == 0.0 { red } else { gray });
+        }
         // 0x00RRGGBB to the bytes R, G, B, 255 (a little-endian word).
         for p in pixels.iter_mut() {
             *p = 0xff00_0000 | (*p & 0xff) << 16 | (*p & 0xff00) | (*p >> 16 & 0xff);
@@ -224,9 +242,10 @@ pub extern "C" fn ss_frame(width: u32, height: u32) -> *const u8 {
 }
 
 /// The lines' ends in a picture of `width` x `height` pixels, the box
-/// stretched over it, for the host to stroke: five numbers a line (x and
-/// y of each end, then 0 for red or 1 for gray), lines that are not
-/// finite left out. Gives where they start; [`ss_points_len`] says how
+/// stretched over it, for the host to draw: five numbers a line (x and y
+/// of each end, then 0 for red or 1 for gray), in the order the world
+/// stores them (nearby lines together, which draws faster), lines that are
+/// not finite left out. Gives where they start; [`ss_points_len`] says how
 /// many numbers there are (valid until the next call).
 #[no_mangle]
 pub extern "C" fn ss_points(width: u32, height: u32) -> *const f32 {
@@ -235,13 +254,13 @@ pub extern "C" fn ss_points(width: u32, height: u32) -> *const f32 {
         let mut points = p.borrow_mut();
         points.clear();
         with_world(|world| {
-            for (line, color) in world.lines().iter().zip(world.colors()) {
+            for (line, color) in world.lines_as_stored() {
                 let (a, b) = (
                     view.point(line.p1.x, line.p1.y),
                     view.point(line.p2.x, line.p2.y),
                 );
                 if [a.0, a.1, b.0, b.1].iter().all(|v| v.is_finite()) {
-                    let gray = f32::from(u8::from(*color == Color::Gray));
+                    let gray = f32::from(u8::from(color == Color::Gray));
                     points.extend([a.0 as f32, a.1 as f32, b.0 as f32, b.1 as f32, gray]);
                 }
             }

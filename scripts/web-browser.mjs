@@ -1,0 +1,100 @@
+// The page in a headless browser, for scripts/web-test.mjs and
+// scripts/web-bench.mjs: a server on 127.0.0.1 for the built page (and the
+// reference's files under /reference/), Debian's Chromium driven through
+// chromedriver (WebDriver over HTTP, no client library).
+import { spawn } from "node:child_process";
+import { createServer } from "node:http";
+import { readFileSync, existsSync } from "node:fs";
+import { join, extname } from "node:path";
+
+const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css", ".wasm": "application/wasm" };
+export const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
+
+// Serves `dist` at / and `reference` (if given) at /reference/.
+async function serve(dist, reference) {
+  const server = createServer((request, response) => {
+    const path = decodeURIComponent(new URL(request.url, "http://x").pathname);
+    const file = path.startsWith("/reference/") && reference
+      ? join(reference, path.slice("/reference/".length))
+      : join(dist, path === "/" ? "index.html" : path);
+    if (path.includes("..") || !existsSync(file)) {
+      response.writeHead(404).end("not found");
+      return;
+    }
+    response.writeHead(200, { "content-type": TYPES[extname(file)] ?? "text/plain" });
+    response.end(readFileSync(file));
+  });
+  await new Promise((ok) => server.listen(0, "127.0.0.1", ok));
+  return server;
+}
+
+// Starts the server and a browser of `width` x `height`; gives the calls
+// the scripts use.
+export async function startBrowser({ dist, reference, width = 1180, height = 800 }) {
+  const server = await serve(dist, reference);
+  const page = `http://127.0.0.1:${server.address().port}/`;
+  const port = 20000 + (process.pid % 20000);
+  const driver = spawn("chromedriver", [`--port=${port}`], { stdio: "ignore" });
+  const base = `http://127.0.0.1:${port}`;
+
+  async function call(method, path, body) {
+    const response = await fetch(base + path, {
+      method,
+      headers: { "content-type": "application/json" },
+      body: body === undefined ? undefined : JSON.stringify(body),
+    });
+    const json = await response.json();
+    if (!response.ok) throw new Error(`${method} ${path}: ${json.value?.message ?? response.status}`);
+    return json.value;
+  }
+
+  for (let i = 0; ; i++) {
+    try {
+      if ((await call("GET", "/status")).ready) break;
+    } catch (e) {
+      if (i > 100) throw new Error(`chromedriver did not start: ${e.message}`);
+    }
+    await sleep(100);
+  }
+  const { sessionId } = await call("POST", "/session", {
+    capabilities: {
+      alwaysMatch: {
+        browserName: "chrome",
+        "goog:chromeOptions": {
+          binary: process.env.CHROMIUM ?? "/usr/bin/chromium",
+          args: ["--headless=new", "--no-sandbox", "--disable-dev-shm-usage", `--window-size=${width},${height}`,
+            "--hide-scrollbars"],
+        },
+      },
+    },
+  });
+  const session = (path) => `/session/${sessionId}${path}`;
+  const run = (script, ...args) => call("POST", session("/execute/sync"), { script, args });
+  return {
+    call,
+    session,
+    run,
+    open: (query) => call("POST", session("/url"), { url: page + query }),
+    // The element's text, or null while it is hidden.
+    textOf: (id) => run("const e = document.getElementById(arguments[0]); return e.hidden ? null : e.textContent;", id),
+    screenshot: async () => Buffer.from(await call("GET", session("/screenshot")), "base64"),
+    // Waits until `check` gives a value (not null, undefined or false).
+    async until(what, check, seconds = Number(process.env.WEB_TEST_WAIT ?? 120)) {
+      const end = Date.now() + seconds * 1000;
+      for (;;) {
+        const value = await check();
+        if (value !== null && value !== undefined && value !== false) return value;
+        if (Date.now() > end) {
+          const seen = await run("return [document.body.dataset.step, document.getElementById('error').textContent];");
+          throw new Error(`timed out waiting for ${what} (step ${seen[0]}, error: ${seen[1] || "none"})`);
+        }
+        await sleep(100);
+      }
+    },
+    async close() {
+      await call("DELETE", session("")).catch(() => {});
+      driver.kill();
+      server.close();
+    },
+  };
+}
