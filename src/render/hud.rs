@@ -71,13 +71,12 @@ pub fn draw(canvas: &mut Canvas, text: &[String]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::sync::Arc;
 
     #[test]
     fn the_display_shows_the_counts_and_rates() {
         let snapshot = Snapshot {
             lines: Vec::new(),
-            colors: Arc::new(Vec::new()),
+            colors: Vec::new(),
             step: 120,
             wall: 7,
             line: 33,

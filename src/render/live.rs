@@ -117,10 +117,12 @@ impl std::fmt::Display for Pace {
 
 /// A state of the run, for showing.
 pub struct Snapshot {
-    /// Every line.
+    /// Every line, in the order the world stores them
+    /// ([`World::lines_as_stored`]: nearby lines together, which draws a
+    /// large scene in 0.4x the time of id order).
     pub lines: Vec<Line>,
-    /// Their colours (shared until the scene changes).
-    pub colors: Arc<Vec<Color>>,
+    /// Their colours, in the same order.
+    pub colors: Vec<Color>,
     /// Steps run in this scene.
     pub step: u64,
     /// Line-wall collisions in this scene.
@@ -150,10 +152,10 @@ pub struct Shared {
     /// Whether the display has taken the latest state (so a new one is
     /// wanted).
     taken: AtomicBool,
-    /// Lines of a state the display is done with, for the next snapshot to
-    /// fill (a million lines are 48 MB: fresh memory each time costs its
-    /// page faults, and freeing it the display's time).
-    spare: Mutex<Vec<Line>>,
+    /// Lines and colours of a state the display is done with, for the next
+    /// snapshot to fill (a million lines are 48 MB: fresh memory each time
+    /// costs its page faults, and freeing it the display's time).
+    spare: Mutex<(Vec<Line>, Vec<Color>)>,
 }
 
 impl Shared {
@@ -173,7 +175,7 @@ impl Shared {
     /// Hands back a state the display no longer shows, so that its memory
     /// serves the next snapshot.
     pub fn recycle(&self, old: Snapshot) {
-        *self.spare.lock().expect("no panics while holding the lock") = old.lines;
+        *self.spare.lock().expect("no panics while holding the lock") = (old.lines, old.colors);
     }
 
     /// True when a state is waiting to be taken.
@@ -228,7 +230,7 @@ impl Run {
             finished: AtomicBool::new(false),
             latest: Mutex::new(None),
             taken: AtomicBool::new(true),
-            spare: Mutex::new(Vec::new()),
+            spare: Mutex::default(),
         });
         let thread = {
             let shared = Arc::clone(&shared);
@@ -256,25 +258,28 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
         Scenes::Generated { first, next, cycle } => (*first, None, Some(next), Some(cycle)),
     };
     let mut scene = 0;
-    let mut colors = Arc::new(world.colors().to_vec());
     let mut scene_start = Instant::now();
     let mut last_check = Instant::now();
     let (mut window_start, mut window_steps) = (Instant::now(), 0u64);
     let mut rate = 0.0;
-    let publish = |world: &World, colors: &Arc<Vec<Color>>, scene, rate, force: bool| {
+    let publish = |world: &World, scene, rate, force: bool| {
         if force || shared.taken.swap(false, Ordering::AcqRel) {
             let c = world.counters();
-            let mut lines = std::mem::take(
+            let (mut lines, mut colors) = std::mem::take(
                 &mut *shared
                     .spare
                     .lock()
                     .expect("no panics while holding the lock"),
             );
             lines.clear();
-            lines.extend_from_slice(&world.lines());
+            colors.clear();
+            for (line, color) in world.lines_as_stored() {
+                lines.push(*line);
+                colors.push(color);
+            }
             let snapshot = Snapshot {
                 lines,
-                colors: Arc::clone(colors),
+                colors,
                 step: world.steps(),
                 wall: c.wall,
                 line: c.line,
@@ -287,7 +292,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
                 .expect("no panics while holding the lock") = Some(snapshot);
         }
     };
-    publish(&world, &colors, scene, 0.0, true);
+    publish(&world, scene, 0.0, true);
     while steps.is_none_or(|s| world.steps() < s) && !shared.quit.load(Ordering::Relaxed) {
         if crate::stop::requested().is_some() {
             break;
@@ -301,9 +306,8 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             if due || dead {
                 scene += 1;
                 world = next(scene);
-                colors = Arc::new(world.colors().to_vec());
                 scene_start = Instant::now();
-                publish(&world, &colors, scene, rate, true);
+                publish(&world, scene, rate, true);
             }
         }
         let paused = shared.paused.load(Ordering::Relaxed);
@@ -327,7 +331,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             rate = window_steps as f64 / window_start.elapsed().as_secs_f64();
             (window_start, window_steps) = (Instant::now(), 0);
         }
-        publish(&world, &colors, scene, rate, paused);
+        publish(&world, scene, rate, paused);
         if let Pace::Rate(limit) = pace {
             let budget = Duration::from_secs_f64(1.0 / limit as f64);
             if let Some(rest) = budget.checked_sub(step_start.elapsed()) {
@@ -336,7 +340,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
         }
     }
     let elapsed = start.elapsed();
-    publish(&world, &colors, scene, rate, true);
+    publish(&world, scene, rate, true);
     shared.finished.store(true, Ordering::Release);
     Outcome {
         world,
