@@ -2,8 +2,10 @@
 // pictures and steps a second at one step a picture and at `max` for
 // 10^3, 10^4 and 10^5 lines, the first picture's time after load, the
 // page's weight, and the WebAssembly simulation's time against the native
-// binary on one thread, side by side (the results block's simulation
-// time, medians of ROUNDS interleaved rounds). Prints Markdown tables.
+// binary on one thread, side by side: in the page (the results block's
+// simulation time, with the page drawing beside it) and the module alone
+// on the page's thread; medians of ROUNDS interleaved rounds. Prints
+// Markdown tables.
 //
 //   node scripts/web-bench.mjs DIST_DIR NATIVE_BINARY [ROUNDS]
 import { execFileSync } from "node:child_process";
@@ -33,7 +35,7 @@ console.log(`First picture of the built-in scene: ${median(firsts).toFixed(0)} m
 
 console.log("| lines | pace | pictures/s | steps/s |");
 console.log("|---:|---|---:|---:|");
-for (const lines of [1000, 10000, 100000]) {
+for (const lines of process.env.WEB_BENCH_SKIP_DRAWING ? [] : [1000, 10000, 100000]) {
   for (const speed of ["frame", "max"]) {
     await open(`?lines=${lines}&seed=7&speed=${speed}`);
     await until("the scene running", async () => (await sample())[1] > 5);
@@ -56,18 +58,40 @@ const workloads = [
   ["100,000 lines", 100, "lines=100000&seed=7", ["--lines", "100000", "--seed", "7", "F"]],
 ];
 const seconds = (text) => Number(text.match(/Elapsed execution time: ([\d.]+)s/)[1]);
-console.log("\n| workload | frames | WebAssembly (s) | native, one thread (s) | WebAssembly / native |");
-console.log("|---|---:|---:|---:|---:|");
+// The module alone on the page's thread, nothing drawn: a fresh instance
+// (so V8 compiles it anew, as for a visitor), the scene, then the steps.
+const ALONE = `
+  const [query, steps, done] = arguments;
+  (async () => {
+    const ss = (await WebAssembly.instantiateStreaming(fetch("screensaver.wasm"), {})).instance.exports;
+    const p = new URLSearchParams(query);
+    if (p.has("scene")) {
+      const bytes = new Uint8Array(await (await fetch(p.get("scene"))).arrayBuffer());
+      const at = ss.ss_alloc(bytes.length);
+      new Uint8Array(ss.memory.buffer, at, bytes.length).set(bytes);
+      ss.ss_load(at, bytes.length, at, 0, 0);
+    } else {
+      ss.ss_generate(0, Number(p.get("lines")), Number(p.get("seed")), 0, 0);
+    }
+    const started = performance.now();
+    ss.ss_step(steps);
+    done((performance.now() - started) / 1000);
+  })();`;
+await browser.call("POST", browser.session("/timeouts"), { script: 600000 });
+console.log("\n| workload | frames | in the page (s) | WebAssembly alone (s) | native, one thread (s) | page / native | alone / native |");
+console.log("|---|---:|---:|---:|---:|---:|---:|");
 for (const [name, frames, query, args] of workloads) {
-  const [web, nat] = [[], []];
+  const [web, alone, nat] = [[], [], []];
   for (let r = 0; r < rounds; r++) {
     await open(`?${query}&frames=${frames}&speed=max`);
     web.push(seconds(await until("the results", () => textOf("results"), 600)));
+    await open("?frames=0");
+    alone.push(await browser.call("POST", browser.session("/execute/async"), { script: ALONE, args: [query, frames + 1] }));
     const out = execFileSync(native, ["--threads", "1", ...args.map((a) => (a === "F" ? String(frames) : a))],
       { encoding: "utf8" });
     nat.push(seconds(out));
   }
-  const [w, n] = [median(web), median(nat)];
-  console.log(`| ${name} | ${frames} | ${w.toFixed(3)} | ${n.toFixed(3)} | ${(w / n).toFixed(2)}x |`);
+  const [w, a, n] = [median(web), median(alone), median(nat)];
+  console.log(`| ${name} | ${frames} | ${w.toFixed(3)} | ${a.toFixed(3)} | ${n.toFixed(3)} | ${(w / n).toFixed(2)}x | ${(a / n).toFixed(2)}x |`);
 }
 await browser.close();

@@ -134,8 +134,8 @@ pub fn draw_thin(lines: &[Line], colors: &[Color], view: &View, canvas: &mut Can
 
 /// [`draw_thin`] of lines given with their colours, in any order: for
 /// [`World::lines_as_stored`](crate::World::lines_as_stored), whose order
-/// keeps nearby lines together and so draws a large scene in 0.4x the
-/// time of id order.
+/// keeps nearby lines together and so draws a large scene in 0.33x to
+/// 0.76x the time of id order.
 pub fn draw_thin_each<'a>(
     lines: impl IntoIterator<Item = (&'a Line, Color)>,
     view: &View,
