@@ -192,6 +192,35 @@ await check("a bad .in file shows the command line's message and the page keeps 
   return got;
 });
 
+await check("a .in file dropped on the page runs, and its run ends with the results block", async () => {
+  await open("?frames=20&speed=max");
+  await results();
+  const scene = readFileSync(join(reference, "inputs", "beaver.in"), "utf8");
+  await run(`
+    const transfer = new DataTransfer();
+    transfer.items.add(new File([arguments[0]], "beaver.in"));
+    document.dispatchEvent(new DragEvent("drop", { dataTransfer: transfer, bubbles: true }));`, scene);
+  const got = await until("the dropped scene's results", async () => {
+    const text = await textOf("results");
+    return text?.includes("Input file path is: beaver.in") ? text : null;
+  });
+  const rows = readFileSync(join(reference, "expected", "beaver.counts.csv"), "utf8").trim().split("\n");
+  const [, wall, line] = rows.find((r) => r.startsWith("21,")).split(",").map(Number);
+  if (!got.includes(`${wall} Line-Wall Collisions\n${line} Line-Line Collisions`)) throw new Error(got);
+  return `beaver.in, 20 frames: ${wall}, ${line}`;
+});
+
+await check("a cycle of generated scenes moves on to the next", async () => {
+  await open("?lines=300&cycle=1&hud=1");
+  const hud = await until("a second scene", async () => {
+    const text = await textOf("hud");
+    return text?.includes("scene 2") ? text : null;
+  }, 20);
+  const kind = await run("return document.getElementById('kind').value;");
+  if (kind !== "clustered") throw new Error(`the second scene is ${kind}, not the second kind`);
+  return hud.split("\n").at(-1) + `, ${kind}`;
+});
+
 await check("a bad URL parameter is named on the page, and the page runs the built-in scene", async () => {
   await open("?kind=spiral");
   const got = await until("#error", () => textOf("error"));

@@ -5,15 +5,7 @@
 # them. Needs ../shared/reference (or $SCREENSAVER_REFERENCE).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-missing=()
-command -v node >/dev/null 2>&1 || missing+=(nodejs)
-command -v chromium >/dev/null 2>&1 || missing+=(chromium)
-command -v chromedriver >/dev/null 2>&1 || missing+=(chromium-driver)
-if [ ${#missing[@]} -gt 0 ]; then
-    export DEBIAN_FRONTEND=noninteractive
-    apt-get update -qq
-    apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
-fi
+scripts/browser-deps.sh
 scripts/web.sh
 cargo build --release --quiet
 node scripts/web-test.mjs web/dist target/release/screensaver
