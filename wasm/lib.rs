@@ -274,3 +274,10 @@ pub extern "C" fn ss_points(width: u32, height: u32) -> *const f32 {
 pub extern "C" fn ss_points_len() -> usize {
     POINTS.with(|p| p.borrow().len())
 }
+
+/// Candidate pairs the detector has handed to the exact test so far (as
+/// `--stats` counts them): the same on every platform where the hulls are.
+#[no_mangle]
+pub extern "C" fn ss_candidates() -> f64 {
+    with_world(|w| w.detector_stats().candidate_pairs as f64).unwrap_or(0.0)
+}

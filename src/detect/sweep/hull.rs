@@ -109,7 +109,7 @@ pub(crate) fn make(
     let line = |k: usize| &lines[ids[k] as usize];
     multiversion::target::match_target! {
         "x86_64+avx2" => avx2::make_each(line, &mut hulls[..n], &mut keys[..n], along, dt),
-        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, make_batch),
+        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, portable_batch),
     }
 }
 
@@ -147,9 +147,17 @@ fn make_each<'a>(
 pub(crate) const LANES: usize = 4;
 
 /// One value for each line of a batch.
+#[cfg_attr(
+    all(target_arch = "wasm32", target_feature = "simd128"),
+    allow(dead_code)
+)]
 type Lanes = [f64; LANES];
 
 /// `f` of each lane.
+#[cfg_attr(
+    all(target_arch = "wasm32", target_feature = "simd128"),
+    allow(dead_code)
+)]
 #[inline(always)]
 fn lanes(f: impl FnMut(usize) -> f64) -> Lanes {
     std::array::from_fn(f)
@@ -159,6 +167,11 @@ fn lanes(f: impl FnMut(usize) -> f64) -> Lanes {
 /// operations on each line in the same order, written lane by lane so
 /// that the compiler turns each into one vector operation. Writes each
 /// line's packed hull and key (least value along `along`, or [`NO_KEY`]).
+/// (WebAssembly with SIMD uses [`simd128`]'s instead.)
+#[cfg_attr(
+    all(target_arch = "wasm32", target_feature = "simd128"),
+    allow(dead_code)
+)]
 #[inline(always)]
 fn make_batch(
     batch: [&Line; LANES],
@@ -359,6 +372,103 @@ mod avx2 {
         }
     }
 }
+
+/// [`make_batch`] in WebAssembly's 128-bit vectors: two lines a vector,
+/// the same operations in the same order on each line, so the same bits.
+/// Left to the compiler, the batch is worked value by value (the hulls
+/// took 38% of a step of 10,000 lines in V8, against 15% natively).
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+mod simd128 {
+    use super::{Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD};
+    use core::arch::wasm32::{
+        f32x4_demote_f64x2_zero, f32x4_extract_lane, f32x4_neg, f64x2, f64x2_add,
+        f64x2_extract_lane, f64x2_mul, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat, f64x2_sub,
+        v128,
+    };
+
+    /// `a < b ? a : b`, as [`super::min`] (`pmin(x, y)` is `y < x ? y : x`).
+    #[inline(always)]
+    fn min(a: v128, b: v128) -> v128 {
+        f64x2_pmin(b, a)
+    }
+
+    /// `a > b ? a : b`, as [`super::max`] (`pmax(x, y)` is `x < y ? y : x`).
+    #[inline(always)]
+    fn max(a: v128, b: v128) -> v128 {
+        f64x2_pmax(b, a)
+    }
+
+    /// The four directions of points whose coordinates are `x` and `y`.
+    #[inline(always)]
+    fn project(x: v128, y: v128) -> [v128; DIRECTIONS] {
+        let x_ = f64x2_mul(x, f64x2_splat(DIAGONAL_X));
+        let y_ = f64x2_mul(y, f64x2_splat(DIAGONAL_Y));
+        [x, y, f64x2_add(x_, y_), f64x2_sub(x_, y_)]
+    }
+
+    /// [`super::make_batch`], two lines at a time.
+    #[inline(always)]
+    pub(super) fn make_batch(
+        batch: [&Line; LANES],
+        dt: f64,
+        along: usize,
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+    ) {
+        for pair in 0..LANES / 2 {
+            let (l, m) = (batch[2 * pair], batch[2 * pair + 1]);
+            let (ax, ay) = (f64x2(l.p1.x, m.p1.x), f64x2(l.p1.y, m.p1.y));
+            let (bx, by) = (f64x2(l.p2.x, m.p2.x), f64x2(l.p2.y, m.p2.y));
+            let (vx, vy) = (f64x2(l.v.x, m.v.x), f64x2(l.v.y, m.v.y));
+            let dt = f64x2_splat(dt);
+            let (dx, dy) = (f64x2_mul(vx, dt), f64x2_mul(vy, dt));
+            let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
+            let zero = f64x2_splat(0.0);
+            let (mut lo, mut hi) = ([zero; DIRECTIONS], [zero; DIRECTIONS]);
+            for r in 0..DIRECTIONS {
+                lo[r] = f64x2_add(min(a[r], b[r]), min(d[r], zero));
+                hi[r] = f64x2_add(max(a[r], b[r]), max(d[r], zero));
+            }
+            let magnitude = max(max(f64x2_neg(lo[0]), hi[0]), max(f64x2_neg(lo[1]), hi[1]));
+            let sum = f64x2_add(
+                f64x2_add(f64x2_add(f64x2_add(f64x2_add(ax, ay), bx), by), vx),
+                vy,
+            );
+            let pad = f64x2_add(f64x2_mul(magnitude, f64x2_splat(PAD)), f64x2_splat(1e-12));
+            let pad_diagonal = f64x2_mul(f64x2_splat(DIAGONAL_X + DIAGONAL_Y), pad);
+            let pads = [pad, pad, pad_diagonal, pad_diagonal];
+            let mut low = [zero; DIRECTIONS];
+            let mut high = [zero; DIRECTIONS];
+            for r in 0..DIRECTIONS {
+                low[r] = f32x4_demote_f64x2_zero(f64x2_sub(lo[r], pads[r]));
+                high[r] = f32x4_neg(f32x4_demote_f64x2_zero(f64x2_add(hi[r], pads[r])));
+            }
+            let lanes = |v: v128| [f32x4_extract_lane::<0>(v), f32x4_extract_lane::<1>(v)];
+            let (low, high) = (low.map(lanes), high.map(lanes));
+            let sums = [f64x2_extract_lane::<0>(sum), f64x2_extract_lane::<1>(sum)];
+            let magnitudes = [
+                f64x2_extract_lane::<0>(magnitude),
+                f64x2_extract_lane::<1>(magnitude),
+            ];
+            for k in 0..2 {
+                let hull = &mut hulls[2 * pair + k];
+                for r in 0..DIRECTIONS {
+                    hull[r] = low[r][k];
+                    hull[r + DIRECTIONS] = high[r][k];
+                }
+                let valid = sums[k].is_finite() && magnitudes[k] <= LARGEST;
+                keys[2 * pair + k] = if valid { hull[along] } else { NO_KEY };
+            }
+        }
+    }
+}
+
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+use self::make_batch as portable_batch;
+/// The batch of the platform's vectors where there is one written out,
+/// else [`make_batch`] as the compiler vectorises it.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+use simd128::make_batch as portable_batch;
 
 /// `min` without NaN handling: one instruction.
 #[inline(always)]
