@@ -232,7 +232,67 @@ fn write_rows(
     out.write_all(text.as_bytes())
 }
 
+/// Why a checkpoint cannot continue a run (named by the checkpoint's name
+/// and the line that says so).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum ResumeError {
+    /// The checkpoint is of another scene.
+    #[error(
+        "{name}:2: the checkpoint is of another scene ({lines} lines, digest {digest:016x}; \
+         this scene has {scene_lines} lines, digest {scene_digest:016x})"
+    )]
+    OtherScene {
+        /// The checkpoint's name.
+        name: String,
+        /// Its lines and scene digest.
+        lines: usize,
+        digest: u64,
+        /// The scene's.
+        scene_lines: usize,
+        scene_digest: u64,
+    },
+    /// The checkpoint is past the run's last step.
+    #[error("{name}:3: the checkpoint is at step {step}, past this run's {steps} steps")]
+    PastTheEnd {
+        /// The checkpoint's name.
+        name: String,
+        /// Its step.
+        step: u64,
+        /// The steps the run is to take.
+        steps: u64,
+    },
+}
+
 impl Checkpoint {
+    /// Checks that this checkpoint (named `name` in errors) continues a run
+    /// of `scene` (whose digest, [`scene_digest`], is `digest`) that is to
+    /// take `steps` steps in all.
+    pub fn continues(
+        &self,
+        name: &str,
+        scene: &Scene,
+        digest: u64,
+        steps: u64,
+    ) -> Result<(), ResumeError> {
+        if self.lines.len() != scene.lines.len() || self.scene_digest != digest {
+            return Err(ResumeError::OtherScene {
+                name: name.to_string(),
+                lines: self.lines.len(),
+                digest: self.scene_digest,
+                scene_lines: scene.lines.len(),
+                scene_digest: digest,
+            });
+        }
+        if self.steps > steps {
+            return Err(ResumeError::PastTheEnd {
+                name: name.to_string(),
+                step: self.steps,
+                steps,
+            });
+        }
+        Ok(())
+    }
+
     /// The checkpoint as text ([`Checkpoint::parse`] reads it back).
     pub fn to_text(&self) -> String {
         let mut out = Vec::new();
@@ -647,5 +707,28 @@ mod tests {
         b.lines[5].v.x = f64::from_bits(b.lines[5].v.x.to_bits() ^ 1);
         assert_eq!(scene_digest(&a), scene_digest(&a.clone()));
         assert_ne!(scene_digest(&a), scene_digest(&b));
+    }
+
+    #[test]
+    fn a_checkpoint_continues_only_its_own_scene_within_the_run() {
+        let scene = crate::generate::generate(crate::generate::SceneKind::Grid, 2, 3);
+        let digest = scene_digest(&scene);
+        let saved = Checkpoint {
+            scene_digest: digest,
+            ..sample()
+        };
+        assert_eq!(saved.continues("a.ckpt", &scene, digest, 1200), Ok(()));
+        let past = saved.continues("a.ckpt", &scene, digest, 1199).unwrap_err();
+        assert_eq!(
+            past.to_string(),
+            "a.ckpt:3: the checkpoint is at step 1200, past this run's 1199 steps"
+        );
+        let other = crate::generate::default_scene();
+        let wrong = saved
+            .continues("a.ckpt", &other, scene_digest(&other), 5000)
+            .unwrap_err();
+        assert!(wrong
+            .to_string()
+            .starts_with("a.ckpt:2: the checkpoint is of another scene (2 lines, digest "));
     }
 }

@@ -76,4 +76,4 @@ pub use geometry::Vec2;
 pub use line::{Color, Line};
 pub use narrow::{intersect, is_sliver, Event, IntersectionKind};
 pub use scene::{Scene, SceneLine};
-pub use world::{Counters, Mismatch, World};
+pub use world::{Counters, Mismatch, ThreadsError, World};

@@ -534,11 +534,13 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     };
     // An endless run has no last step.
     let steps = frames.map_or(u64::MAX, |f| f.saturating_add(1));
-    let threads_error = |e| format!("cannot start {} threads: {e}", config.threads);
+    let threads_error = |e: screensaver::ThreadsError| e.to_string();
     let mut world = match &cli.resume {
         Some(path) => {
             let saved = Checkpoint::load(path).map_err(|e| e.to_string())?;
-            check_resumable(&saved, path, &scene, digest, steps)?;
+            saved
+                .continues(&path.display().to_string(), &scene, digest, steps)
+                .map_err(|e| e.to_string())?;
             World::resume(saved, cli.detector, &config).map_err(threads_error)?
         }
         None => World::with_config(&scene, cli.detector, &config).map_err(threads_error)?,
@@ -724,33 +726,6 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
     };
     write_out(&mut stdout, &report)?;
     Ok(stopped.map_or(Ended::Finished, Ended::Stopped))
-}
-
-/// Refuses a checkpoint that does not continue this run: another scene, or
-/// a step past the run's end.
-fn check_resumable(
-    saved: &Checkpoint,
-    path: &Path,
-    scene: &Scene,
-    digest: u64,
-    steps: u64,
-) -> Result<(), String> {
-    let name = path.display();
-    if saved.lines.len() != scene.lines.len() || saved.scene_digest != digest {
-        return Err(format!(
-            "{name}:2: the checkpoint is of another scene ({} lines, digest {:016x}; this scene has {} lines, digest {digest:016x})",
-            saved.lines.len(),
-            saved.scene_digest,
-            scene.lines.len()
-        ));
-    }
-    if saved.steps > steps {
-        return Err(format!(
-            "{name}:3: the checkpoint is at step {}, past this run's {steps} steps",
-            saved.steps
-        ));
-    }
-    Ok(())
 }
 
 /// Checks, before any step runs, that every file the run will write can be

@@ -127,6 +127,16 @@ fn lines_by_id<'a>(lines: &'a [Line], storage: Option<&Storage>) -> Cow<'a, [Lin
     }
 }
 
+/// The system would not start the threads a world was asked to run on.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("cannot start {threads} threads: {reason}")]
+pub struct ThreadsError {
+    /// The threads asked for.
+    pub threads: usize,
+    /// What the system said.
+    pub reason: String,
+}
+
 /// The events `oracle` finds in `lines`, sorted.
 fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
     let mut events = Vec::new();
@@ -175,7 +185,7 @@ impl World {
         scene: &Scene,
         kind: DetectorKind,
         config: &DetectorConfig,
-    ) -> Result<Self, rayon::ThreadPoolBuildError> {
+    ) -> Result<Self, ThreadsError> {
         let mut world = Self::from_scene(scene, kind.build_with(config));
         world.set_threads(config.threads)?;
         world.set_grain(config.grain);
@@ -186,12 +196,16 @@ impl World {
     /// pool): the world's own phases and the detector's
     /// ([`Detector::set_threads`]) alike. Results are the same for any
     /// number of threads.
-    pub fn set_threads(&mut self, threads: usize) -> Result<(), rayon::ThreadPoolBuildError> {
+    pub fn set_threads(&mut self, threads: usize) -> Result<(), ThreadsError> {
         self.pool = if threads > 1 {
             Some(
                 rayon::ThreadPoolBuilder::new()
                     .num_threads(threads)
-                    .build()?,
+                    .build()
+                    .map_err(|e| ThreadsError {
+                        threads,
+                        reason: e.to_string(),
+                    })?,
             )
         } else {
             None
@@ -247,7 +261,7 @@ impl World {
         checkpoint: Checkpoint,
         kind: DetectorKind,
         config: &DetectorConfig,
-    ) -> Result<Self, rayon::ThreadPoolBuildError> {
+    ) -> Result<Self, ThreadsError> {
         let mut world = Self::new(checkpoint.lines, checkpoint.colors, kind.build_with(config));
         world.steps = checkpoint.steps;
         world.counters = checkpoint.counters;
