@@ -6,8 +6,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::checkpoint::{self, Checkpoint};
 use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
-use screensaver::render::live::{DrawStats, Pace, Scenes};
+use screensaver::render::live::{Pace, Scenes};
 use screensaver::render::{embedded, window, Frames, Recorder, Size, Target};
+use screensaver::report::{DrawStats, Stats};
 use screensaver::stop::Signal;
 use screensaver::{output, report};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
@@ -714,13 +715,14 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             value["sliver_events"] = serde_json::json!(world.slivers().0);
         }
         if cli.stats {
-            value["stats"] = stats_json(&world, &config, cli.detector, drawn);
+            let stats = Stats::of(&world, cli.detector, &config, drawn).json();
+            value["stats"] = serde_json::from_str(&stats).expect("the statistics are JSON");
         }
         format!("{value}\n")
     } else {
         let mut text = report::results(elapsed.as_secs_f64(), counts);
         if cli.stats {
-            text.push_str(&stats_text(&world, &config, cli.detector, drawn));
+            text.push_str(&Stats::of(&world, cli.detector, &config, drawn).text());
         }
         text
     };
@@ -765,139 +767,6 @@ impl Saver<'_> {
         output::write_with(self.path, |out| world.write_checkpoint(out, self.digest))
             .map_err(|e| e.to_string())
     }
-}
-
-fn stats_json(
-    world: &World,
-    config: &DetectorConfig,
-    kind: DetectorKind,
-    drawn: Option<DrawStats>,
-) -> serde_json::Value {
-    let s = world.detector_stats();
-    let t = world.phase_times().unwrap_or_default();
-    let mut value = serde_json::json!({
-        "detector": kind.name(),
-        "leaf_size": config.leaf_size,
-        "max_depth": config.max_depth,
-        "threads": config.threads,
-        "candidate_pairs": s.candidate_pairs,
-        "exact_tests": s.exact_tests,
-        "events": s.events,
-        "tree_nodes": s.nodes,
-        "tree_depth": s.max_depth,
-        "seconds": {
-            "detect": t.detect.as_secs_f64(),
-            "detect_phases": world
-                .detector()
-                .phase_times()
-                .into_iter()
-                .map(|(name, d)| (name.to_string(), serde_json::json!(d.as_secs_f64())))
-                .collect::<serde_json::Map<_, _>>(),
-            "resolve": t.resolve.as_secs_f64(),
-            "move_and_walls": t.advance.as_secs_f64(),
-        },
-    });
-    if let Some(h) = world.hand_offs() {
-        value["team"] = serde_json::json!({
-            "hand_offs": h.jobs,
-            "pieces": h.pieces,
-            "member_pieces": h.member_pieces,
-            "alone": h.alone,
-            "wait_seconds": h.wait.as_secs_f64(),
-            "parked_waits": h.parked,
-        });
-    }
-    if let Some(d) = drawn {
-        value["frames_drawn"] = serde_json::json!(d.frames);
-        value["drawn_fps"] = serde_json::json!(d.fps());
-        value["draw_seconds_per_frame"] = serde_json::json!(d.seconds_per_frame());
-    }
-    value
-}
-
-fn stats_text(
-    world: &World,
-    config: &DetectorConfig,
-    kind: DetectorKind,
-    drawn: Option<DrawStats>,
-) -> String {
-    let s = world.detector_stats();
-    let t = world.phase_times().unwrap_or_default();
-    let steps = world.steps().max(1) as f64;
-    let per_step = |n: u64| n as f64 / steps;
-    let total = (t.detect + t.resolve + t.advance).as_secs_f64().max(1e-12);
-    let phase = |name: &str, d: Duration| {
-        format!(
-            "  {name:<16}{:>12.6}s {:>6.1}%  {:>10.2} us/step\n",
-            d.as_secs_f64(),
-            100.0 * d.as_secs_f64() / total,
-            d.as_secs_f64() * 1e6 / steps
-        )
-    };
-    let tuning = match kind {
-        DetectorKind::Quadtree => format!(
-            " (leaf size {}, max depth {})",
-            config.leaf_size, config.max_depth
-        ),
-        DetectorKind::Sweep => format!(" ({})", world.detector().describe()),
-        DetectorKind::Brute => String::new(),
-    };
-    let mut out = format!(
-        "---- STATS ----\ndetector: {}{tuning}\nlines: {}, steps: {}, threads: {}\n",
-        kind.name(),
-        world.lines().len(),
-        world.steps(),
-        world.threads()
-    );
-    out += &format!("{:<18}{:>16}{:>16}\n", "", "total", "per step");
-    for (name, n) in [
-        ("candidate pairs", s.candidate_pairs),
-        ("exact tests", s.exact_tests),
-        ("events", s.events),
-        ("tree nodes", s.nodes),
-    ] {
-        out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
-    }
-    out += &format!("tree depth (max)  {:>16}\n", s.max_depth);
-    out += "time per phase:\n";
-    out += &phase("detect", t.detect);
-    // The detector's own phases, within detect.
-    for (name, d) in world.detector().phase_times() {
-        if !d.is_zero() {
-            out += &phase(&format!("  {name}"), d);
-        }
-    }
-    out += &phase("resolve", t.resolve);
-    out += &phase("move and walls", t.advance);
-    if let Some(h) = world.hand_offs().filter(|h| h.jobs > 0) {
-        let jobs = h.jobs as f64;
-        out += &format!(
-            "team: {:.1} hand-offs a step, {:.1} pieces each; the members ran {:.1}% of \
-             the pieces (none of {} hand-offs); the stepping thread waited {:.2} us a step \
-             for pieces running elsewhere, and parked {} times\n",
-            jobs / steps,
-            h.pieces as f64 / jobs,
-            100.0 * h.member_pieces as f64 / (h.pieces as f64).max(1.0),
-            h.alone,
-            h.wait.as_secs_f64() * 1e6 / steps,
-            h.parked,
-        );
-    }
-    if let Some(d) = drawn {
-        // Pictures written to files have no rate of their own.
-        let rate = if d.span.is_zero() {
-            String::new()
-        } else {
-            format!(", {:.1} frames/s", d.fps())
-        };
-        out += &format!(
-            "frames drawn: {}{rate}, {:.3} ms a frame to draw\n",
-            d.frames,
-            d.seconds_per_frame() * 1e3
-        );
-    }
-    out += "---- END STATS ----\n";
-    out
 }
 
 /// Runs `steps` steps and returns the time the simulation took (the loop,

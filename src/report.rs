@@ -1,9 +1,14 @@
-//! The text the original program printed around a run, which every front
-//! end (the command line, the web page) prints the same way: a header
-//! naming the frames and the input, and the results block.
+//! What a run reports: the text the original program printed around it,
+//! which every front end (the command line, the web page) prints the same
+//! way (a header naming the frames and the input, and the results block),
+//! and the statistics `--stats` adds, as text and as JSON.
 
+use crate::detect::{DetectorConfig, DetectorKind, DetectorStats};
 use crate::generate::{SceneKind, DEFAULT_LINES, DEFAULT_SEED};
-use crate::Counters;
+use crate::team::HandOffs;
+use crate::world::PhaseTimes;
+use crate::{Counters, World};
+use std::time::Duration;
 
 /// The header: the frames asked for (`None`: an endless run) and the
 /// input's name.
@@ -30,9 +35,229 @@ pub fn results(seconds: f64, counters: Counters) -> String {
     )
 }
 
+/// Frames drawn and the time drawing them took.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DrawStats {
+    /// Frames drawn.
+    pub frames: u64,
+    /// Time spent drawing them (painting and handing them to the display).
+    pub drawing: Duration,
+    /// Time from the first frame to the last.
+    pub span: Duration,
+}
+
+impl DrawStats {
+    /// Frames drawn per second over the run.
+    pub fn fps(&self) -> f64 {
+        if self.frames < 2 || self.span.is_zero() {
+            return 0.0;
+        }
+        (self.frames - 1) as f64 / self.span.as_secs_f64()
+    }
+
+    /// The mean time a frame took to draw.
+    pub fn seconds_per_frame(&self) -> f64 {
+        if self.frames == 0 {
+            return 0.0;
+        }
+        self.drawing.as_secs_f64() / self.frames as f64
+    }
+}
+
+/// A run's statistics (`--stats`): the detector's work, the time of each
+/// phase, the thread team's hand-offs and the pictures drawn.
+#[derive(Clone, Debug)]
+pub struct Stats {
+    kind: DetectorKind,
+    config: DetectorConfig,
+    tuning: String,
+    lines: usize,
+    steps: u64,
+    threads: usize,
+    work: DetectorStats,
+    times: PhaseTimes,
+    detector_phases: Vec<(&'static str, Duration)>,
+    hand_offs: Option<HandOffs>,
+    drawn: Option<DrawStats>,
+}
+
+impl Stats {
+    /// The statistics of `world`, whose detector is of `kind` tuned by
+    /// `config`, and of the pictures `drawn`, if any.
+    pub fn of(
+        world: &World,
+        kind: DetectorKind,
+        config: &DetectorConfig,
+        drawn: Option<DrawStats>,
+    ) -> Stats {
+        let tuning = match kind {
+            DetectorKind::Quadtree => format!(
+                " (leaf size {}, max depth {})",
+                config.leaf_size, config.max_depth
+            ),
+            DetectorKind::Sweep => format!(" ({})", world.detector().describe()),
+            DetectorKind::Brute => String::new(),
+        };
+        Stats {
+            kind,
+            config: *config,
+            tuning,
+            lines: world.lines().len(),
+            steps: world.steps(),
+            threads: world.threads(),
+            work: world.detector_stats(),
+            times: world.phase_times().unwrap_or_default(),
+            detector_phases: world.detector().phase_times(),
+            hand_offs: world.hand_offs(),
+            drawn,
+        }
+    }
+
+    /// The statistics as text, the block `--stats` prints.
+    pub fn text(&self) -> String {
+        let (s, t) = (&self.work, &self.times);
+        let steps = self.steps.max(1) as f64;
+        let per_step = |n: u64| n as f64 / steps;
+        let total = (t.detect + t.resolve + t.advance).as_secs_f64().max(1e-12);
+        let phase = |name: &str, d: Duration| {
+            format!(
+                "  {name:<16}{:>12.6}s {:>6.1}%  {:>10.2} us/step\n",
+                d.as_secs_f64(),
+                100.0 * d.as_secs_f64() / total,
+                d.as_secs_f64() * 1e6 / steps
+            )
+        };
+        let mut out = format!(
+            "---- STATS ----\ndetector: {}{}\nlines: {}, steps: {}, threads: {}\n",
+            self.kind.name(),
+            self.tuning,
+            self.lines,
+            self.steps,
+            self.threads
+        );
+        out += &format!("{:<18}{:>16}{:>16}\n", "", "total", "per step");
+        for (name, n) in [
+            ("candidate pairs", s.candidate_pairs),
+            ("exact tests", s.exact_tests),
+            ("events", s.events),
+            ("tree nodes", s.nodes),
+        ] {
+            out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
+        }
+        out += &format!("tree depth (max)  {:>16}\n", s.max_depth);
+        out += "time per phase:\n";
+        out += &phase("detect", t.detect);
+        // The detector's own phases, within detect.
+        for &(name, d) in &self.detector_phases {
+            if !d.is_zero() {
+                out += &phase(&format!("  {name}"), d);
+            }
+        }
+        out += &phase("resolve", t.resolve);
+        out += &phase("move and walls", t.advance);
+        if let Some(h) = self.hand_offs.filter(|h| h.jobs > 0) {
+            let jobs = h.jobs as f64;
+            out += &format!(
+                "team: {:.1} hand-offs a step, {:.1} pieces each; the members ran {:.1}% of \
+                 the pieces (none of {} hand-offs); the stepping thread waited {:.2} us a step \
+                 for pieces running elsewhere, and parked {} times\n",
+                jobs / steps,
+                h.pieces as f64 / jobs,
+                100.0 * h.member_pieces as f64 / (h.pieces as f64).max(1.0),
+                h.alone,
+                h.wait.as_secs_f64() * 1e6 / steps,
+                h.parked,
+            );
+        }
+        if let Some(d) = self.drawn {
+            // Pictures written to files have no rate of their own.
+            let rate = if d.span.is_zero() {
+                String::new()
+            } else {
+                format!(", {:.1} frames/s", d.fps())
+            };
+            out += &format!(
+                "frames drawn: {}{rate}, {:.3} ms a frame to draw\n",
+                d.frames,
+                d.seconds_per_frame() * 1e3
+            );
+        }
+        out += "---- END STATS ----\n";
+        out
+    }
+
+    /// The statistics as a JSON object (keys in `snake_case`), what
+    /// `--stats --json` puts under `"stats"`.
+    pub fn json(&self) -> String {
+        let (s, t, config) = (&self.work, &self.times, &self.config);
+        let mut value = serde_json::json!({
+            "detector": self.kind.name(),
+            "leaf_size": config.leaf_size,
+            "max_depth": config.max_depth,
+            "threads": config.threads,
+            "candidate_pairs": s.candidate_pairs,
+            "exact_tests": s.exact_tests,
+            "events": s.events,
+            "tree_nodes": s.nodes,
+            "tree_depth": s.max_depth,
+            "seconds": {
+                "detect": t.detect.as_secs_f64(),
+                "detect_phases": self
+                    .detector_phases
+                    .iter()
+                    .map(|(name, d)| (name.to_string(), serde_json::json!(d.as_secs_f64())))
+                    .collect::<serde_json::Map<_, _>>(),
+                "resolve": t.resolve.as_secs_f64(),
+                "move_and_walls": t.advance.as_secs_f64(),
+            },
+        });
+        if let Some(h) = self.hand_offs {
+            value["team"] = serde_json::json!({
+                "hand_offs": h.jobs,
+                "pieces": h.pieces,
+                "member_pieces": h.member_pieces,
+                "alone": h.alone,
+                "wait_seconds": h.wait.as_secs_f64(),
+                "parked_waits": h.parked,
+            });
+        }
+        if let Some(d) = self.drawn {
+            value["frames_drawn"] = serde_json::json!(d.frames);
+            value["drawn_fps"] = serde_json::json!(d.fps());
+            value["draw_seconds_per_frame"] = serde_json::json!(d.seconds_per_frame());
+        }
+        value.to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn statistics_read_as_text_and_as_json() {
+        let scene = crate::generate::generate(SceneKind::Uniform, 300, 5);
+        let config = DetectorConfig::default();
+        let mut world = World::with_config(&scene, DetectorKind::Quadtree, &config).unwrap();
+        world.set_timing(true);
+        world.run(7);
+        let drawn = DrawStats {
+            frames: 3,
+            drawing: Duration::from_millis(30),
+            span: Duration::from_millis(40),
+        };
+        let stats = Stats::of(&world, DetectorKind::Quadtree, &config, Some(drawn));
+        let text = stats.text();
+        assert!(text.starts_with("---- STATS ----\ndetector: quadtree (leaf size "));
+        assert!(text.contains("lines: 300, steps: 7, threads: "), "{text}");
+        assert!(text.contains("frames drawn: 3, 50.0 frames/s, 10.000 ms a frame to draw"));
+        assert!(text.ends_with("---- END STATS ----\n"));
+        let json: serde_json::Value = serde_json::from_str(&stats.json()).unwrap();
+        assert_eq!(json["detector"], "quadtree");
+        assert_eq!(json["events"], world.detector_stats().events);
+        assert_eq!(json["frames_drawn"], 3);
+        assert!(json["seconds"]["detect"].as_f64().unwrap() > 0.0);
+    }
 
     #[test]
     fn texts_are_the_original_programs() {

@@ -8,9 +8,10 @@
 //! on SIGINT or SIGTERM (the daemon ends hacks with SIGTERM), or after the
 //! frames asked for.
 
-use super::live::{DrawStats, FrameClock, Outcome, Pace, Run, Scenes};
+use super::live::{FrameClock, Outcome, Pace, Run, Scenes};
 use super::raster::{Canvas, Painter};
 use super::{hud, Size, View};
+use crate::report::DrawStats;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 use x11rb::connection::Connection;

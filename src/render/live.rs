@@ -6,6 +6,7 @@
 
 use super::died_out;
 use crate::line::{Color, Line};
+use crate::report::DrawStats;
 use crate::World;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -347,35 +348,6 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
         elapsed,
         scene_elapsed: elapsed.min(scene_start.elapsed()),
         scenes: scene + 1,
-    }
-}
-
-/// Frames drawn and the time drawing them took.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct DrawStats {
-    /// Frames drawn.
-    pub frames: u64,
-    /// Time spent drawing them (painting and handing them to the display).
-    pub drawing: Duration,
-    /// Time from the first frame to the last.
-    pub span: Duration,
-}
-
-impl DrawStats {
-    /// Frames drawn per second over the run.
-    pub fn fps(&self) -> f64 {
-        if self.frames < 2 || self.span.is_zero() {
-            return 0.0;
-        }
-        (self.frames - 1) as f64 / self.span.as_secs_f64()
-    }
-
-    /// The mean time a frame took to draw.
-    pub fn seconds_per_frame(&self) -> f64 {
-        if self.frames == 0 {
-            return 0.0;
-        }
-        self.drawing.as_secs_f64() / self.frames as f64
     }
 }
 

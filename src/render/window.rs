@@ -8,9 +8,10 @@
 //! display, Q or Esc quits. The title shows the step, both counters and
 //! the steps per second.
 
-use super::live::{DrawStats, FrameClock, Outcome, Pace, Run, Scenes, Snapshot};
+use super::live::{FrameClock, Outcome, Pace, Run, Scenes, Snapshot};
 use super::raster::{Canvas, Painter};
 use super::{hud, Size, View};
+use crate::report::DrawStats;
 use std::num::NonZeroU32;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
