@@ -35,6 +35,7 @@ pub mod output;
 pub mod render;
 pub mod report;
 pub(crate) mod response;
+pub mod run;
 pub mod scene;
 #[cfg(feature = "signals")]
 pub mod stop;

@@ -4,17 +4,17 @@
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use screensaver::checkpoint::{self, Checkpoint};
-use screensaver::detect::{Brute, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+use screensaver::detect::{DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::{generate, generate_iter, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use screensaver::render::live::{Pace, Scenes};
 use screensaver::render::{embedded, window, Frames, Recorder, Size, Target};
-use screensaver::report::{DrawStats, Stats};
+use screensaver::report::Stats;
+use screensaver::run::{Checkpoints, Ran, Run};
 use screensaver::stop::Signal;
 use screensaver::{output, report};
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::{IsTerminal, Write};
-use std::ops::ControlFlow;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::{Duration, Instant};
 
@@ -582,7 +582,7 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
         write_out(&mut stdout, &header(&input_name))?;
     }
 
-    let saver = cli.checkpoint.as_ref().map(|path| Saver {
+    let checkpoints = cli.checkpoint.as_deref().map(|path| Checkpoints {
         path,
         every: cli.checkpoint_every,
         digest,
@@ -649,17 +649,16 @@ fn run(cli: &Cli) -> Result<Ended, Failure> {
             outcome.scene_elapsed
         }
         None => {
-            let (elapsed, pictures) =
-                simulate(&mut world, to_run, cli.verify, recorder, saver.as_ref())?;
-            drawn = pictures;
-            elapsed
+            let ran = batch(&mut world, to_run, cli.verify, recorder, checkpoints)?;
+            drawn = ran.pictures;
+            ran.elapsed
         }
     };
     let stopped = screensaver::stop::requested();
     let counts = world.counters();
 
-    if let Some(saver) = &saver {
-        saver.save(&world)?;
+    if let Some(checkpoints) = &checkpoints {
+        checkpoints.save(&world).map_err(|e| e.to_string())?;
     }
     if let Some(path) = &cli.state_out {
         output::write_with(path, |out| world.write_state(out)).map_err(|e| e.to_string())?;
@@ -747,130 +746,48 @@ fn check_outputs(cli: &Cli) -> Result<(), String> {
     Ok(())
 }
 
-/// Writes checkpoints of a run.
-struct Saver<'a> {
-    path: &'a Path,
-    /// Steps between two checkpoints (besides the last).
-    every: Option<u64>,
-    /// The scene's digest.
-    digest: u64,
-}
-
-impl Saver<'_> {
-    /// Whether a checkpoint is due after this step.
-    fn due(&self, world: &World) -> bool {
-        self.every.is_some_and(|k| world.steps() % k == 0)
-    }
-
-    /// Writes the world's checkpoint, whole or not at all.
-    fn save(&self, world: &World) -> Result<(), String> {
-        output::write_with(self.path, |out| world.write_checkpoint(out, self.digest))
-            .map_err(|e| e.to_string())
-    }
-}
-
-/// Runs `steps` steps and returns the time the simulation took (the loop,
-/// less the time spent writing pictures and checkpoints), and with a
-/// recorder, the frames it wrote and the time they took. A progress bar
-/// appears on stderr once a run has taken a second, if stderr is a terminal.
-/// With `verify`, every step is checked against the all-pairs detector.
-/// With a recorder, frames are written as the run goes.
-fn simulate(
+/// Runs `steps` steps of a batch run, checked against all pairs with
+/// `verify`, writing pictures and checkpoints if asked, until a signal
+/// stops it; with a progress bar on stderr once the run has taken a
+/// second, if stderr is a terminal.
+fn batch(
     world: &mut World,
     steps: u64,
     verify: bool,
-    mut recorder: Option<Recorder>,
-    saver: Option<&Saver>,
-) -> Result<(Duration, Option<DrawStats>), String> {
-    if verify {
-        world.set_oracle(Box::new(Brute::default()));
-    }
-    // Time spent writing pictures, and checkpoints.
-    let (mut drawing, mut saving) = (Duration::ZERO, Duration::ZERO);
-    if let Some(recorder) = &mut recorder {
-        let started = Instant::now();
-        recorder.start(world).map_err(|e| e.to_string())?;
-        drawing += started.elapsed();
-    }
-    let mut render_error = None;
-    let mut save_error = None;
+    recorder: Option<Recorder>,
+    checkpoints: Option<Checkpoints>,
+) -> Result<Ran, String> {
     let show_progress = std::io::stderr().is_terminal();
-    // The first picture is drawn before the loop's clock starts.
-    let drawn_before = drawing;
-    let verified_before = world.verifying_time();
-    let start = Instant::now();
     let mut bar: Option<ProgressBar> = None;
-    let mut done = 0;
-    let stopped = world.run_with(steps, |world| {
-        done += 1;
-        if world.mismatch().is_some() {
-            return ControlFlow::Break(());
+    let mut progress = |done: u64, elapsed: Duration| {
+        if !show_progress {
+            return;
         }
-        if let Some(recorder) = &mut recorder {
-            let started = Instant::now();
-            let written = recorder.after_step(world);
-            drawing += started.elapsed();
-            if let Err(e) = written {
-                render_error = Some(e.to_string());
-                return ControlFlow::Break(());
+        match &bar {
+            Some(bar) => bar.set_position(done),
+            None if elapsed > Duration::from_secs(1) => {
+                bar = Some(progress_bar(steps, done, Instant::now() - elapsed))
             }
+            None => {}
         }
-        if let Some(saver) = saver.filter(|s| s.due(world)) {
-            let started = Instant::now();
-            let saved = saver.save(world);
-            saving += started.elapsed();
-            if let Err(e) = saved {
-                save_error = Some(e);
-                return ControlFlow::Break(());
-            }
-        }
-        if screensaver::stop::requested().is_some() {
-            return ControlFlow::Break(());
-        }
-        if show_progress {
-            match &bar {
-                Some(bar) => bar.set_position(done),
-                None if start.elapsed() > Duration::from_secs(1) => {
-                    bar = Some(progress_bar(steps, done, start))
-                }
-                None => {}
-            }
-        }
-        ControlFlow::Continue(())
-    });
-    // The simulation alone: not the pictures, the checkpoints, nor the
-    // all-pairs check of --verify.
-    let verifying = world.verifying_time() - verified_before;
-    let elapsed = start
-        .elapsed()
-        .saturating_sub(drawing - drawn_before + saving + verifying);
-    if let Some(bar) = bar {
-        if stopped.is_some() {
-            bar.abandon();
-        } else {
-            bar.finish_and_clear();
-        }
-    }
-    if let Some(e) = render_error.or(save_error) {
-        return Err(e);
-    }
-    if let Some(mismatch) = world.mismatch() {
-        return Err(format!("--verify: {mismatch}"));
-    }
-    let pictures = match recorder {
-        Some(recorder) => {
-            let started = Instant::now();
-            let frames = recorder.finish(world).map_err(|e| e.to_string())?;
-            drawing += started.elapsed();
-            Some(DrawStats {
-                frames,
-                drawing,
-                span: Duration::ZERO,
-            })
-        }
-        None => None,
     };
-    Ok((elapsed, pictures))
+    let stop = || screensaver::stop::requested().is_some();
+    let run = Run {
+        verify,
+        recorder,
+        checkpoints,
+        progress: Some(&mut progress),
+        stop: Some(&stop),
+    };
+    let ran = run.run(world, steps);
+    if let Some(bar) = bar {
+        if ran.as_ref().is_ok_and(|r| !r.stopped) {
+            bar.finish_and_clear();
+        } else {
+            bar.abandon();
+        }
+    }
+    ran.map_err(|e| e.to_string())
 }
 
 /// A progress bar for a run of `steps` steps that started at `start` and

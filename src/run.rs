@@ -1,0 +1,253 @@
+//! A batch run: steps, and what may go around each of them (the all-pairs
+//! check of `--verify`, pictures written as the run goes, checkpoints every
+//! so many steps, a progress callback, a way to stop early), with the
+//! simulation's own time measured apart from all of these.
+
+use crate::detect::Brute;
+use crate::output;
+#[cfg(feature = "render")]
+use crate::render::Recorder;
+use crate::report::DrawStats;
+use crate::World;
+use std::ops::ControlFlow;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Checkpoints of a run: written to `path` every `every` steps (if set), of
+/// a scene whose digest ([`crate::checkpoint::scene_digest`]) is `digest`.
+#[derive(Clone, Copy, Debug)]
+pub struct Checkpoints<'a> {
+    /// Where.
+    pub path: &'a Path,
+    /// Steps between two checkpoints.
+    pub every: Option<u64>,
+    /// The scene's digest.
+    pub digest: u64,
+}
+
+impl Checkpoints<'_> {
+    /// Whether a checkpoint is due after this step.
+    fn due(&self, world: &World) -> bool {
+        self.every.is_some_and(|k| world.steps() % k == 0)
+    }
+
+    /// Writes the world's checkpoint, whole or not at all.
+    pub fn save(&self, world: &World) -> Result<(), RunError> {
+        output::write_with(self.path, |out| world.write_checkpoint(out, self.digest))
+            .map_err(|e| RunError::Checkpoint(e.to_string()))
+    }
+}
+
+/// What goes around the steps of a run; by default nothing.
+#[derive(Default)]
+pub struct Run<'a> {
+    /// Checks every step against the all-pairs detector.
+    pub verify: bool,
+    /// Writes pictures as the run goes.
+    #[cfg(feature = "render")]
+    pub recorder: Option<Recorder>,
+    /// Writes checkpoints as the run goes.
+    pub checkpoints: Option<Checkpoints<'a>>,
+    /// Called after each step with the steps run so far and the time since
+    /// the run started.
+    pub progress: Option<&'a mut (dyn FnMut(u64, Duration) + Send)>,
+    /// Asked after each step; the run ends there when it answers yes.
+    pub stop: Option<&'a (dyn Fn() -> bool + Sync)>,
+}
+
+/// How a run went.
+#[derive(Clone, Copy, Debug)]
+pub struct Ran {
+    /// The simulation's time: the run's, less the time spent writing
+    /// pictures and checkpoints and checking steps against all pairs.
+    pub elapsed: Duration,
+    /// The pictures written, and the time that took.
+    pub pictures: Option<DrawStats>,
+    /// Whether [`Run::stop`] ended the run early.
+    pub stopped: bool,
+}
+
+/// Why a run could not go on.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum RunError {
+    /// A picture could not be written.
+    #[error("{0}")]
+    Picture(String),
+    /// A checkpoint could not be written.
+    #[error("{0}")]
+    Checkpoint(String),
+    /// A step's events differed from the all-pairs detector's.
+    #[error("--verify: {0}")]
+    Mismatch(String),
+}
+
+impl Run<'_> {
+    /// Runs `steps` steps of `world` (fewer if stopped or an error ends the
+    /// run).
+    pub fn run(self, world: &mut World, steps: u64) -> Result<Ran, RunError> {
+        let Run {
+            verify,
+            #[cfg(feature = "render")]
+            mut recorder,
+            checkpoints,
+            mut progress,
+            stop,
+        } = self;
+        if verify {
+            world.set_oracle(Box::new(Brute::default()));
+        }
+        // Time spent writing pictures, and checkpoints.
+        #[cfg_attr(not(feature = "render"), allow(unused_mut))]
+        let mut drawing = Duration::ZERO;
+        let mut saving = Duration::ZERO;
+        #[cfg(feature = "render")]
+        if let Some(recorder) = &mut recorder {
+            let started = Instant::now();
+            recorder
+                .start(world)
+                .map_err(|e| RunError::Picture(e.to_string()))?;
+            drawing += started.elapsed();
+        }
+        let mut failed = None;
+        // The first picture is drawn before the loop's clock starts.
+        let drawn_before = drawing;
+        let verified_before = world.verifying_time();
+        let start = Instant::now();
+        let mut done = 0;
+        let stopped = world.run_with(steps, |world| {
+            done += 1;
+            if world.mismatch().is_some() {
+                return ControlFlow::Break(false);
+            }
+            #[cfg(feature = "render")]
+            if let Some(recorder) = &mut recorder {
+                let started = Instant::now();
+                let written = recorder.after_step(world);
+                drawing += started.elapsed();
+                if let Err(e) = written {
+                    failed = Some(RunError::Picture(e.to_string()));
+                    return ControlFlow::Break(false);
+                }
+            }
+            if let Some(checkpoints) = checkpoints.filter(|c| c.due(world)) {
+                let started = Instant::now();
+                let saved = checkpoints.save(world);
+                saving += started.elapsed();
+                if let Err(e) = saved {
+                    failed = Some(e);
+                    return ControlFlow::Break(false);
+                }
+            }
+            if stop.is_some_and(|stop| stop()) {
+                return ControlFlow::Break(true);
+            }
+            if let Some(progress) = &mut progress {
+                progress(done, start.elapsed());
+            }
+            ControlFlow::Continue(())
+        });
+        // The simulation alone: not the pictures, the checkpoints, nor the
+        // all-pairs check of --verify.
+        let verifying = world.verifying_time() - verified_before;
+        let elapsed = start
+            .elapsed()
+            .saturating_sub(drawing - drawn_before + saving + verifying);
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        if let Some(mismatch) = world.mismatch() {
+            return Err(RunError::Mismatch(mismatch.to_string()));
+        }
+        #[cfg(feature = "render")]
+        let pictures = match recorder {
+            Some(recorder) => {
+                let started = Instant::now();
+                let frames = recorder
+                    .finish(world)
+                    .map_err(|e| RunError::Picture(e.to_string()))?;
+                drawing += started.elapsed();
+                Some(DrawStats {
+                    frames,
+                    drawing,
+                    span: Duration::ZERO,
+                })
+            }
+            None => None,
+        };
+        #[cfg(not(feature = "render"))]
+        let pictures = None;
+        Ok(Ran {
+            elapsed,
+            pictures,
+            stopped: stopped == Some(true),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generate::{generate, SceneKind};
+    use crate::DetectorKind;
+    use std::sync::atomic::{AtomicU64, Ordering};
+
+    fn world() -> World {
+        World::with_detector(&generate(SceneKind::Uniform, 200, 3), DetectorKind::Sweep)
+    }
+
+    #[test]
+    fn a_run_reports_its_progress_and_stops_when_asked() {
+        let mut world = world();
+        let mut seen = Vec::new();
+        let mut progress = |done: u64, _: Duration| seen.push(done);
+        let asked = AtomicU64::new(0);
+        let stop = || asked.fetch_add(1, Ordering::Relaxed) + 1 >= 7;
+        let ran = Run {
+            verify: true,
+            progress: Some(&mut progress),
+            stop: Some(&stop),
+            ..Run::default()
+        }
+        .run(&mut world, 20)
+        .unwrap();
+        assert!(ran.stopped);
+        assert_eq!(world.steps(), 7);
+        assert_eq!(seen, (1..=6).collect::<Vec<_>>());
+        assert!(ran.pictures.is_none());
+        let mut plain = self::world();
+        plain.run(7);
+        assert_eq!(plain.counters(), world.counters());
+    }
+
+    #[test]
+    fn checkpoints_are_written_as_the_run_goes() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("run.ckpt");
+        let mut world = world();
+        let ran = Run {
+            checkpoints: Some(Checkpoints {
+                path: &path,
+                every: Some(4),
+                digest: 9,
+            }),
+            ..Run::default()
+        }
+        .run(&mut world, 10)
+        .unwrap();
+        assert!(!ran.stopped);
+        let text = std::fs::read_to_string(&path).unwrap();
+        let saved = crate::checkpoint::Checkpoint::parse(text.as_bytes(), "run.ckpt").unwrap();
+        assert_eq!((saved.steps, saved.scene_digest), (8, 9));
+        let bad = Checkpoints {
+            path: Path::new("/proc/run.ckpt"),
+            every: Some(1),
+            digest: 9,
+        };
+        let failed = Run {
+            checkpoints: Some(bad),
+            ..Run::default()
+        }
+        .run(&mut self::world(), 3);
+        assert!(matches!(failed, Err(RunError::Checkpoint(_))));
+    }
+}
