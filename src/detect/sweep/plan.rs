@@ -4,7 +4,7 @@
 //! along `x` meets almost nothing sweeping along `x` and a great deal along
 //! `y`), and one direction alone meets too many boxes once there are tens
 //! of thousands of lines. A plan is chosen from a sample of the boxes by a
-//! cost model, and the number of bands is then tuned on the real work.
+//! cost model, on the first step and every 256 steps after.
 
 use super::bands::Bands;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
@@ -41,14 +41,12 @@ pub(crate) struct LayoutCost {
     pub per_guest: f64,
 }
 
-/// A layout kept from the step before and updated: about 65 instructions
-/// a box on `koch` in 22 bands (a layout made anew, as on the first step
-/// or after a change of bands, costs about 230), and a guest, copied from
-/// band to band and met by binary search, several times a home. Set where
-/// the model's choices matched the measured ones: `koch` is cut into bands
-/// (15% faster than one band), and `mit` (whose long lines make a third of
-/// its boxes guests: 6% slower in bands), `sin_wave` and `smalllines` are
-/// not.
+/// The layout's cost in units of one candidate: a box laid out (kept
+/// from the step before and updated), and each guest on top of it, listed
+/// in every band it reaches above its home and swept against that band's
+/// homes. Set where the model's choices matched the measured ones: `koch`
+/// is cut into bands, and `mit` (whose long lines make a third of its
+/// boxes guests), `sin_wave` and `smalllines` are not.
 pub(crate) const LAYOUT: LayoutCost = LayoutCost {
     per_box: 3.0,
     per_guest: 20.0,
