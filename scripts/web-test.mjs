@@ -207,6 +207,8 @@ await check("a .in file dropped on the page runs, and its run ends with the resu
   const rows = readFileSync(join(reference, "expected", "beaver.counts.csv"), "utf8").trim().split("\n");
   const [, wall, line] = rows.find((r) => r.startsWith("21,")).split(",").map(Number);
   if (!got.includes(`${wall} Line-Wall Collisions\n${line} Line-Line Collisions`)) throw new Error(got);
+  const chosen = await run("const k = document.getElementById('kind'); return k.options[k.selectedIndex].text;");
+  if (chosen !== "beaver.in") throw new Error(`the scene chooser shows ${chosen}`);
   return `beaver.in, 20 frames: ${wall}, ${line}`;
 });
 

@@ -360,9 +360,11 @@ function runFromForm() {
   const kind = $("kind").value;
   state.cycle = Math.max(0, Number($("cycle").value) || 0);
   state.sceneIndex = 0;
-  if (kind === "built-in") {
+  if (kind === "built-in" || kind === "file") {
+    // The built-in scene, or the file on show run again from its start.
     state.firstGenerated = null;
-    startWorld({ type: "built-in" }).then(syncLink);
+    const scene = kind === "file" && state.scene.type === "file" ? state.scene : { type: "built-in" };
+    startWorld(scene).then(syncLink);
   } else {
     const lines = Math.min(MAX_LINES, Math.max(1, Math.floor(Number($("lines").value) || 1000)));
     const scene = { type: "generated", kind, kindGiven: true, lines, seed: parseSeed($("seed").value) ?? 1n };
@@ -380,7 +382,12 @@ async function openFile(file) {
 
 function syncForm() {
   const scene = state.scene;
-  $("kind").value = scene.type === "generated" ? scene.kind : "built-in";
+  // A file on show is a choice of its own, named by the file.
+  let fileChoice = $("kind").querySelector("option[value=file]");
+  if (!fileChoice) fileChoice = $("kind").appendChild(new Option("", "file"));
+  fileChoice.hidden = scene.type !== "file";
+  fileChoice.textContent = scene.type === "file" ? scene.name : "";
+  $("kind").value = scene.type === "generated" ? scene.kind : scene.type;
   if (scene.type === "generated") {
     $("lines").value = scene.lines;
     $("seed").value = scene.seed.toString();
