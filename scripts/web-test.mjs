@@ -11,7 +11,7 @@ import { join, dirname, resolve } from "node:path";
 import { tmpdir } from "node:os";
 import { fileURLToPath } from "node:url";
 import { inflateSync } from "node:zlib";
-import { startBrowser } from "./web-browser.mjs";
+import { startBrowser, sleep } from "./web-browser.mjs";
 
 const here = dirname(fileURLToPath(import.meta.url));
 const [dist, native] = process.argv.slice(2).map((p) => resolve(p));
@@ -221,6 +221,31 @@ await check("a cycle of generated scenes moves on to the next", async () => {
   const kind = await run("return document.getElementById('kind').value;");
   if (kind !== "clustered") throw new Error(`the second scene is ${kind}, not the second kind`);
   return hud.split("\n").at(-1) + `, ${kind}`;
+});
+
+await check("the window's keys: Space pauses, Right arrow steps, - sets a pace, H hides the HUD", async () => {
+  const key = (k) => run("document.dispatchEvent(new KeyboardEvent('keydown', { key: arguments[0] }));", k);
+  await open("?hud=1");
+  await until("steps", async () => (await stepOf()) > 3, 20);
+  await key(" ");
+  await sleep(200);
+  const paused = await stepOf();
+  await sleep(500);
+  if ((await stepOf()) !== paused) throw new Error("the run went on while paused");
+  await key("ArrowRight");
+  await until("one step", async () => (await stepOf()) === paused + 1, 10);
+  await sleep(300);
+  if ((await stepOf()) !== paused + 1) throw new Error("Right arrow ran more than one step");
+  await key("-");
+  const slower = await until("a pace in the HUD", async () => {
+    const hud = await textOf("hud");
+    return /pace: \d+ steps\/s max/.test(hud ?? "") ? hud : null;
+  }, 10);
+  await key("h");
+  await until("the HUD hidden", async () => (await textOf("hud")) === null, 10);
+  await key(" ");
+  await until("steps again", async () => (await stepOf()) > paused + 3, 20);
+  return `paused at step ${paused}, one step on, ${slower.split("\n").at(-1)}`;
 });
 
 await check("a bad URL parameter is named on the page, and the page runs the built-in scene", async () => {
