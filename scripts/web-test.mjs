@@ -138,21 +138,19 @@ for (const name of scenes) {
   });
 }
 
-await check("the picture: both colours on black, 1,000 lines (the browser's strokes)", async () => {
-  await open("");
-  await until("steps", async () => (await stepOf()) > 5);
-  const c = await colours("built-in");
-  if (c.black < c.all * 0.8 || c.red < 500 || c.gray < 500) throw new Error(JSON.stringify(c));
-  return `black ${c.black}, red ${c.red}, gray ${c.gray}`;
-});
-
-await check("the picture: both colours on black, 20,000 lines (the project's rasteriser)", async () => {
-  await open("?lines=20000&kind=clustered&seed=7");
-  await until("steps", async () => (await stepOf()) > 2);
-  const c = await colours("clustered-20000");
-  if (c.black < c.all * 0.5 || c.red < 2000 || c.gray < 2000) throw new Error(JSON.stringify(c));
-  return `black ${c.black}, red ${c.red}, gray ${c.gray}`;
-});
+// A scene's picture: mostly black, with enough red and gray pixels.
+for (const [lines, query, shot, black, each] of [
+  ["1,000 lines (the browser's strokes)", "", "built-in", 0.8, 500],
+  ["20,000 lines (the project's rasteriser)", "?lines=20000&kind=clustered&seed=7", "clustered-20000", 0.5, 2000],
+]) {
+  await check(`the picture: both colours on black, ${lines}`, async () => {
+    await open(query);
+    await until("steps", async () => (await stepOf()) > 2);
+    const c = await colours(shot);
+    if (c.black < c.all * black || c.red < each || c.gray < each) throw new Error(JSON.stringify(c));
+    return `black ${c.black}, red ${c.red}, gray ${c.gray}`;
+  });
+}
 
 await check("the HUD shows when asked, and only then", async () => {
   const corner = [0, 0, 160, 90];

@@ -8,6 +8,6 @@ cd "$(dirname "$0")/.."
 scripts/wasm.sh >/dev/null
 rm -rf web/dist
 mkdir -p web/dist
-cp web/index.html web/screensaver.js web/worker.js web/screensaver.css web/dist/
+cp web/index.html web/screensaver.js web/worker.js web/module.js web/screensaver.css web/dist/
 cp wasm/target/wasm32-unknown-unknown/release/screensaver_wasm.wasm web/dist/screensaver.wasm
 du -b web/dist/* | awk '{ total += $1; print } END { print total, "bytes in all" }'

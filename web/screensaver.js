@@ -5,10 +5,12 @@
 // kind, seed, frames, speed, hud, cycle, scene, detector; see the README's
 // "In a web browser".
 
+import { instantiate, put, text } from "./module.js";
+
 const SMOOTH_UP_TO = 5000; // larger scenes are drawn by the project's rasteriser
 const RED = "rgb(170, 20, 20)";
 const GRAY = "rgb(150, 150, 150)";
-const DETECTORS = ["sweep", "quadtree", "brute"];
+const DETECTORS = ["sweep", "quadtree", "brute"]; // in the module's numbering
 const MAX_LINES = 1_000_000;
 const STEP_BUDGET_MS = 14; // time for steps in one picture at `max` speed
 const DEATH_CHECK_MS = 500;
@@ -17,7 +19,6 @@ const MAX_RATE = 2 ** 20; // faster than this is `max`
 const $ = (id) => document.getElementById(id);
 const canvas = $("picture");
 const ctx = canvas.getContext("2d", { alpha: false });
-const decoder = new TextDecoder();
 
 let ss; // this thread's instance of the module: kind names, drawing
 let kinds; // the generated scenes' kinds, in the module's order
@@ -49,21 +50,6 @@ const state = {
 
 // ---- the WebAssembly module and the worker ------------------------------
 
-async function loadModule() {
-  const response = fetch("screensaver.wasm");
-  try {
-    return (await WebAssembly.instantiateStreaming(response, {})).instance.exports;
-  } catch {
-    // A server that does not say application/wasm.
-    const bytes = await (await fetch("screensaver.wasm")).arrayBuffer();
-    return (await WebAssembly.instantiate(bytes, {})).instance.exports;
-  }
-}
-
-function text() {
-  return decoder.decode(new Uint8Array(ss.memory.buffer, ss.ss_text_ptr(), ss.ss_text_len()));
-}
-
 let requests = 0;
 const waiting = new Map();
 worker.onmessage = ({ data }) => {
@@ -83,7 +69,8 @@ function ask(request) {
 async function startWorld(scene) {
   state.starting = true;
   const forWorker = scene.type === "generated" ? { ...scene, kindIndex: kinds.indexOf(scene.kind) } : scene;
-  const answer = await ask({ type: "start", scene: forWorker, detector: state.detector });
+  const detector = DETECTORS.indexOf(state.detector);
+  const answer = await ask({ type: "start", scene: forWorker, detector });
   state.starting = false;
   if (answer.error !== undefined) {
     showError(answer.error);
@@ -237,8 +224,7 @@ function draw() {
     [answer.width, answer.height] = [w, h];
   }
   if (points.length / 5 > SMOOTH_UP_TO) {
-    const at = ss.ss_alloc(points.byteLength);
-    new Float32Array(ss.memory.buffer, at, points.length).set(points);
+    const at = put(ss, new Uint8Array(points.buffer, points.byteOffset, points.byteLength));
     const pixels = ss.ss_draw(at, points.length, w, h);
     ss.ss_free(at, points.byteLength);
     ctx.putImageData(new ImageData(new Uint8ClampedArray(ss.memory.buffer, pixels, w * h * 4), w, h), 0, 0);
@@ -487,9 +473,9 @@ async function fromUrl() {
 // ---- start ---------------------------------------------------------------
 
 async function main() {
-  ss = await loadModule();
+  ss = await instantiate();
   ss.ss_kinds();
-  kinds = text().split(",");
+  kinds = text(ss).split(",");
   for (const kind of kinds) $("kind").add(new Option(kind, kind));
   const { scene, problems } = await fromUrl();
   if (!(await startWorld(scene))) await startWorld({ type: "built-in" });

@@ -4,37 +4,19 @@
 // wasm/lib.rs's ss_points), so that the page draws one state while the
 // next is stepped.
 //
-// Requests: { type: "start", id, scene, detector } and
+// Requests: { type: "start", id, scene, detector } (the detector's number:
+//           0 sweep, 1 quadtree, 2 all pairs),
 //           { type: "run", id, steps, budgetMs, width, height, checkDeath }
 //           { type: "report", id, frames, seconds }.
 // Answers carry the request's id.
 
-const DETECTORS = { sweep: 0, quadtree: 1, brute: 2 };
+import { instantiate, put, text } from "./module.js";
+
 const encoder = new TextEncoder();
-const decoder = new TextDecoder();
 let ss;
+const ready = instantiate().then((exports) => (ss = exports));
 
-const ready = (async () => {
-  const url = new URL("screensaver.wasm", import.meta.url);
-  try {
-    ss = (await WebAssembly.instantiateStreaming(fetch(url), {})).instance.exports;
-  } catch {
-    ss = (await WebAssembly.instantiate(await (await fetch(url)).arrayBuffer(), {})).instance.exports;
-  }
-})();
-
-function put(bytes) {
-  const at = ss.ss_alloc(bytes.length);
-  new Uint8Array(ss.memory.buffer, at, bytes.length).set(bytes);
-  return at;
-}
-
-function text() {
-  return decoder.decode(new Uint8Array(ss.memory.buffer, ss.ss_text_ptr(), ss.ss_text_len()));
-}
-
-function start({ scene, detector }) {
-  const code = DETECTORS[detector] ?? 0;
+function start({ scene, detector: code }) {
   let status;
   if (scene.type === "built-in") {
     status = ss.ss_built_in(code);
@@ -43,12 +25,12 @@ function start({ scene, detector }) {
     status = ss.ss_generate(scene.kindIndex, scene.lines, Number(seed & 0xffffffffn), Number(seed >> 32n), code);
   } else {
     const name = encoder.encode(scene.name);
-    const [t, n] = [put(scene.bytes), put(name)];
+    const [t, n] = [put(ss, scene.bytes), put(ss, name)];
     status = ss.ss_load(t, scene.bytes.length, n, name.length, code);
     ss.ss_free(t, scene.bytes.length);
     ss.ss_free(n, name.length);
   }
-  return status === 0 ? { lines: ss.ss_lines() } : { error: text() };
+  return status === 0 ? { lines: ss.ss_lines() } : { error: text(ss) };
 }
 
 // Runs `steps` steps, or (steps null) as many as fit in `budgetMs` (at
@@ -92,7 +74,7 @@ onmessage = async ({ data }) => {
   else if (data.type === "run") answer = run(data);
   else {
     ss.ss_report(data.frames, data.seconds);
-    answer = { text: text() };
+    answer = { text: text(ss) };
   }
   answer.id = data.id;
   answer.type = data.type;

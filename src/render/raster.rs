@@ -165,6 +165,7 @@ pub fn draw_segment(canvas: &mut Canvas, a: (f64, f64), b: (f64, f64), rgb: u32)
 /// One line from `a` to `b`, pixel centres at whole numbers: a dot if it is
 /// shorter than a pixel both ways, nothing if it is far away, infinite or
 /// NaN.
+#[inline]
 fn segment(canvas: &mut Canvas, (x1, y1): (f64, f64), (x2, y2): (f64, f64), rgb: u32) {
     if !(x1.abs() < 1e7 && y1.abs() < 1e7 && x2.abs() < 1e7 && y2.abs() < 1e7) {
         return;
