@@ -188,7 +188,7 @@ pub extern "C" fn ss_lines() -> u32 {
 /// 1 when nothing more can happen: every line is NaN or none moves.
 #[no_mangle]
 pub extern "C" fn ss_died_out() -> u32 {
-    with_world(|w| u32::from(died_out(&w.lines()))).unwrap_or(1)
+    with_world(|w| u32::from(died_out(w.lines_as_stored().map(|(line, _)| line)))).unwrap_or(1)
 }
 
 /// Makes the text what the command line prints for the run: its header

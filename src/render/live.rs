@@ -302,7 +302,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             let due = scene_start.elapsed() >= cycle;
             let dead = last_check.elapsed() >= DEATH_CHECK_EVERY && {
                 last_check = Instant::now();
-                died_out(&world.lines())
+                died_out(world.lines_as_stored().map(|(line, _)| line))
             };
             if due || dead {
                 scene += 1;

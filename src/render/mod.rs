@@ -25,11 +25,13 @@ use tiny_skia::{LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 /// How red lines are drawn (dark red, as in the original).
 pub const RED: [u8; 3] = [170, 20, 20];
+
 /// True when nothing more can happen in the world: every line is NaN, or
-/// none of them moves.
-pub fn died_out(lines: &[Line]) -> bool {
+/// none of them moves. The lines may come in any order (a world's
+/// [`World::lines_as_stored`] needs no copy).
+pub fn died_out<'a>(lines: impl IntoIterator<Item = &'a Line>) -> bool {
     lines
-        .iter()
+        .into_iter()
         .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
 }
 
