@@ -26,6 +26,8 @@ mod counters;
 pub mod detect;
 pub mod generate;
 pub mod geometry;
+#[cfg(feature = "window")]
+pub mod job;
 pub mod line;
 pub mod maths;
 pub(crate) mod motion;

@@ -1,0 +1,254 @@
+//! The command line's arguments, as clap reads them.
+
+use clap::{Args, Parser, Subcommand};
+use screensaver::detect::{DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+use screensaver::generate::SceneKind;
+use screensaver::render::live::Pace;
+use screensaver::render::{embedded, Size};
+use screensaver::DetectorKind;
+use std::path::PathBuf;
+
+/// Line segments bouncing in a box, with exact collision counts.
+///
+/// Runs FRAMES frames of the scene in INPUT (or of a built-in scene) and
+/// prints the line-wall and line-line collision counts. Like the original
+/// program, N frames run N + 1 simulation steps. `screensaver gen` writes
+/// generated scenes of any size.
+///
+/// As a screensaver (`-g`, `--fullscreen`, `--root`, `--window-id`, or
+/// under XScreenSaver, which names its window in XSCREENSAVER_WINDOW),
+/// FRAMES may be left out: the run goes on until the window is closed or
+/// the program is signalled, and without INPUT it shows generated scenes,
+/// a new one every --cycle seconds or as soon as one has died out.
+#[derive(Debug, Parser)]
+#[command(
+    version,
+    about,
+    long_about,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true,
+    allow_negative_numbers = true
+)]
+pub(crate) struct Cli {
+    #[command(subcommand)]
+    pub(crate) command: Option<Command>,
+
+    /// Number of frames to run (the simulation runs FRAMES + 1 steps);
+    /// may be left out on screen (-g, --fullscreen, --root, --window-id,
+    /// XScreenSaver): the run then goes on until closed.
+    #[arg(value_name = "FRAMES")]
+    pub(crate) frames: Option<String>,
+
+    /// Scene file to run; without it, a generated scene (by default the
+    /// built-in one: 1000 uniform lines, seed 6172).
+    pub(crate) input: Option<PathBuf>,
+
+    /// Anything after INPUT: refused with a message that says so.
+    #[arg(hide = true)]
+    pub(crate) extra: Vec<String>,
+
+    /// Without INPUT: lines in the generated scene.
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=100_000_000))]
+    pub(crate) lines: Option<usize>,
+
+    /// Without INPUT: the generated scene's arrangement (uniform,
+    /// clustered, ring or grid); endless runs take turns through all four
+    /// unless one is given.
+    #[arg(long, value_parser = parse::<SceneKind>)]
+    pub(crate) kind: Option<SceneKind>,
+
+    /// Without INPUT: the seed of the generated scene (endless runs: of the
+    /// first, each next one adding 1; by default taken from the clock).
+    #[arg(long, value_name = "S")]
+    pub(crate) seed: Option<u64>,
+
+    /// Endless runs on screen without INPUT: seconds each generated scene
+    /// is shown [default: 60].
+    #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
+    pub(crate) cycle: Option<f64>,
+
+    /// Collision detector: `quadtree` (the design write-up's tree), `sweep`
+    /// (sort and sweep; fastest on the course scenes) or `brute` (all
+    /// pairs, the original algorithm).
+    #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = parse::<DetectorKind>)]
+    pub(crate) detector: DetectorKind,
+
+    /// Quadtree: most lines a leaf holds before it splits.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_LEAF_SIZE, value_parser = at_least_one)]
+    pub(crate) leaf_size: usize,
+
+    /// Quadtree: deepest level a node may split at.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH)]
+    pub(crate) max_depth: u32,
+
+    /// Threads to run on (default: all cores). Results are the same for any
+    /// number; 1 runs everything on one thread with no pool.
+    #[arg(long, value_name = "N", value_parser = thread_count)]
+    pub(crate) threads: Option<usize>,
+
+    /// The smallest piece of work handed to a thread, in lines (or events,
+    /// when resolving).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRAIN, value_parser = at_least_one)]
+    pub(crate) grain: usize,
+
+    /// Run the all-pairs detector beside the chosen one at every step and
+    /// stop at the first step whose events differ, printing both lists.
+    #[arg(long)]
+    pub(crate) verify: bool,
+
+    /// After the results, print the detector's work (pairs, exact tests,
+    /// events, tree nodes and depth) and the time spent in each phase.
+    #[arg(long)]
+    pub(crate) stats: bool,
+
+    /// Print the results as one JSON object instead of the text block.
+    #[arg(long)]
+    pub(crate) json: bool,
+
+    /// Show the run in a window (keys: Space pause, Right step, +/- speed,
+    /// H heads-up display, Q or Esc quit).
+    #[arg(short = 'g', long, conflicts_with_all = ["render", "verify"])]
+    pub(crate) graphics: bool,
+
+    /// Show the run in a window filling the screen (the box stretched over
+    /// it); the keys of -g.
+    #[arg(long, conflicts_with_all = ["render", "verify", "root", "window_id"])]
+    pub(crate) fullscreen: bool,
+
+    /// Show the heads-up display (step, counters, steps and frames per
+    /// second) from the start; H toggles it in the window.
+    #[arg(long, conflicts_with_all = ["render", "verify"])]
+    pub(crate) hud: bool,
+
+    /// Draw on the root window (the desktop), filling it.
+    #[arg(long, conflicts_with_all = ["render", "verify", "graphics", "window_id"])]
+    pub(crate) root: bool,
+
+    /// Draw into the existing X window ID (hex 0x... or decimal), filling
+    /// it and following its size.
+    #[arg(long, value_name = "ID", value_parser = embedded::parse_window_id, conflicts_with_all = ["render", "verify", "graphics"])]
+    pub(crate) window_id: Option<u32>,
+
+    /// Window: most frames drawn per second; GIFs: frames shown per second.
+    #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub(crate) fps: u32,
+
+    /// Window and screen modes: how fast the run goes: N steps a second at
+    /// most, `frame` for one step a picture drawn (the original -g's pace;
+    /// the default), or `max` for as fast as it can; + and - change it.
+    #[arg(long, value_name = "N|frame|max", conflicts_with_all = ["render", "verify"])]
+    pub(crate) speed: Option<Pace>,
+
+    /// Window: keep the last picture until the window is closed.
+    #[arg(long, requires = "graphics")]
+    pub(crate) hold: bool,
+
+    /// Write pictures: FILE.png (the last frame), FILE.gif (an animation),
+    /// FILE.svg (the last frame as vectors).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) render: Option<PathBuf>,
+
+    /// With --render: a frame every K steps (for .png, a numbered sequence
+    /// FILE-000000.png, FILE-000010.png, ...).
+    #[arg(long, value_name = "K", requires = "render", value_parser = at_least_one_u64)]
+    pub(crate) render_every: Option<u64>,
+
+    /// With --render: picture size.
+    #[arg(long, value_name = "WxH", default_value = "1180x800", requires = "render", value_parser = parse::<Size>)]
+    pub(crate) size: Size,
+
+    /// Write the final state to FILE, in the reference's state format.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) state_out: Option<PathBuf>,
+
+    /// Write a checkpoint of the run to FILE (every K steps with
+    /// --checkpoint-every, and when the run ends or is stopped), from which
+    /// --resume continues it.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) checkpoint: Option<PathBuf>,
+
+    /// With --checkpoint: write it every K steps as well.
+    #[arg(long, value_name = "K", requires = "checkpoint", value_parser = at_least_one_u64)]
+    pub(crate) checkpoint_every: Option<u64>,
+
+    /// Continue the run recorded in the checkpoint FILE (written by
+    /// --checkpoint from the same INPUT) up to FRAMES, counted from the
+    /// start: the run ends exactly where the uninterrupted run would.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) resume: Option<PathBuf>,
+}
+
+#[derive(Debug, Subcommand)]
+pub(crate) enum Command {
+    /// Write a generated scene (the same arguments always give the same
+    /// scene), with the density and speeds of the course scenes at any size.
+    Gen(GenArgs),
+}
+
+#[derive(Debug, Args)]
+pub(crate) struct GenArgs {
+    /// Number of lines (up to 100,000,000).
+    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=100_000_000))]
+    pub(crate) lines: usize,
+
+    /// Seed of the random generator.
+    #[arg(long, value_name = "S", default_value_t = 1)]
+    pub(crate) seed: u64,
+
+    /// Arrangement: uniform, clustered, ring or grid.
+    #[arg(long, default_value = "uniform", value_parser = parse::<SceneKind>)]
+    pub(crate) kind: SceneKind,
+
+    /// Write to FILE instead of standard output.
+    #[arg(short, long, value_name = "FILE")]
+    pub(crate) output: Option<PathBuf>,
+}
+
+/// Parses a named choice or a size for clap, keeping its own message.
+fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
+    s.parse()
+}
+
+/// A frame count: a whole number, written out.
+pub(crate) fn parse_frames(s: &str) -> Result<u64, String> {
+    s.parse::<u64>().map_err(|_| {
+        let hint = match s.parse::<f64>() {
+            Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < 1e19 => {
+                format!("; write it out, as {}", x as u64)
+            }
+            _ => String::new(),
+        };
+        format!("`{s}` is not a whole number of frames{hint}")
+    })
+}
+
+/// A positive number of seconds.
+fn parse_seconds(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(x) if x > 0.0 && x <= 1e9 => Ok(x),
+        _ => Err(format!("`{s}` is not a number of seconds above 0")),
+    }
+}
+
+/// A count of one or more.
+fn at_least_one_u64(s: &str) -> Result<u64, String> {
+    match s.parse::<u64>() {
+        Ok(0) => Err("must be at least 1".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!("`{s}` is not a whole number")),
+    }
+}
+
+/// A count of one or more, as a size.
+fn at_least_one(s: &str) -> Result<usize, String> {
+    let n = at_least_one_u64(s)?;
+    usize::try_from(n).map_err(|_| format!("{n} is too large"))
+}
+
+/// A thread count, 1 to 1024.
+fn thread_count(s: &str) -> Result<usize, String> {
+    match at_least_one(s)? {
+        n if n > 1024 => Err(format!("{n} is more than 1024 threads")),
+        n => Ok(n),
+    }
+}

@@ -1,0 +1,208 @@
+//! The `screensaver` command: runs a scene for a number of frames and prints
+//! the collision counts, compatible with the original program's output.
+//! It reads its arguments into a [`Job`], which the library runs; what is
+//! here is the command line, its exit codes and the progress bar.
+
+mod args;
+mod progress;
+
+use args::{parse_frames, Cli, Command, GenArgs};
+use clap::error::ErrorKind;
+use clap::{CommandFactory, Parser};
+use screensaver::generate::generate_iter;
+use screensaver::job::{Job, JobError, Screen};
+use screensaver::render::embedded::{self, Target};
+use screensaver::stop::Signal;
+use screensaver::{output, DetectorConfig};
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+/// Why a command did not finish.
+enum Failure {
+    /// Something went wrong: the message says what.
+    Error(String),
+    /// Standard output was closed (`| head`): a normal end.
+    ClosedPipe,
+    /// The command line does not make sense: reported as clap reports
+    /// its own usage errors (status 2).
+    Usage(ErrorKind, String),
+}
+
+impl From<JobError> for Failure {
+    fn from(e: JobError) -> Self {
+        match e {
+            JobError::Usage(message) => Failure::Usage(ErrorKind::ArgumentConflict, message),
+            JobError::Output(e) => stdout_failure(e, "the results"),
+            JobError::Failed(message) => Failure::Error(message),
+        }
+    }
+}
+
+/// The command line with XScreenSaver's one-dash spellings (`-root`,
+/// `-window-id ID`), which it hands display modes configured with them,
+/// read as their two-dash forms.
+fn with_xscreensaver_spellings(
+    args: impl Iterator<Item = std::ffi::OsString>,
+) -> Vec<std::ffi::OsString> {
+    args.map(|a| match a.to_str() {
+        Some("-root") => "--root".into(),
+        Some("-window-id") => "--window-id".into(),
+        _ => a,
+    })
+    .collect()
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse_from(with_xscreensaver_spellings(std::env::args_os()));
+    if let Err(e) = screensaver::stop::install() {
+        eprintln!("screensaver: warning: cannot catch SIGINT and SIGTERM: {e}");
+    }
+    let outcome = match &cli.command {
+        Some(Command::Gen(args)) => gen(args).map(|()| None),
+        None => run(&cli),
+    };
+    match outcome {
+        Ok(None) | Err(Failure::ClosedPipe) => ExitCode::SUCCESS,
+        Ok(Some(signal)) => ExitCode::from(signal.exit_status()),
+        Err(Failure::Error(message)) => {
+            eprintln!("screensaver: error: {message}");
+            ExitCode::FAILURE
+        }
+        Err(Failure::Usage(kind, message)) => Cli::command().error(kind, message).exit(),
+    }
+}
+
+/// `screensaver gen`: streams the scene out, so that even huge scenes are
+/// never held in memory.
+fn gen(args: &GenArgs) -> Result<(), Failure> {
+    let lines = generate_iter(args.kind, args.lines, args.seed);
+    match &args.output {
+        Some(path) => output::write_with(path, |mut out| {
+            screensaver::scene::write_scene(&mut out, args.lines, lines)
+        })
+        .map_err(|e| Failure::Error(e.to_string())),
+        None => screensaver::scene::write_scene(&mut std::io::stdout().lock(), args.lines, lines)
+            .map_err(|e| stdout_failure(e, "the scene")),
+    }
+}
+
+/// A failed write to standard output: a closed pipe ends quietly.
+fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
+    if e.kind() == std::io::ErrorKind::BrokenPipe {
+        Failure::ClosedPipe
+    } else {
+        Failure::Error(format!("cannot write {what}: {e}"))
+    }
+}
+
+/// The screen a run asked for, if any: `--window-id` before `--root`
+/// before XScreenSaver's variable before `-g` and `--fullscreen`.
+fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
+    if let Some(id) = cli.window_id {
+        return Ok(Some(Screen::Embedded(Target::Id(id))));
+    }
+    if cli.root {
+        return Ok(Some(Screen::Embedded(Target::Root)));
+    }
+    if !cli.graphics && !cli.fullscreen {
+        if let Some(id) = embedded::screensaver_window() {
+            if cli.render.is_some() || cli.verify {
+                return Err(Failure::Error(
+                    "XSCREENSAVER_WINDOW is set, so the run draws in that window; \
+                     --render and --verify are for runs off screen (unset it for them)"
+                        .into(),
+                ));
+            }
+            return Ok(Some(Screen::Embedded(Target::Id(
+                id.map_err(Failure::Error)?,
+            ))));
+        }
+    }
+    Ok((cli.graphics || cli.fullscreen).then_some(Screen::Window {
+        fullscreen: cli.fullscreen,
+    }))
+}
+
+/// FRAMES and INPUT as given: FRAMES may be left out of a live run, and
+/// then a lone positional argument that is not a number is the input.
+fn positionals(cli: &Cli, live: bool) -> Result<(Option<u64>, Option<PathBuf>), Failure> {
+    if let Some(extra) = cli.extra.first() {
+        return Err(Failure::Usage(
+            ErrorKind::UnknownArgument,
+            format!("unexpected argument `{extra}`: give FRAMES and at most one INPUT"),
+        ));
+    }
+    match (&cli.frames, &cli.input) {
+        (None, _) if live => Ok((None, None)),
+        (None, _) => Err(Failure::Usage(
+            ErrorKind::MissingRequiredArgument,
+            "FRAMES is required (it may be left out only with -g, --fullscreen, \
+             --root, --window-id or under XScreenSaver)"
+                .into(),
+        )),
+        (Some(first), None) if live && first.parse::<u64>().is_err() => {
+            Ok((None, Some(PathBuf::from(first))))
+        }
+        (Some(first), input) => {
+            let frames = parse_frames(first)
+                .map_err(|e| Failure::Usage(ErrorKind::ValueValidation, format!("FRAMES: {e}")))?;
+            Ok((Some(frames), input.clone()))
+        }
+    }
+}
+
+/// Runs the scene the command line names; returns the signal that
+/// stopped it early, if one did.
+fn run(cli: &Cli) -> Result<Option<Signal>, Failure> {
+    let screen = screen(cli)?;
+    let (frames, input) = positionals(cli, screen.is_some())?;
+    let job = Job {
+        frames,
+        input,
+        lines: cli.lines,
+        kind: cli.kind,
+        seed: cli.seed,
+        cycle: cli.cycle.map(Duration::from_secs_f64),
+        detector: cli.detector,
+        config: DetectorConfig {
+            leaf_size: cli.leaf_size,
+            max_depth: cli.max_depth,
+            threads: cli.threads.unwrap_or(0),
+            grain: cli.grain,
+        },
+        verify: cli.verify,
+        stats: cli.stats,
+        json: cli.json,
+        screen,
+        fps: cli.fps,
+        hold: cli.hold,
+        hud: cli.hud,
+        pace: cli.speed,
+        render: cli.render.clone(),
+        render_every: cli.render_every,
+        size: cli.size,
+        state_out: cli.state_out.clone(),
+        checkpoint: cli.checkpoint.clone(),
+        checkpoint_every: cli.checkpoint_every,
+        resume: cli.resume.clone(),
+    };
+    let mut bar = progress::Bar::new(std::io::stderr().is_terminal());
+    Ok(job.run(&mut std::io::stdout().lock(), Some(&mut bar))?)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xscreensavers_one_dash_spellings_are_read() {
+        let args = ["screensaver", "-root", "-window-id", "0x12", "-g", "-1"];
+        let read = with_xscreensaver_spellings(args.iter().map(std::ffi::OsString::from));
+        assert_eq!(
+            read,
+            ["screensaver", "--root", "--window-id", "0x12", "-g", "-1"]
+        );
+    }
+}

@@ -1,0 +1,662 @@
+//! A job: what the command line asks of one run, from choosing the scene to
+//! printing its results. The command line parses its arguments into a
+//! [`Job`] and [`Job::run`] does the rest: it loads or generates the scene,
+//! builds (or resumes) the world, runs it off screen with a [`Run`] or on
+//! screen with the window or a window another program owns, writes the
+//! files asked for and prints the original program's text (or JSON).
+
+use crate::checkpoint::{scene_digest, Checkpoint};
+use crate::generate::{generate, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
+use crate::output;
+use crate::render::embedded;
+use crate::render::live::{Outcome, Pace, Scenes};
+use crate::render::{window, Frames, Recorder, Size, Target};
+use crate::report::{self, DrawStats, Stats};
+use crate::run::{Checkpoints, Run};
+use crate::stop::Signal;
+use crate::{DetectorConfig, DetectorKind, Scene, World};
+use std::io::Write;
+use std::path::PathBuf;
+use std::time::Duration;
+
+/// Where a run is shown.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Screen {
+    /// Our own window (`-g`), filling the screen if asked.
+    Window {
+        /// Fill the screen, the box stretched over it.
+        fullscreen: bool,
+    },
+    /// A window another program owns: the root window or one named by its
+    /// id (`--root`, `--window-id`, XScreenSaver's `XSCREENSAVER_WINDOW`).
+    Embedded(embedded::Target),
+}
+
+/// One run of the command: the scene, how long it runs, where it is shown
+/// and which files it writes. [`Job::default`] is the built-in scene run
+/// off screen, which needs `frames`.
+#[derive(Clone, Debug)]
+pub struct Job {
+    /// Frames to run (FRAMES + 1 steps); `None` runs until stopped, which
+    /// only a run on screen may.
+    pub frames: Option<u64>,
+    /// The scene file; without it a generated scene.
+    pub input: Option<PathBuf>,
+    /// Generated scenes: lines (default [`DEFAULT_LINES`]).
+    pub lines: Option<usize>,
+    /// Generated scenes: the arrangement (endless runs: each in turn).
+    pub kind: Option<SceneKind>,
+    /// Generated scenes: the first seed (endless runs: from the clock).
+    pub seed: Option<u64>,
+    /// Endless runs of generated scenes: how long each is shown.
+    pub cycle: Option<Duration>,
+    /// The collision detector.
+    pub detector: DetectorKind,
+    /// The detector's settings; `threads` 0 chooses for the run.
+    pub config: DetectorConfig,
+    /// Checks every step against all pairs (off screen only).
+    pub verify: bool,
+    /// Reports the detector's work and the phases' times.
+    pub stats: bool,
+    /// Prints the results as JSON.
+    pub json: bool,
+    /// Where the run is shown; `None` runs off screen.
+    pub screen: Option<Screen>,
+    /// On screen: most frames a second; GIFs: frames shown a second.
+    pub fps: u32,
+    /// In the window: keep the last picture until closed.
+    pub hold: bool,
+    /// On screen: show the heads-up display from the start.
+    pub hud: bool,
+    /// On screen: how fast the run goes (default one step a picture).
+    pub pace: Option<Pace>,
+    /// Pictures to write (`.png`, `.gif`, `.svg`).
+    pub render: Option<PathBuf>,
+    /// A picture every K steps.
+    pub render_every: Option<u64>,
+    /// The pictures' size.
+    pub size: Size,
+    /// Where to write the final state.
+    pub state_out: Option<PathBuf>,
+    /// Where to write checkpoints.
+    pub checkpoint: Option<PathBuf>,
+    /// Steps between checkpoints (besides the one at the end).
+    pub checkpoint_every: Option<u64>,
+    /// The checkpoint to continue from.
+    pub resume: Option<PathBuf>,
+}
+
+impl Default for Job {
+    fn default() -> Job {
+        Job {
+            frames: None,
+            input: None,
+            lines: None,
+            kind: None,
+            seed: None,
+            cycle: None,
+            detector: DetectorKind::DEFAULT,
+            config: DetectorConfig {
+                threads: 0,
+                ..DetectorConfig::default()
+            },
+            verify: false,
+            stats: false,
+            json: false,
+            screen: None,
+            fps: 60,
+            hold: false,
+            hud: false,
+            pace: None,
+            render: None,
+            render_every: None,
+            size: Size {
+                width: 1180,
+                height: 800,
+            },
+            state_out: None,
+            checkpoint: None,
+            checkpoint_every: None,
+            resume: None,
+        }
+    }
+}
+
+/// Why a job did not finish.
+#[derive(Debug, thiserror::Error)]
+pub enum JobError {
+    /// The options do not make sense together (the command line's usage
+    /// error).
+    #[error("{0}")]
+    Usage(String),
+    /// Something went wrong running it: the message says what.
+    #[error("{0}")]
+    Failed(String),
+    /// Writing the results failed.
+    #[error("cannot write the results: {0}")]
+    Output(#[from] std::io::Error),
+}
+
+impl From<String> for JobError {
+    fn from(message: String) -> Self {
+        JobError::Failed(message)
+    }
+}
+
+/// Told how a job's run off screen goes: after each step, and once when
+/// it ends, before the results are printed.
+pub trait Progress: Send {
+    /// `done` of `steps` steps run, `elapsed` since the run started.
+    fn step(&mut self, done: u64, steps: u64, elapsed: Duration);
+    /// The run ended: all its steps run (`finished`) or not.
+    fn end(&mut self, finished: bool);
+}
+
+/// No progress to show.
+struct Quiet;
+
+impl Progress for Quiet {
+    fn step(&mut self, _: u64, _: u64, _: Duration) {}
+    fn end(&mut self, _: bool) {}
+}
+
+/// Seconds each generated scene of an endless run is shown by default.
+const DEFAULT_CYCLE: Duration = Duration::from_secs(60);
+
+/// Most frames a GIF gets unless `render_every` says otherwise.
+const GIF_FRAMES: u64 = 300;
+
+/// Scenes from this size shown live run on every core all the same: their
+/// pictures come seldom enough that the team gains more than the drawing
+/// takes (two cores, `--fullscreen`: 300,000 clustered lines 10 frames
+/// 0.72 s on two threads against 0.89 s on one; 100,000 lines 0.19 s
+/// against 0.16 s; 10,000 lines 0.159 s against 0.097 s).
+const LIVE_ALL_CORES_FROM: usize = 200_000;
+
+/// Threads to run on unless the job says: every core, less one for the
+/// drawing where a scene of `lines` lines is shown live and smaller than
+/// [`LIVE_ALL_CORES_FROM`] (the drawing takes a core a good part of the
+/// time, and a member of the team switched out for it mid-piece holds up
+/// the step: `-g 5000 koch.in` on two cores took 0.41 s on one thread and
+/// 0.51 s on two).
+fn default_threads(live: bool, lines: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if live && lines < LIVE_ALL_CORES_FROM {
+        (cores - 1).max(1)
+    } else {
+        cores
+    }
+}
+
+/// The world a job runs and what it knows of it before the first step.
+struct Started {
+    world: World,
+    /// The input's name in the header.
+    input_name: String,
+    digest: u64,
+    /// Steps the run ends after (`u64::MAX`: endless).
+    steps: u64,
+    /// The first generated scene's seed.
+    seed: u64,
+}
+
+/// How the steps went, on screen or off.
+struct Finished {
+    world: World,
+    elapsed: Duration,
+    drawn: Option<DrawStats>,
+    /// The input's name when it changed during the run (cycled scenes).
+    input_name: Option<String>,
+}
+
+impl Job {
+    /// Runs the job, writing the original program's text (or JSON) to
+    /// `out` and telling `progress` how a run off screen goes. Returns the
+    /// signal that stopped the run early, if one did.
+    pub fn run(
+        mut self,
+        out: &mut dyn Write,
+        progress: Option<&mut dyn Progress>,
+    ) -> Result<Option<Signal>, JobError> {
+        self.check()?;
+        if self.screen.is_some() {
+            window::check_display()?;
+        }
+        let mut started = self.start()?;
+        let first_step = started.world.steps();
+        started.world.set_timing(self.stats);
+        self.check_outputs()?;
+        let cycling = self.cycles();
+        if !self.json && !cycling {
+            out.write_all(report::header(self.frames, &started.input_name).as_bytes())?;
+            out.flush()?;
+        }
+        let finished = match self.screen {
+            Some(screen) => self.on_screen(screen, started.world, started.seed)?,
+            None => self.off_screen(started.world, started.steps, started.digest, progress)?,
+        };
+        if cycling && !self.json {
+            let name = finished
+                .input_name
+                .as_deref()
+                .unwrap_or(&started.input_name);
+            out.write_all(report::header(self.frames, name).as_bytes())?;
+        }
+        let stopped = crate::stop::requested();
+        self.write_files(&finished.world, started.digest)?;
+        if let Some(signal) = stopped {
+            let of = match self.frames {
+                Some(_) => format!(" of {}", started.steps),
+                None => String::new(),
+            };
+            let (name, step) = (signal.name(), finished.world.steps());
+            eprintln!("screensaver: stopped by {name} after step {step}{of}");
+        }
+        let verified = finished.world.steps() - first_step;
+        if self.verify && finished.world.mismatch().is_none() {
+            eprintln!(
+                "screensaver: {}",
+                verified_message(&finished.world, verified)
+            );
+        }
+        let text = self.results(&finished, stopped.is_some(), verified);
+        out.write_all(text.as_bytes())?;
+        out.flush()?;
+        Ok(stopped)
+    }
+
+    /// Whether the run shows one generated scene after another.
+    fn cycles(&self) -> bool {
+        self.screen.is_some() && self.frames.is_none() && self.input.is_none()
+    }
+
+    /// Refuses options that do not go together.
+    fn check(&self) -> Result<(), JobError> {
+        let usage = |message: &str| Err(JobError::Usage(message.into()));
+        let endless = self.frames.is_none();
+        if self.screen.is_none() && endless {
+            return usage(
+                "FRAMES is required (it may be left out only with -g, --fullscreen, \
+                 --root, --window-id or under XScreenSaver)",
+            );
+        }
+        if self.screen.is_none() && self.pace.is_some() {
+            return usage(
+                "--speed sets the pace of a run on screen (-g, --fullscreen, --root, \
+                 --window-id, XScreenSaver); a run without one always goes as fast as it can",
+            );
+        }
+        if self.screen.is_some() && (self.render.is_some() || self.verify) {
+            return usage(
+                "a run on screen (-g, --fullscreen, --root, --window-id, XScreenSaver's \
+                 XSCREENSAVER_WINDOW) cannot take --render or --verify; they are for runs \
+                 off screen",
+            );
+        }
+        if self.cycle.is_some() && !self.cycles() {
+            return usage(
+                "--cycle sets how long each generated scene of an endless run on screen \
+                 is shown (no FRAMES, no INPUT); this run shows one scene",
+            );
+        }
+        let files = self.state_out.is_some() || self.checkpoint.is_some();
+        if endless && (files || self.resume.is_some()) {
+            return usage(
+                "--state-out, --checkpoint and --resume need FRAMES: an endless run has no end to write",
+            );
+        }
+        let generated = self.lines.is_some() || self.kind.is_some() || self.seed.is_some();
+        if self.input.is_some() && generated {
+            return usage(
+                "--lines, --kind and --seed choose a generated scene; they cannot go with INPUT",
+            );
+        }
+        Ok(())
+    }
+
+    /// The arrangement of the `k`-th generated scene (from 0).
+    fn kind_of(&self, k: u64) -> SceneKind {
+        (self.kind).unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
+    }
+
+    /// Loads or generates the scene and builds the world, resumed from the
+    /// checkpoint if asked.
+    fn start(&mut self) -> Result<Started, JobError> {
+        let endless = self.frames.is_none();
+        let lines = self.lines.unwrap_or(DEFAULT_LINES);
+        // An endless run takes its seed from the clock, so that each run
+        // shows other scenes.
+        let seed = match self.seed {
+            Some(seed) => seed,
+            None if endless => std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map_or(DEFAULT_SEED, |d| d.as_secs()),
+            None => DEFAULT_SEED,
+        };
+        let built_in = self.lines.is_none() && self.kind.is_none() && self.seed.is_none();
+        let (scene, input_name) = match &self.input {
+            Some(path) => (
+                Scene::load(path).map_err(|e| e.to_string())?,
+                path.display().to_string(),
+            ),
+            None if built_in && !endless => (generate(self.kind_of(0), lines, seed), {
+                report::built_in_input()
+            }),
+            None => (
+                generate(self.kind_of(0), lines, seed),
+                report::generated_input(self.kind_of(0), lines, seed),
+            ),
+        };
+        if self.config.threads == 0 {
+            self.config.threads = default_threads(self.screen.is_some(), scene.lines.len());
+        }
+        let digest = scene_digest(&scene);
+        // An endless run has no last step.
+        let steps = self.frames.map_or(u64::MAX, |f| f.saturating_add(1));
+        let world = match &self.resume {
+            Some(path) => {
+                let saved = Checkpoint::load(path).map_err(|e| e.to_string())?;
+                let name = path.display().to_string();
+                (saved.continues(&name, &scene, digest, steps)).map_err(|e| e.to_string())?;
+                World::resume(saved, self.detector, &self.config)
+            }
+            None => World::with_config(&scene, self.detector, &self.config),
+        };
+        let world = world.map_err(|e| e.to_string())?;
+        Ok(Started {
+            world,
+            input_name,
+            digest,
+            steps,
+            seed,
+        })
+    }
+
+    /// The frames `render` pictures: every K-th with `render_every`.
+    fn frames_pictured(&self) -> Frames {
+        match self.render_every {
+            Some(_) => Frames::Every,
+            None => Frames::Last,
+        }
+    }
+
+    /// Checks, before any step runs, that every file the run will write
+    /// can be written, so that a long run never ends in an error it could
+    /// have reported at once.
+    fn check_outputs(&self) -> Result<(), JobError> {
+        if let Some(path) = &self.render {
+            Target::for_path(path, self.frames_pictured()).map_err(|e| e.to_string())?;
+        }
+        let files = [&self.state_out, &self.checkpoint, &self.render];
+        for path in files.into_iter().flatten() {
+            output::check_writable(path).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// The pictures' writer, if pictures were asked for.
+    fn recorder(&self, steps: u64) -> Result<Option<Recorder>, JobError> {
+        let Some(path) = &self.render else {
+            return Ok(None);
+        };
+        let target = Target::for_path(path, self.frames_pictured()).map_err(|e| e.to_string())?;
+        let every = match (self.render_every, &target) {
+            (Some(every), _) => every,
+            // A GIF of every step of a long run is slow to write and huge
+            // (2,000 frames at full size: 101 MB).
+            (None, Target::Gif(_)) if steps > GIF_FRAMES => {
+                let every = steps.div_ceil(GIF_FRAMES);
+                let frames = steps / every + 1;
+                eprintln!(
+                    "screensaver: --render: a GIF frame every {every} steps (about {frames} \
+                     frames); --render-every 1 for every step"
+                );
+                every
+            }
+            (None, _) => 1,
+        };
+        let recorder = Recorder::new(target, self.size, every, self.fps);
+        Ok(Some(recorder.map_err(|e| e.to_string())?))
+    }
+
+    /// Runs the steps off screen: checked, pictured and saved as asked.
+    fn off_screen(
+        &self,
+        mut world: World,
+        steps: u64,
+        digest: u64,
+        progress: Option<&mut dyn Progress>,
+    ) -> Result<Finished, JobError> {
+        let to_run = steps.saturating_sub(world.steps());
+        let checkpoints = self.checkpoint.as_deref().map(|path| Checkpoints {
+            path,
+            every: self.checkpoint_every,
+            digest,
+        });
+        let recorder = self.recorder(steps)?;
+        let stop = || crate::stop::requested().is_some();
+        let mut quiet = Quiet;
+        let progress = progress.unwrap_or(&mut quiet);
+        let mut each = |done: u64, elapsed: Duration| progress.step(done, to_run, elapsed);
+        let run = Run {
+            verify: self.verify,
+            recorder,
+            checkpoints,
+            progress: Some(&mut each),
+            stop: Some(&stop),
+        };
+        let ran = run.run(&mut world, to_run);
+        progress.end(ran.as_ref().is_ok_and(|r| !r.stopped));
+        let ran = ran.map_err(|e| e.to_string())?;
+        Ok(Finished {
+            world,
+            elapsed: ran.elapsed,
+            drawn: ran.pictures,
+            input_name: None,
+        })
+    }
+
+    /// Runs the steps on screen, until they end or the window closes.
+    fn on_screen(&self, screen: Screen, world: World, seed: u64) -> Result<Finished, JobError> {
+        let steps = self.frames.map(|f| f.saturating_add(1) - world.steps());
+        let scenes = if self.cycles() {
+            let (detector, kinds, timing, config) =
+                (self.detector, self.kind, self.stats, self.config);
+            let lines = self.lines.unwrap_or(DEFAULT_LINES);
+            let make = move |k: u64| {
+                let kind = kinds.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()]);
+                let scene = generate(kind, lines, seed.wrapping_add(k));
+                let mut world = World::with_config(&scene, detector, &config)
+                    .expect("threads started once start again");
+                world.set_timing(timing);
+                world
+            };
+            Scenes::Generated {
+                first: Box::new(world),
+                next: Box::new(make),
+                cycle: self.cycle.unwrap_or(DEFAULT_CYCLE),
+            }
+        } else {
+            Scenes::One {
+                world: Box::new(world),
+                steps,
+            }
+        };
+        let pace = self.pace.unwrap_or(Pace::PerFrame);
+        let (hud, fps) = (self.hud, self.fps);
+        let (outcome, drawn): (Outcome, DrawStats) = match screen {
+            Screen::Window { fullscreen } => {
+                let hold = self.hold;
+                let options = window::Options {
+                    fps,
+                    hold,
+                    fullscreen,
+                    hud,
+                    pace,
+                };
+                window::run(scenes, options)
+            }
+            Screen::Embedded(target) => {
+                embedded::run(target, scenes, embedded::Options { fps, hud, pace })
+            }
+        }?;
+        let last = outcome.scenes - 1;
+        if outcome.scenes > 1 {
+            eprintln!(
+                "screensaver: showed {} scenes (seeds {seed} to {}); the results are the last one's",
+                outcome.scenes,
+                seed.wrapping_add(last),
+            );
+        }
+        let lines = self.lines.unwrap_or(DEFAULT_LINES);
+        let name = report::generated_input(self.kind_of(last), lines, seed.wrapping_add(last));
+        Ok(Finished {
+            world: outcome.world,
+            elapsed: outcome.scene_elapsed,
+            drawn: Some(drawn),
+            input_name: self.cycles().then_some(name),
+        })
+    }
+
+    /// Writes the last checkpoint and the final state, if asked.
+    fn write_files(&self, world: &World, digest: u64) -> Result<(), JobError> {
+        if let Some(path) = &self.checkpoint {
+            let checkpoints = Checkpoints {
+                path,
+                every: None,
+                digest,
+            };
+            checkpoints.save(world).map_err(|e| e.to_string())?;
+        }
+        if let Some(path) = &self.state_out {
+            output::write_with(path, |out| world.write_state(out)).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// The results: the original program's block (and the statistics), or
+    /// one JSON object.
+    fn results(&self, finished: &Finished, stopped: bool, verified: u64) -> String {
+        let world = &finished.world;
+        let stats = || Stats::of(world, self.detector, &self.config, finished.drawn);
+        let counts = world.counters();
+        if !self.json {
+            let mut text = report::results(finished.elapsed.as_secs_f64(), counts);
+            if self.stats {
+                text.push_str(&stats().text());
+            }
+            return text;
+        }
+        let mut value = serde_json::json!({
+            "frames": self.frames,
+            "steps": self.frames.map(|f| f.saturating_add(1)),
+            "steps_run": world.steps(),
+            "interrupted": stopped,
+            "input": self.input.as_ref().map(|p| p.display().to_string()),
+            "lines": world.lines().len(),
+            "detector": self.detector.name(),
+            "threads": self.config.threads,
+            "elapsed_seconds": finished.elapsed.as_secs_f64(),
+            "line_wall_collisions": counts.wall,
+            "line_line_collisions": counts.line,
+        });
+        if self.verify {
+            value["verified_steps"] = serde_json::json!(verified);
+            value["sliver_events"] = serde_json::json!(world.slivers().0);
+        }
+        if self.stats {
+            let stats = stats().json();
+            value["stats"] = serde_json::from_str(&stats).expect("the statistics are JSON");
+        }
+        format!("{value}\n")
+    }
+}
+
+/// What `--verify` says of a run that matched the all-pairs detector.
+fn verified_message(world: &World, verified: u64) -> String {
+    let agreed =
+        format!("verified: {verified} steps, every event as the all-pairs detector found it");
+    match world.slivers() {
+        (0, _) => agreed,
+        (count, first) => format!(
+            "{agreed} but {}, the documented exception (a line sliding along its own \
+             supporting line past a segment on it; see the README, Conformance){}",
+            crate::plural(count, "sliver event"),
+            first.map_or(String::new(), |(step, e)| format!(
+                ": the first at step {step}, lines {} and {}",
+                e.first, e.second
+            ))
+        ),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A job of the built-in scene off screen, its text written to a
+    /// buffer.
+    fn text_of(job: Job) -> Result<String, JobError> {
+        let mut out = Vec::new();
+        job.run(&mut out, None)?;
+        Ok(String::from_utf8(out).unwrap())
+    }
+
+    #[test]
+    fn the_built_in_scene_prints_the_original_text() {
+        let job = Job {
+            frames: Some(10),
+            detector: DetectorKind::Brute,
+            ..Job::default()
+        };
+        let text = text_of(job).unwrap();
+        assert!(text.starts_with("Number of frames = 10\nInput file path is: (none: built-in"));
+        let mut world =
+            World::with_detector(&crate::generate::default_scene(), DetectorKind::Brute);
+        world.run(11);
+        let c = world.counters();
+        let counts = format!(
+            "{} Line-Wall Collisions\n{} Line-Line Collisions\n",
+            c.wall, c.line
+        );
+        assert!(text.contains(&counts), "{text}");
+    }
+
+    #[test]
+    fn options_that_do_not_go_together_are_refused() {
+        let refused = |job: Job| matches!(text_of(job), Err(JobError::Usage(_)));
+        assert!(refused(Job::default()), "no FRAMES off screen");
+        let frames = Some(3);
+        assert!(refused(Job {
+            frames,
+            pace: Some(Pace::Max),
+            ..Job::default()
+        }));
+        assert!(refused(Job {
+            frames,
+            input: Some("x.in".into()),
+            lines: Some(5),
+            ..Job::default()
+        }));
+        assert!(refused(Job {
+            frames,
+            cycle: Some(Duration::from_secs(1)),
+            ..Job::default()
+        }));
+    }
+
+    #[test]
+    fn json_results_name_the_run() {
+        let job = Job {
+            frames: Some(4),
+            json: true,
+            verify: true,
+            lines: Some(50),
+            ..Job::default()
+        };
+        let value: serde_json::Value = serde_json::from_str(&text_of(job).unwrap()).unwrap();
+        assert_eq!(value["steps_run"], 5);
+        assert_eq!(value["verified_steps"], 5);
+        assert_eq!(value["lines"], 50);
+    }
+}
