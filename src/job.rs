@@ -434,16 +434,18 @@ impl Job {
             digest,
         });
         let recorder = self.recorder(steps)?;
-        let stop = || crate::stop::requested().is_some();
+        let first = world.steps();
         let mut quiet = Quiet;
         let progress = progress.unwrap_or(&mut quiet);
-        let mut each = |done: u64, elapsed: Duration| progress.step(done, to_run, elapsed);
+        let mut each = |world: &World, elapsed: Duration| {
+            progress.step(world.steps() - first, to_run, elapsed)
+        };
         let run = Run {
             verify: self.verify,
             recorder,
             checkpoints,
             progress: Some(&mut each),
-            stop: Some(&stop),
+            stop: None,
         };
         let ran = run.run(&mut world, to_run);
         progress.end(ran.as_ref().is_ok_and(|r| !r.stopped));

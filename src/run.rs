@@ -48,11 +48,12 @@ pub struct Run<'a> {
     pub recorder: Option<Recorder>,
     /// Writes checkpoints as the run goes.
     pub checkpoints: Option<Checkpoints<'a>>,
-    /// Called after each step with the steps run so far and the time since
-    /// the run started.
-    pub progress: Option<&'a mut (dyn FnMut(u64, Duration) + Send)>,
-    /// Asked after each step; the run ends there when it answers yes.
-    pub stop: Option<&'a (dyn Fn() -> bool + Sync)>,
+    /// Called after each step with the world and the time since the run
+    /// started.
+    pub progress: Option<&'a mut (dyn FnMut(&World, Duration) + Send)>,
+    /// Asked after each step (after `progress`); the run ends there when
+    /// it answers yes. A signal (SIGINT, SIGTERM) ends it there too.
+    pub stop: Option<&'a (dyn Fn(&World) -> bool + Sync)>,
 }
 
 /// How a run went.
@@ -79,6 +80,14 @@ pub enum RunError {
     /// A step's events differed from the all-pairs detector's.
     #[error("--verify: {0}")]
     Mismatch(String),
+}
+
+/// Whether a signal asked the program to stop.
+fn signalled() -> bool {
+    #[cfg(feature = "signals")]
+    return crate::stop::requested().is_some();
+    #[cfg(not(feature = "signals"))]
+    return false;
 }
 
 impl Run<'_> {
@@ -113,9 +122,7 @@ impl Run<'_> {
         let drawn_before = drawing;
         let verified_before = world.verifying_time();
         let start = Instant::now();
-        let mut done = 0;
         let stopped = world.run_with(steps, |world| {
-            done += 1;
             if world.mismatch().is_some() {
                 return ControlFlow::Break(false);
             }
@@ -138,11 +145,11 @@ impl Run<'_> {
                     return ControlFlow::Break(false);
                 }
             }
-            if stop.is_some_and(|stop| stop()) {
-                return ControlFlow::Break(true);
-            }
             if let Some(progress) = &mut progress {
-                progress(done, start.elapsed());
+                progress(world, start.elapsed());
+            }
+            if stop.is_some_and(|stop| stop(world)) || signalled() {
+                return ControlFlow::Break(true);
             }
             ControlFlow::Continue(())
         });
@@ -199,9 +206,9 @@ mod tests {
     fn a_run_reports_its_progress_and_stops_when_asked() {
         let mut world = world();
         let mut seen = Vec::new();
-        let mut progress = |done: u64, _: Duration| seen.push(done);
+        let mut progress = |world: &World, _: Duration| seen.push(world.steps());
         let asked = AtomicU64::new(0);
-        let stop = || asked.fetch_add(1, Ordering::Relaxed) + 1 >= 7;
+        let stop = |_: &World| asked.fetch_add(1, Ordering::Relaxed) + 1 >= 7;
         let ran = Run {
             verify: true,
             progress: Some(&mut progress),
@@ -212,7 +219,7 @@ mod tests {
         .unwrap();
         assert!(ran.stopped);
         assert_eq!(world.steps(), 7);
-        assert_eq!(seen, (1..=6).collect::<Vec<_>>());
+        assert_eq!(seen, (1..=7).collect::<Vec<_>>());
         assert!(ran.pictures.is_none());
         let mut plain = self::world();
         plain.run(7);

@@ -13,6 +13,7 @@
 use screensaver::generate::{default_scene, generate, SceneKind};
 use screensaver::render::raster::{draw_segment, pixel, Canvas};
 use screensaver::render::{died_out, Size, View, GRAY, RED};
+use screensaver::run::Run;
 use screensaver::{report, Color, DetectorConfig, DetectorKind, Scene, World};
 use std::cell::RefCell;
 
@@ -139,7 +140,11 @@ fn with_world<R>(f: impl FnOnce(&mut World) -> R) -> Option<R> {
 /// Runs `n` steps.
 #[no_mangle]
 pub extern "C" fn ss_step(n: u32) {
-    with_world(|w| w.run(u64::from(n)));
+    with_world(|w| {
+        Run::default()
+            .run(w, u64::from(n))
+            .expect("a run without pictures, checkpoints or checks cannot fail")
+    });
 }
 
 /// Steps run so far.

@@ -8,7 +8,7 @@
 //! on SIGINT or SIGTERM (the daemon ends hacks with SIGTERM), or after the
 //! frames asked for.
 
-use super::live::{FrameClock, Outcome, Pace, Run, Scenes};
+use super::live::{FrameClock, Outcome, Pace, Scenes, Simulation};
 use super::raster::{Canvas, Painter};
 use super::{hud, Size, View};
 use crate::report::DrawStats;
@@ -128,7 +128,7 @@ pub fn run(
     conn.flush().map_err(|e| failed(&e))?;
 
     let mut size = (geometry.width, geometry.height);
-    let run = Run::start(scenes, options.pace);
+    let run = Simulation::start(scenes, options.pace);
     let period = Duration::from_secs_f64(1.0 / f64::from(options.fps.max(1)));
     let mut painter = Painter::new();
     let mut pixels: Vec<u32> = Vec::new();

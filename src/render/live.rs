@@ -7,6 +7,7 @@
 use super::died_out;
 use crate::line::{Color, Line};
 use crate::report::DrawStats;
+use crate::run::Run;
 use crate::World;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
@@ -213,16 +214,16 @@ pub struct Outcome {
     pub scenes: u64,
 }
 
-/// A live run under way.
-pub struct Run {
+/// A live run under way: the simulation on its thread.
+pub struct Simulation {
     /// What the display shares with the simulation.
     pub shared: Arc<Shared>,
     thread: std::thread::JoinHandle<Outcome>,
 }
 
-impl Run {
+impl Simulation {
     /// Starts the simulation thread, at `pace`.
-    pub fn start(scenes: Scenes, pace: Pace) -> Run {
+    pub fn start(scenes: Scenes, pace: Pace) -> Simulation {
         let shared = Arc::new(Shared {
             paused: AtomicBool::new(false),
             steps_requested: AtomicU64::new(0),
@@ -237,7 +238,7 @@ impl Run {
             let shared = Arc::clone(&shared);
             std::thread::spawn(move || simulate(scenes, &shared))
         };
-        Run { shared, thread }
+        Simulation { shared, thread }
     }
 
     /// Tells the simulation to stop and waits for it.
@@ -317,28 +318,54 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             continue;
         }
         let pace = shared.pace();
-        if !paused && pace == Pace::PerFrame && !shared.taken.load(Ordering::Acquire) {
-            // The display has not taken the last step's state yet.
+        // The display has not taken the last step's state yet.
+        let waiting = || !paused && pace == Pace::PerFrame && !shared.taken.load(Ordering::Acquire);
+        if waiting() {
             std::thread::sleep(Duration::from_micros(500));
             continue;
         }
         if paused {
             shared.steps_requested.fetch_sub(1, Ordering::Relaxed);
         }
-        let step_start = Instant::now();
-        world.step();
-        window_steps += 1;
-        if window_start.elapsed() >= Duration::from_millis(250) {
-            rate = window_steps as f64 / window_start.elapsed().as_secs_f64();
-            (window_start, window_steps) = (Instant::now(), 0);
-        }
-        publish(&world, scene, rate, paused);
-        if let Pace::Rate(limit) = pace {
-            let budget = Duration::from_secs_f64(1.0 / limit as f64);
-            if let Some(rest) = budget.checked_sub(step_start.elapsed()) {
-                std::thread::sleep(rest);
+        // Steps run until something asks the loop to look again: a single
+        // step while paused, a change of pace, pause or quit, the display
+        // behind at one step a picture, a scene to check.
+        let burst = match steps {
+            _ if paused => 1,
+            Some(s) => s - world.steps(),
+            None => u64::MAX,
+        };
+        let mut step_start = Instant::now();
+        let mut after_step = |world: &World, _: Duration| {
+            window_steps += 1;
+            if window_start.elapsed() >= Duration::from_millis(250) {
+                rate = window_steps as f64 / window_start.elapsed().as_secs_f64();
+                (window_start, window_steps) = (Instant::now(), 0);
             }
-        }
+            publish(world, scene, rate, paused);
+            if let Pace::Rate(limit) = pace {
+                let budget = Duration::from_secs_f64(1.0 / limit as f64);
+                if let Some(rest) = budget.checked_sub(step_start.elapsed()) {
+                    std::thread::sleep(rest);
+                }
+            }
+            step_start = Instant::now();
+        };
+        let cycling = next.is_some();
+        let look_again = |_: &World| {
+            shared.quit.load(Ordering::Relaxed)
+                || shared.paused.load(Ordering::Relaxed) != paused
+                || shared.pace() != pace
+                || waiting()
+                || (cycling && last_check.elapsed() >= DEATH_CHECK_EVERY)
+        };
+        let run = Run {
+            progress: Some(&mut after_step),
+            stop: Some(&look_again),
+            ..Run::default()
+        };
+        run.run(&mut world, burst)
+            .expect("a run without pictures, checkpoints or checks cannot fail");
     }
     let elapsed = start.elapsed();
     publish(&world, scene, rate, true);
@@ -402,8 +429,8 @@ mod tests {
 
     /// A run of one scene of one moving line for `steps` steps, once the
     /// simulation has finished it.
-    fn finished_run(steps: u64) -> Run {
-        let run = Run::start(
+    fn finished_run(steps: u64) -> Simulation {
+        let run = Simulation::start(
             Scenes::One {
                 world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
                 steps: Some(steps),
@@ -439,7 +466,7 @@ mod tests {
         let made = Arc::new(AtomicU64::new(0));
         let counter = Arc::clone(&made);
         let still = || world(vec![line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0))]);
-        let run = Run::start(
+        let run = Simulation::start(
             Scenes::Generated {
                 first: Box::new(still()),
                 next: Box::new(move |_| {
@@ -469,7 +496,7 @@ mod tests {
 
     #[test]
     fn at_one_step_a_frame_the_run_waits_for_each_picture() {
-        let run = Run::start(
+        let run = Simulation::start(
             Scenes::One {
                 world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.001, 0.0))])),
                 steps: None,

@@ -8,7 +8,7 @@
 //! display, Q or Esc quits. The title shows the step, both counters and
 //! the steps per second.
 
-use super::live::{FrameClock, Outcome, Pace, Run, Scenes, Snapshot};
+use super::live::{FrameClock, Outcome, Pace, Scenes, Simulation, Snapshot};
 use super::raster::{Canvas, Painter};
 use super::{hud, Size, View};
 use crate::report::DrawStats;
@@ -101,7 +101,7 @@ fn unreachable_display() -> String {
 pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), String> {
     check_display()?;
     let event_loop = EventLoop::new().map_err(|_| unreachable_display())?;
-    let run = Run::start(scenes, options.pace);
+    let run = Simulation::start(scenes, options.pace);
     let mut app = App {
         run: &run,
         options,
@@ -127,7 +127,7 @@ pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), Str
 }
 
 struct App<'a> {
-    run: &'a Run,
+    run: &'a Simulation,
     options: Options,
     window: Option<Arc<Window>>,
     surface: Option<softbuffer::Surface<Arc<Window>, Arc<Window>>>,
