@@ -50,6 +50,7 @@ pub struct Run<'a> {
     pub checkpoints: Option<Checkpoints<'a>>,
     /// Called after each step with the world and the time since the run
     /// started.
+    #[allow(clippy::type_complexity)] // a named alias would be one more public item
     pub progress: Option<&'a mut (dyn FnMut(&World, Duration) + Send)>,
     /// Asked after each step (after `progress`); the run ends there when
     /// it answers yes. A signal (SIGINT, SIGTERM) ends it there too.
