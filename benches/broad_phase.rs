@@ -6,22 +6,17 @@
 use broccoli::rect;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use screensaver::broad_phase::{for_each_overlapping_pair, Aabb};
-use screensaver::detect::swept_box;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorKind, World};
 
 /// The swept boxes of a generated scene's first step, as plain boxes.
 fn boxes(kind: SceneKind, lines: usize) -> Vec<Aabb> {
     let scene = generate(kind, lines, 7);
-    let world = World::from_scene(&scene, DetectorKind::Brute.build());
+    let world = World::with_detector(&scene, DetectorKind::Brute);
     world
         .lines()
         .iter()
-        .filter_map(|l| swept_box(l, 0.5))
-        .map(|b| Aabb {
-            min: [b.min_x, b.min_y],
-            max: [b.max_x, b.max_y],
-        })
+        .filter_map(|l| Aabb::swept(l, 0.5))
         .collect()
 }
 

@@ -42,7 +42,7 @@ fn one_step(c: &mut Criterion) {
     group.sample_size(10);
     for (name, scene) in scenes() {
         for (label, kind, config) in detectors() {
-            let mut world = World::from_scene(&scene, kind.build_with(&config));
+            let mut world = World::with_config(&scene, kind, &config).expect("threads");
             world.run(3);
             group.bench_function(BenchmarkId::new(label, &name), |b| b.iter(|| world.step()));
         }

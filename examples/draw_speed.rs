@@ -5,8 +5,8 @@
 //! frames for each, in milliseconds.
 
 use screensaver::generate::{generate, SceneKind};
-use screensaver::render::raster::{draw_thin, draw_thin_each, Canvas};
-use screensaver::render::{draw_in_view, Size, View};
+use screensaver::internals::{draw_in_view, draw_thin, draw_thin_each};
+use screensaver::render::{Canvas, Size, View};
 use screensaver::{DetectorKind, World};
 use std::time::Instant;
 
@@ -33,10 +33,7 @@ fn main() {
         "lines", "tiny-skia", "thin", "thin stored"
     );
     for lines in [1_000, 10_000, 100_000, 1_000_000] {
-        let world = World::from_scene(
-            &generate(kind, lines, 1),
-            Box::new(screensaver::detect::Brute::default()),
-        );
+        let world = World::with_detector(&generate(kind, lines, 1), DetectorKind::Brute);
         let mut pixmap = tiny_skia::Pixmap::new(size.width, size.height).expect("a size");
         let mut pixels = vec![0u32; w * h];
         let rounds = if lines >= 100_000 { 5 } else { 21 };

@@ -14,7 +14,7 @@
 //! keeps threads of its own alive, which would compete with the next).
 
 use paralight::prelude::*;
-use screensaver::team::Team;
+use screensaver::internals::Team;
 use std::hint::black_box;
 use std::time::Instant;
 

@@ -9,7 +9,7 @@
 //!
 //! Runs on every core; prints a Markdown table.
 
-use screensaver::maths::classes::ALL;
+use screensaver::internals::classes::ALL;
 use screensaver::maths::{atan2, hypot};
 use std::time::Instant;
 

@@ -13,7 +13,6 @@
 
 use broccoli::rect;
 use screensaver::broad_phase::{for_each_overlapping_pair, Aabb};
-use screensaver::detect::swept_box;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorKind, World};
 use std::time::Instant;
@@ -26,15 +25,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let rounds = rounds.max(1);
 
     let scene = generate(kind, lines, 7);
-    let world = World::from_scene(&scene, DetectorKind::Brute.build());
+    let world = World::with_detector(&scene, DetectorKind::Brute);
     let boxes: Vec<Aabb> = world
         .lines()
         .iter()
-        .filter_map(|l| swept_box(l, 0.5))
-        .map(|b| Aabb {
-            min: [b.min_x, b.min_y],
-            max: [b.max_x, b.max_y],
-        })
+        .filter_map(|l| Aabb::swept(l, 0.5))
         .collect();
 
     let (mut ours, mut theirs) = (Vec::new(), Vec::new());

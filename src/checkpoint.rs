@@ -47,7 +47,7 @@ const CHECKSUM: &str = "# checksum: ";
 /// A run's whole state: enough to continue it bit for bit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Checkpoint {
-    /// The [`scene_digest`] of the scene the run started from.
+    /// The [`Scene::digest`] of the scene the run started from.
     pub scene_digest: u64,
     /// Steps run.
     pub steps: u64,
@@ -89,7 +89,7 @@ pub enum LoadError {
 
 /// A digest of a scene's values (FNV-1a over every coordinate's bits and
 /// colour code), which tells whether a checkpoint belongs to it.
-pub fn scene_digest(scene: &Scene) -> u64 {
+pub(crate) fn scene_digest(scene: &Scene) -> u64 {
     let mut hash = Fnv::default();
     hash.add(scene.lines.len() as u64);
     for l in &scene.lines {
@@ -144,7 +144,7 @@ impl std::io::Write for Hashing<'_> {
 /// spelled as the reference spells it: an exponent has a sign and at
 /// least two digits (`1e-05`, `1e+16`). NaN is `NaN` or `-NaN` (its
 /// payload is not kept: the simulation only ever makes the two quiet NaNs).
-pub fn push_decimal(out: &mut String, x: f64) {
+pub(crate) fn push_decimal(out: &mut String, x: f64) {
     if x.is_nan() {
         // Rust writes every NaN as `NaN`; the sign is kept (arithmetic on
         // x86 makes negative ones), so that a state reads back to the same
@@ -167,7 +167,7 @@ pub fn push_decimal(out: &mut String, x: f64) {
 }
 
 /// Appends the state row of line `id`: `id p1.x p1.y p2.x p2.y v.x v.y`.
-pub fn push_row(out: &mut String, id: usize, line: &Line) {
+pub(crate) fn push_row(out: &mut String, id: usize, line: &Line) {
     write!(out, "{id}").expect("writing to a String");
     for v in [
         line.p1.x, line.p1.y, line.p2.x, line.p2.y, line.v.x, line.v.y,
@@ -179,13 +179,13 @@ pub fn push_row(out: &mut String, id: usize, line: &Line) {
 
 /// Writes the state of `lines` (the reference's state format) to `out`,
 /// a block of rows at a time.
-pub fn write_state(out: &mut dyn std::io::Write, lines: &[Line]) -> std::io::Result<()> {
+pub(crate) fn write_state(out: &mut dyn std::io::Write, lines: &[Line]) -> std::io::Result<()> {
     write_rows(out, lines, None)
 }
 
 /// Writes the checkpoint of a run of the scene with digest `scene_digest`
 /// after `steps` steps, holding `lines` and `colors`, to `out`.
-pub fn write_checkpoint(
+pub(crate) fn write_checkpoint(
     out: &mut dyn std::io::Write,
     scene_digest: u64,
     steps: u64,
@@ -244,11 +244,13 @@ pub enum ResumeError {
     OtherScene {
         /// The checkpoint's name.
         name: String,
-        /// Its lines and scene digest.
+        /// Its lines.
         lines: usize,
+        /// Its scene's digest.
         digest: u64,
-        /// The scene's.
+        /// The scene's lines.
         scene_lines: usize,
+        /// The scene's digest.
         scene_digest: u64,
     },
     /// The checkpoint is past the run's last step.
@@ -265,7 +267,7 @@ pub enum ResumeError {
 
 impl Checkpoint {
     /// Checks that this checkpoint (named `name` in errors) continues a run
-    /// of `scene` (whose digest, [`scene_digest`], is `digest`) that is to
+    /// of `scene` (whose digest, [`Scene::digest`], is `digest`) that is to
     /// take `steps` steps in all.
     pub fn continues(
         &self,

@@ -12,6 +12,7 @@
 
 use crate::geometry::Vec2;
 use crate::line::{Color, WINDOW_HEIGHT, WINDOW_WIDTH};
+use crate::output::OutputError;
 use crate::scene::{Scene, SceneLine};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -57,6 +58,24 @@ impl SceneKind {
     }
 }
 
+impl SceneKind {
+    /// Writes the scene [`generate`] makes, in the `.in` format, streaming
+    /// it: even huge scenes are never held in memory.
+    pub fn write(
+        self,
+        lines: usize,
+        seed: u64,
+        out: &mut dyn std::io::Write,
+    ) -> std::io::Result<()> {
+        crate::scene::write_scene(out, lines, generate_iter(self, lines, seed))
+    }
+
+    /// [`SceneKind::write`] into the file at `path`, whole or not at all.
+    pub fn save(self, lines: usize, seed: u64, path: &std::path::Path) -> Result<(), OutputError> {
+        crate::output::write_with(path, |out| self.write(lines, seed, out))
+    }
+}
+
 impl fmt::Display for SceneKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
@@ -87,7 +106,11 @@ pub fn generate(kind: SceneKind, lines: usize, seed: u64) -> Scene {
 
 /// The lines of [`generate`] one at a time, for writing huge scenes without
 /// holding them in memory.
-pub fn generate_iter(kind: SceneKind, lines: usize, seed: u64) -> impl Iterator<Item = SceneLine> {
+pub(crate) fn generate_iter(
+    kind: SceneKind,
+    lines: usize,
+    seed: u64,
+) -> impl Iterator<Item = SceneLine> {
     let mut gen = Generator::new(kind, lines, seed);
     (0..lines).map(move |i| gen.line(i))
 }

@@ -27,9 +27,25 @@ pub enum Screen {
         /// Fill the screen, the box stretched over it.
         fullscreen: bool,
     },
-    /// A window another program owns: the root window or one named by its
-    /// id (`--root`, `--window-id`, XScreenSaver's `XSCREENSAVER_WINDOW`).
-    Embedded(embedded::Target),
+    /// The root window (the desktop), as `--root` draws.
+    Root,
+    /// A window another program owns, by its X id (`--window-id`,
+    /// XScreenSaver's `XSCREENSAVER_WINDOW`).
+    WindowId(u32),
+}
+
+impl Screen {
+    /// The window XScreenSaver names in `XSCREENSAVER_WINDOW`, if it is
+    /// set.
+    pub fn from_environment() -> Option<Result<Screen, String>> {
+        embedded::screensaver_window().map(|id| id.map(Screen::WindowId))
+    }
+
+    /// Reads a window id written as XScreenSaver and `xwininfo` write them:
+    /// hexadecimal after `0x`, else decimal.
+    pub fn parse_window_id(s: &str) -> Result<u32, String> {
+        embedded::parse_window_id(s)
+    }
 }
 
 /// One run of the command: the scene, how long it runs, where it is shown
@@ -399,23 +415,22 @@ impl Job {
         let Some(path) = &self.render else {
             return Ok(None);
         };
-        let target = Target::for_path(path, self.frames_pictured()).map_err(|e| e.to_string())?;
-        let every = match (self.render_every, &target) {
-            (Some(every), _) => every,
+        let gif = matches!(Target::for_path(path, Frames::Last), Ok(Target::Gif(_)));
+        let every = match self.render_every {
             // A GIF of every step of a long run is slow to write and huge
             // (2,000 frames at full size: 101 MB).
-            (None, Target::Gif(_)) if steps > GIF_FRAMES => {
+            None if gif && steps > GIF_FRAMES => {
                 let every = steps.div_ceil(GIF_FRAMES);
                 let frames = steps / every + 1;
                 eprintln!(
                     "screensaver: --render: a GIF frame every {every} steps (about {frames} \
                      frames); --render-every 1 for every step"
                 );
-                every
+                Some(every)
             }
-            (None, _) => 1,
+            every => every,
         };
-        let recorder = Recorder::new(target, self.size, every, self.fps);
+        let recorder = Recorder::new(path, self.size, every, self.fps);
         Ok(Some(recorder.map_err(|e| e.to_string())?))
     }
 
@@ -498,7 +513,11 @@ impl Job {
                 };
                 window::run(scenes, options)
             }
-            Screen::Embedded(target) => {
+            Screen::Root | Screen::WindowId(_) => {
+                let target = match screen {
+                    Screen::WindowId(id) => embedded::Target::Id(id),
+                    _ => embedded::Target::Root,
+                };
                 embedded::run(target, scenes, embedded::Options { fps, hud, pace })
             }
         }?;

@@ -10,29 +10,47 @@
 //! println!("{} wall, {} line collisions", counts.wall, counts.line);
 //! ```
 //!
-//! The modules follow the simulation's concepts: [`geometry`] (vectors and
-//! exact predicates), [`line`](mod@line) (segments and coordinates),
-//! [`scene`] (`.in` files), [`narrow`] (the exact pair test), `response`
-//! (new velocities), [`world`] (one step), `storage` (lines stored in the
-//! detector's order), [`detect`] (interchangeable broad
-//! phases), [`render`] (pictures and the window), [`generate`] (seeded
-//! scenes), [`checkpoint`] (states and resumable checkpoints), [`output`]
-//! (files written whole or not at all), [`stop`] (clean stops on
-//! signals) and [`team`] (the threads a step's phases are shared among).
+//! The API, in the order a program meets it:
+//!
+//! - A [`World`] holds lines ([`Line`], [`Color`]) moving in the box
+//!   `[0.5, 1] x [0.5, 1]`, from a [`Scene`] (an `.in` file, or one of
+//!   [`generate`]'s seeded scenes) or from lines of your own
+//!   ([`World::from_lines`]). It finds collisions with a detector chosen by
+//!   kind ([`DetectorKind`]: the sweep, the quadtree or all pairs) and
+//!   tuned by a [`DetectorConfig`], threads given as a count; results are
+//!   the same for any detector and any number of threads. [`World::step`]
+//!   and [`World::run`] step it; [`World::counters`] counts the
+//!   collisions, [`World::last_events`] lists the last step's ([`Event`]).
+//! - [`run::Run`] runs steps with what may go around them: the check of
+//!   every step against all pairs, pictures ([`render::Recorder`]),
+//!   [`checkpoint`]s every so many steps, a progress callback and a way to
+//!   stop. [`job::Job`] is the whole run the command line makes of its
+//!   arguments, on screen or off; [`report`] prints the original
+//!   program's text and the statistics.
+//! - [`render`] draws pictures of a world (PNG, GIF, SVG, or pixels of your
+//!   own with [`render::Canvas`]).
+//! - [`broad_phase`] is the sweep's broad phase on boxes of your own, with
+//!   the all-pairs answer beside it.
+//! - [`maths`] holds the project's own `hypot` and `atan2`, the same on
+//!   every platform; [`intersect`] is the exact pair test.
+
+#![warn(missing_docs)]
 
 pub mod broad_phase;
 pub mod checkpoint;
 mod counters;
-pub mod detect;
+pub(crate) mod detect;
+#[cfg(any(test, fuzzing))]
+pub mod fuzz_checks;
 pub mod generate;
-pub mod geometry;
+pub(crate) mod geometry;
 #[cfg(feature = "window")]
 pub mod job;
-pub mod line;
+pub(crate) mod line;
 pub mod maths;
 pub(crate) mod motion;
-pub mod narrow;
-pub mod output;
+pub(crate) mod narrow;
+pub(crate) mod output;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod report;
@@ -40,10 +58,34 @@ pub(crate) mod response;
 pub mod run;
 pub mod scene;
 #[cfg(feature = "signals")]
-pub mod stop;
+pub(crate) mod stop;
 pub(crate) mod storage;
-pub mod team;
-pub mod world;
+pub(crate) mod team;
+pub(crate) mod world;
+
+/// Parts of the library that are not its API, public only with the
+/// `internals` feature, for the project's own measuring tools
+/// (`examples/hand_off.rs`, `libm_compare.rs`, `draw_speed.rs`): they may
+/// change with any release.
+#[cfg(feature = "internals")]
+pub mod internals {
+    pub use crate::maths::classes;
+    #[cfg(feature = "render")]
+    pub use crate::render::raster::{draw_thin, draw_thin_each};
+    pub use crate::team::Team;
+
+    /// Draws `lines` with tiny-skia's anti-aliased strokes, as pictures up
+    /// to 5,000 lines are drawn.
+    #[cfg(feature = "render")]
+    pub fn draw_in_view(
+        lines: &[crate::Line],
+        colors: &[crate::Color],
+        pixmap: &mut tiny_skia::Pixmap,
+        view: &crate::render::View,
+    ) {
+        crate::render::draw_in_view(lines, colors, pixmap, view);
+    }
+}
 
 #[cfg(test)]
 mod test_util;
@@ -74,9 +116,12 @@ pub(crate) fn plural(n: u64, thing: &str) -> String {
     }
 }
 
-pub use detect::{Detector, DetectorConfig, DetectorKind, DetectorStats};
+pub use detect::{DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
 pub use line::{Color, Line};
-pub use narrow::{intersect, is_sliver, Event, IntersectionKind};
+pub use narrow::{intersect, Event, IntersectionKind};
+pub use output::OutputError;
 pub use scene::{Scene, SceneLine};
-pub use world::{Counters, Mismatch, ThreadsError, World};
+#[cfg(feature = "signals")]
+pub use stop::Signal;
+pub use world::{Counters, ThreadsError, World};

@@ -113,10 +113,10 @@ pub fn window_to_box_velocity(v: Vec2) -> Vec2 {
     )
 }
 
-/// Converts a box-coordinate point back to window coordinates (for drawing
-/// and for writing scenes; not guaranteed to invert the forward map exactly).
-#[inline]
-pub fn box_to_window_point(p: Vec2) -> Vec2 {
+/// Converts a box-coordinate point back to window coordinates (not
+/// guaranteed to invert the forward map exactly).
+#[cfg(test)]
+fn box_to_window_point(p: Vec2) -> Vec2 {
     Vec2::new(
         (p.x - BOX_MIN) / (BOX_MAX - BOX_MIN) * WINDOW_WIDTH,
         (p.y - BOX_MIN) / (BOX_MAX - BOX_MIN) * WINDOW_HEIGHT,
@@ -124,8 +124,8 @@ pub fn box_to_window_point(p: Vec2) -> Vec2 {
 }
 
 /// Converts a box-unit velocity back to window units.
-#[inline]
-pub fn box_to_window_velocity(v: Vec2) -> Vec2 {
+#[cfg(test)]
+fn box_to_window_velocity(v: Vec2) -> Vec2 {
     Vec2::new(
         v.x / (BOX_MAX - BOX_MIN) * WINDOW_WIDTH,
         v.y / (BOX_MAX - BOX_MIN) * WINDOW_HEIGHT,

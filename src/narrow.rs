@@ -105,7 +105,7 @@ const MARGIN_FLOOR: f64 = 1e-300;
 /// outside the sweep; the fast detectors, which test only pairs whose
 /// swept hulls meet, do not report it. The documented exception to their
 /// agreement with the all-pairs detector (`--verify` names it).
-pub fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
+pub(crate) fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
     let cross = |a: Vec2, b: Vec2| a.x * b.y - a.y * b.x;
     let (d, rel) = (l2.p2 - l2.p1, (l2.v - l1.v) * dt);
     let magnitude = [l1.p1, l1.p2, l2.p1, l2.p2]
@@ -130,7 +130,7 @@ pub fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
 /// `1e-15` of it) keeps the test conservative for the floating-point
 /// predicates of `intersect` too.
 #[inline]
-pub fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
+pub(crate) fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
     let nx = l1.p1.y - l1.p2.y;
     let ny = l1.p2.x - l1.p1.x;
     let c = nx * l1.p1.x + ny * l1.p1.y;

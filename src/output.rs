@@ -119,6 +119,7 @@ fn temporaries() -> MutexGuard<'static, Vec<PathBuf>> {
     TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
 }
 
+#[cfg(feature = "signals")]
 /// Removes every temporary file that exists now and keeps any more from
 /// being made or renamed into place: for a process about to end at once
 /// (a second signal). Does not return the lock, so call it only on the way
@@ -193,11 +194,6 @@ impl OutputFile {
         })
     }
 
-    /// The name as given.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
     /// The error for this file.
     pub fn error(&self, source: std::io::Error) -> OutputError {
         OutputError::new(&self.path, source)
@@ -251,6 +247,7 @@ impl Write for OutputFile {
     }
 }
 
+#[cfg(feature = "render")]
 /// Writes `bytes` to `path`, a regular file whole or not at all.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let mut file = OutputFile::create(path)?;
@@ -276,6 +273,7 @@ pub fn write_with(
     file.commit()
 }
 
+#[cfg(feature = "window")]
 /// Checks, before a long run, that `path` can be written: a regular file's
 /// folder exists and takes new files; anything else opens for writing (a
 /// FIFO is not opened: that would wait for a reader). Nothing is left
@@ -293,6 +291,7 @@ pub fn check_writable(path: &Path) -> Result<(), OutputError> {
     OutputFile::create(path).map(drop)
 }
 
+#[cfg(feature = "window")]
 #[cfg(unix)]
 fn is_fifo(path: &Path) -> bool {
     use std::os::unix::fs::FileTypeExt;

@@ -14,7 +14,7 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 /// Checkpoints of a run: written to `path` every `every` steps (if set), of
-/// a scene whose digest ([`crate::checkpoint::scene_digest`]) is `digest`.
+/// a scene whose digest ([`crate::Scene::digest`]) is `digest`.
 #[derive(Clone, Copy, Debug)]
 pub struct Checkpoints<'a> {
     /// Where.

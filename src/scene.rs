@@ -317,6 +317,13 @@ impl<'a> Parser<'a> {
 }
 
 impl Scene {
+    /// A digest of the scene's values (FNV-1a over every coordinate's bits
+    /// and colour code): a checkpoint names the digest of its scene, and
+    /// resumes only a run of that scene.
+    pub fn digest(&self) -> u64 {
+        crate::checkpoint::scene_digest(self)
+    }
+
     /// Parses a scene text. `origin` names the text in error messages
     /// (usually the file's path).
     pub fn parse(text: &[u8], origin: &str) -> Result<Self, ParseError> {
@@ -398,8 +405,8 @@ impl Scene {
 /// [`Scene::parse`] reads: huge generated scenes never need to be held in
 /// memory. Returns an error if writing fails or if `lines` does not yield
 /// exactly `count` lines (the header would lie).
-pub fn write_scene(
-    out: &mut impl Write,
+pub(crate) fn write_scene(
+    out: &mut (impl Write + ?Sized),
     count: usize,
     lines: impl IntoIterator<Item = SceneLine>,
 ) -> std::io::Result<()> {

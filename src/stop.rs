@@ -54,14 +54,24 @@ static RECEIVED: AtomicUsize = AtomicUsize::new(0);
 /// Whether the handlers are installed.
 static INSTALLED: Mutex<bool> = Mutex::new(false);
 
-/// Installs the handlers (once; later calls do nothing). Until it is
-/// called, signals end the process as they do by default.
+impl Signal {
+    /// Catches SIGINT and SIGTERM from now on (later calls do nothing):
+    /// a run stops cleanly after the step under way, and a second signal
+    /// ends the process at once, removing the temporary files of outputs
+    /// being written. Until it is called, signals end the process as they
+    /// do by default.
+    pub fn catch() -> std::io::Result<()> {
+        install()
+    }
+}
+
+/// Installs the handlers (once; later calls do nothing).
 ///
 /// The signals are taken by a thread of their own, not in a handler, so
 /// that a second one can remove the temporary files of outputs being
 /// written ([`crate::output::remove_temporaries`]) before the process
 /// ends with the usual status.
-pub fn install() -> std::io::Result<()> {
+fn install() -> std::io::Result<()> {
     let mut installed = INSTALLED.lock().unwrap_or_else(|e| e.into_inner());
     if *installed {
         return Ok(());

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 /// Time spent in each phase of the step, summed over steps (only measured
 /// when [`World::set_timing`] is on).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct PhaseTimes {
+pub(crate) struct PhaseTimes {
     /// Finding events.
     pub detect: Duration,
     /// Sorting and applying responses.
@@ -29,7 +29,7 @@ pub struct PhaseTimes {
 
 /// The first step at which a detector's events differed from the oracle's.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Mismatch {
+pub(crate) struct Mismatch {
     /// The step (counting from 1) whose detection differed.
     pub step: u64,
     /// The oracle's events, sorted.
@@ -152,7 +152,7 @@ impl World {
     /// # Panics
     /// If `lines` and `colors` differ in length, or there are more lines
     /// than `u32` ids.
-    pub fn new(lines: Vec<Line>, colors: Vec<Color>, detector: Box<dyn Detector>) -> Self {
+    pub(crate) fn new(lines: Vec<Line>, colors: Vec<Color>, detector: Box<dyn Detector>) -> Self {
         assert_eq!(lines.len(), colors.len(), "one colour per line");
         assert!(
             u32::try_from(lines.len()).is_ok(),
@@ -192,9 +192,27 @@ impl World {
         Ok(world)
     }
 
+    /// A world holding `lines` (in box coordinates, ids by position) of
+    /// `colors`, with a detector chosen by kind and tuned by `config`,
+    /// running on `config.threads` threads.
+    ///
+    /// # Panics
+    /// If `lines` and `colors` differ in length, or there are more lines
+    /// than `u32` ids.
+    pub fn from_lines(
+        lines: Vec<Line>,
+        colors: Vec<Color>,
+        kind: DetectorKind,
+        config: &DetectorConfig,
+    ) -> Result<Self, ThreadsError> {
+        let mut world = Self::new(lines, colors, kind.build_with(config));
+        world.set_threads(config.threads)?;
+        world.set_grain(config.grain);
+        Ok(world)
+    }
+
     /// Runs steps on `threads` threads (1: on the calling thread, with no
-    /// pool): the world's own phases and the detector's
-    /// ([`Detector::set_threads`]) alike. Results are the same for any
+    /// pool): the world's own phases and the detector's alike. Results are the same for any
     /// number of threads.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ThreadsError> {
         self.pool = if threads > 1 {
@@ -239,7 +257,7 @@ impl World {
 
     /// A world built from a scene (window coordinates converted to box
     /// coordinates exactly as the reference did).
-    pub fn from_scene(scene: &Scene, detector: Box<dyn Detector>) -> Self {
+    pub(crate) fn from_scene(scene: &Scene, detector: Box<dyn Detector>) -> Self {
         let lines = scene
             .lines
             .iter()
@@ -262,11 +280,9 @@ impl World {
         kind: DetectorKind,
         config: &DetectorConfig,
     ) -> Result<Self, ThreadsError> {
-        let mut world = Self::new(checkpoint.lines, checkpoint.colors, kind.build_with(config));
+        let mut world = Self::from_lines(checkpoint.lines, checkpoint.colors, kind, config)?;
         world.steps = checkpoint.steps;
         world.counters = checkpoint.counters;
-        world.set_threads(config.threads)?;
-        world.set_grain(config.grain);
         Ok(world)
     }
 
@@ -276,8 +292,7 @@ impl World {
     }
 
     /// The lines, indexed by id: borrowed while they are stored by id, a
-    /// copy in id order once the detector has had them stored in its own
-    /// ([`Detector::storage_order`]).
+    /// copy in id order once the detector has had them stored in its own.
     pub fn lines(&self) -> Cow<'_, [Line]> {
         lines_by_id(&self.lines, self.storage.as_ref())
     }
@@ -313,7 +328,7 @@ impl World {
     }
 
     /// The detector in use.
-    pub fn detector(&self) -> &dyn Detector {
+    pub(crate) fn detector(&self) -> &dyn Detector {
         self.detector.as_ref()
     }
 
@@ -337,8 +352,7 @@ impl World {
     }
 
     /// Turns per-phase timing on or off, the detector's own phases included
-    /// (see [`Detector::phase_times`]; off by default: it costs a few clock
-    /// reads per step).
+    /// (off by default: it costs a few clock reads per step).
     pub fn set_timing(&mut self, on: bool) {
         self.timing = if on {
             Some(PhaseTimes::default())
@@ -352,13 +366,13 @@ impl World {
     }
 
     /// Per-phase times so far, if timing is on.
-    pub fn phase_times(&self) -> Option<PhaseTimes> {
+    pub(crate) fn phase_times(&self) -> Option<PhaseTimes> {
         self.timing
     }
 
     /// What handing the phases to the thread team has cost so far, if
     /// timing is on and the world has a team (more than one thread).
-    pub fn hand_offs(&self) -> Option<HandOffs> {
+    pub(crate) fn hand_offs(&self) -> Option<HandOffs> {
         self.timing?;
         self.team.as_deref().map(Team::hand_offs)
     }
@@ -499,7 +513,7 @@ impl World {
     }
 
     /// Writes a checkpoint of the run so far to `out`; `scene_digest` is
-    /// the [`checkpoint::scene_digest`] of the scene the run started from.
+    /// the [`Scene::digest`] of the scene the run started from.
     pub fn write_checkpoint(
         &self,
         out: &mut dyn std::io::Write,
@@ -518,7 +532,8 @@ impl World {
     /// Runs one step, with `oracle` finding events on the same state; if the
     /// two detectors' events differ, returns both lists (the step has been
     /// taken all the same).
-    pub fn step_verified(&mut self, oracle: &mut dyn Detector) -> Result<(), Mismatch> {
+    #[cfg(test)]
+    pub(crate) fn step_verified(&mut self, oracle: &mut dyn Detector) -> Result<(), Mismatch> {
         let before = self.lines().into_owned();
         let expected = oracle_events(oracle, &before);
         self.step();
@@ -528,23 +543,23 @@ impl World {
     /// From now on, checks every step's events against `oracle` (typically
     /// the all-pairs detector); the first step that differs is kept, see
     /// [`World::mismatch`].
-    pub fn set_oracle(&mut self, oracle: Box<dyn Detector>) {
+    pub(crate) fn set_oracle(&mut self, oracle: Box<dyn Detector>) {
         self.oracle = Some(oracle);
     }
 
     /// The time spent so far checking steps against the oracle (finding its
     /// events and comparing them), which a run's timing leaves out.
-    pub fn verifying_time(&self) -> Duration {
+    pub(crate) fn verifying_time(&self) -> Duration {
         self.verifying
     }
 
     /// The first step whose events differed from the oracle's, if any.
-    pub fn mismatch(&self) -> Option<&Mismatch> {
+    pub(crate) fn mismatch(&self) -> Option<&Mismatch> {
         self.mismatch.as_ref()
     }
 
     /// Sliver events met so far while verifying: events the oracle found
-    /// and the detector did not, every one a sliver ([`crate::is_sliver`],
+    /// and the detector did not, every one a sliver (a line sliding along its own supporting line,
     /// the contract's documented exception), with the step of the first.
     pub fn slivers(&self) -> (u64, Option<(u64, Event)>) {
         (self.slivers, self.first_sliver)
@@ -563,8 +578,9 @@ impl World {
             .filter(|e| !found.contains(e))
             .copied()
             .collect();
-        let sliver =
-            |e: &Event| crate::is_sliver(&before[e.first as usize], &before[e.second as usize], DT);
+        let sliver = |e: &Event| {
+            crate::narrow::is_sliver(&before[e.first as usize], &before[e.second as usize], DT)
+        };
         if !extra && missing.iter().all(sliver) {
             drop(found);
             self.slivers += missing.len() as u64;
@@ -808,7 +824,7 @@ mod tests {
             (0.9699591478722643, 0.8534477703679866),
             (0.020813462557612464, -0.028235810052612498),
         );
-        assert!(crate::is_sliver(&rest, &sliding, DT));
+        assert!(crate::narrow::is_sliver(&rest, &sliding, DT));
         let mut w = World::new(
             vec![rest, sliding],
             vec![Color::Red; 2],
@@ -826,7 +842,7 @@ mod tests {
         // A missing event that is no sliver is a mismatch all the same.
         let apart = line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0));
         let toward = line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0));
-        assert!(!crate::is_sliver(&apart, &toward, DT));
+        assert!(!crate::narrow::is_sliver(&apart, &toward, DT));
         let mut w = World::new(vec![apart, toward], vec![Color::Red; 2], Box::new(Blind));
         w.set_oracle(Box::new(Brute::default()));
         w.run(1);

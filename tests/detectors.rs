@@ -4,8 +4,19 @@
 //! lines, very fast lines, lines outside the box, and lines that turn NaN.
 
 use proptest::prelude::*;
-use screensaver::detect::Brute;
+use screensaver::report::Stats;
+use screensaver::run::Run;
 use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
+
+/// Runs `steps` steps of `world`, each checked against the all-pairs
+/// detector; the first step whose events differ is the error.
+fn verified(world: &mut World, steps: u64) -> Result<(), String> {
+    let run = Run {
+        verify: true,
+        ..Run::default()
+    };
+    run.run(world, steps).map(|_| ()).map_err(|e| e.to_string())
+}
 
 /// Tree shapes to try: leaves of 1, 2 and many lines, no splitting at
 /// all and very deep trees; and 2, 3 and 8 threads with work split into
@@ -50,15 +61,9 @@ fn check_all(lines: &[Line], steps: usize) -> Result<(), String> {
     for kind in fast_detectors() {
         for config in &configs() {
             let colors = vec![Color::Red; lines.len()];
-            let mut world = World::new(lines.to_vec(), colors, kind.build_with(config));
-            world.set_threads(config.threads).expect("a thread pool");
-            world.set_grain(config.grain);
-            let mut oracle = Brute::default();
-            for _ in 0..steps {
-                world
-                    .step_verified(&mut oracle)
-                    .map_err(|m| format!("{kind} {config:?}: {m}"))?;
-            }
+            let mut world =
+                World::from_lines(lines.to_vec(), colors, kind, config).expect("a thread pool");
+            verified(&mut world, steps as u64).map_err(|m| format!("{kind} {config:?}: {m}"))?;
         }
     }
     Ok(())
@@ -162,7 +167,8 @@ fn collinear_overlaps_turn_nan_and_detectors_cope() {
         });
     }
     let colors = vec![Color::Gray; lines.len()];
-    let mut probe = World::new(lines.clone(), colors, Box::new(Brute::default()));
+    let config = DetectorConfig::default();
+    let mut probe = World::from_lines(lines.clone(), colors, DetectorKind::Brute, &config).unwrap();
     probe.run(3);
     assert!(
         probe.lines().iter().any(|l| l.v.has_nan()),
@@ -201,12 +207,7 @@ fn thousands_of_lines_agree_with_the_oracle() {
         let scene = generate(kind, lines, 11);
         for detector in fast_detectors() {
             let mut world = World::with_detector(&scene, detector);
-            let mut oracle = Brute::default();
-            for _ in 0..2 {
-                world
-                    .step_verified(&mut oracle)
-                    .unwrap_or_else(|m| panic!("{detector} on {kind} {lines}: {m}"));
-            }
+            verified(&mut world, 2).unwrap_or_else(|m| panic!("{detector} on {kind} {lines}: {m}"));
             assert!(
                 world.counters().line > 0,
                 "{kind} {lines}: no events to compare"
@@ -232,18 +233,11 @@ fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
         };
         let mut world =
             World::with_config(&scene, DetectorKind::Sweep, &config).expect("a pool of threads");
-        let mut oracle = Brute::default();
         let steps = if grain == default { 34 } else { 130 };
-        for step in 0..steps {
-            world
-                .step_verified(&mut oracle)
-                .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}, step {step}: {m}"));
-        }
-        assert!(
-            world.detector().describe().contains("bands"),
-            "{}",
-            world.detector().describe()
-        );
+        verified(&mut world, steps)
+            .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}: {m}"));
+        let stats = Stats::of(&world, DetectorKind::Sweep, &config, None).text();
+        assert!(stats.contains("bands"), "{stats}");
     }
 }
 
@@ -415,11 +409,10 @@ fn a_line_of_subnormal_length_is_not_culled_by_the_prefilter() {
         l(0.671875, 0.0, 0.921875, 0.0, 0.0, 0.0),
     ];
     // The pair meets at the second step: the all-pairs detector finds it.
-    let mut oracle = World::new(
-        lines.clone(),
-        vec![Color::Red; lines.len()],
-        DetectorKind::Brute.build(),
-    );
+    let colors = vec![Color::Red; lines.len()];
+    let config = DetectorConfig::default();
+    let mut oracle =
+        World::from_lines(lines.clone(), colors, DetectorKind::Brute, &config).unwrap();
     oracle.run(4);
     assert!(oracle.counters().line > 0);
     check_all(&lines, 4).unwrap();

@@ -180,10 +180,13 @@ fn gif_has_a_frame_per_kth_step_and_the_fixed_palette() {
         .unwrap();
     // Encoders pad the palette to a power of two.
     let palette = decoder.global_palette().unwrap().to_vec();
-    let ours: Vec<u8> = screensaver::render::gif_palette()
-        .into_iter()
-        .flatten()
-        .collect();
+    // Black, then eight shades each of the red lines' colour (170, 20, 20)
+    // and the gray lines' (150, 150, 150), from dark to full.
+    let mut ours = vec![[0u8, 0, 0]];
+    for rgb in [[170u16, 20, 20], [150, 150, 150]] {
+        ours.extend((1..=8u16).map(|k| rgb.map(|c| (c * k / 8) as u8)));
+    }
+    let ours: Vec<u8> = ours.into_iter().flatten().collect();
     assert_eq!(&palette[..ours.len()], &ours[..]);
     let mut frames = 0;
     let mut seen = std::collections::BTreeSet::new();

@@ -5,7 +5,7 @@
 mod common;
 
 use proptest::prelude::*;
-use screensaver::checkpoint::{scene_digest, Checkpoint};
+use screensaver::checkpoint::Checkpoint;
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorConfig, DetectorKind, World};
 
@@ -39,7 +39,7 @@ proptest! {
         threads in prop::sample::select(vec![1usize, 2, 3, 8]),
     ) {
         let scene = generate(kind, lines, seed);
-        let digest = scene_digest(&scene);
+        let digest = scene.digest();
         let mut whole = World::with_config(&scene, DetectorKind::Brute, &config(1)).unwrap();
         whole.run(total);
 

@@ -11,8 +11,7 @@
 //! them: the page steps in one instance (a worker) and draws in another.
 
 use screensaver::generate::{default_scene, generate, SceneKind};
-use screensaver::render::raster::{draw_segment, pixel, Canvas};
-use screensaver::render::{died_out, Size, View, GRAY, RED};
+use screensaver::render::{died_out, draw_segment, Canvas, Size, View};
 use screensaver::run::Run;
 use screensaver::{report, Color, DetectorConfig, DetectorKind, Scene, World};
 use std::cell::RefCell;
@@ -225,7 +224,7 @@ pub unsafe extern "C" fn ss_draw(
     // SAFETY: the caller vouches for the buffer.
     let points = unsafe { std::slice::from_raw_parts(points, len) };
     let (w, h) = (width as usize, height as usize);
-    let (red, gray) = (pixel(RED), pixel(GRAY));
+    let (red, gray) = (Color::Red.rgb(), Color::Gray.rgb());
     PIXELS.with(|p| {
         let mut pixels = p.borrow_mut();
         pixels.resize(w * h, 0);

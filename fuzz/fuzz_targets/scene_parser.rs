@@ -1,9 +1,6 @@
 #![no_main]
 
-// The check lives in checks.rs so that tests/fuzz_corpus.rs replays the
-// corpus through exactly the same code on stable.
-#[allow(dead_code)]
-#[path = "../checks.rs"]
-mod checks;
-
-libfuzzer_sys::fuzz_target!(|data: &[u8]| checks::scene_parser(data));
+// The check lives in the library (`src/fuzz_checks.rs`, built with
+// `--cfg fuzzing`), whose tests replay the corpus through the same code
+// on stable.
+libfuzzer_sys::fuzz_target!(|data: &[u8]| screensaver::fuzz_checks::scene_parser(data));

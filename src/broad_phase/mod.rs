@@ -1,6 +1,6 @@
 //! The sweep's broad phase on boxes of your own: every pair of
 //! axis-aligned boxes that overlap, found by sorting and sweeping in bands
-//! (planned as the [`Sweep`](crate::detect::Sweep) detector plans its own)
+//! (planned as the sweep detector plans its own)
 //! instead of testing every pair.
 //!
 //! Each thread keeps its working memory (about 40 bytes a box) from one
@@ -52,6 +52,17 @@ impl Aabb {
     #[inline]
     pub fn is_empty(&self) -> bool {
         !(self.min[0] <= self.max[0] && self.min[1] <= self.max[1])
+    }
+
+    /// The box of everything `line` covers while it moves for `dt`
+    /// (padded a little, as the detectors pad it, so that rounding never
+    /// loses a collision); `None` for a line that is not finite or reaches
+    /// beyond 1e30.
+    pub fn swept(line: &crate::Line, dt: f64) -> Option<Aabb> {
+        crate::detect::swept_box(line, dt).map(|b| Aabb {
+            min: [b.min_x, b.min_y],
+            max: [b.max_x, b.max_y],
+        })
     }
 }
 

@@ -16,7 +16,7 @@ pub use brute::Brute;
 pub use quadtree::{Quadtree, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 pub use sweep::Sweep;
 pub(crate) use sweep::TEAM_MIN_BOXES;
-pub use swept::{swept_box, SweptBox};
+pub use swept::swept_box;
 
 use crate::line::Line;
 use crate::narrow::Event;

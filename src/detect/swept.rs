@@ -67,19 +67,6 @@ impl SweptBox {
             max_w: max(self.max_w, other.max_w),
         }
     }
-
-    /// True when the two hulls overlap in all eight directions.
-    #[inline]
-    pub fn overlaps(&self, o: &SweptBox) -> bool {
-        (self.min_x <= o.max_x)
-            & (o.min_x <= self.max_x)
-            & (self.min_y <= o.max_y)
-            & (o.min_y <= self.max_y)
-            & (self.min_u <= o.max_u)
-            & (o.min_u <= self.max_u)
-            & (self.min_w <= o.max_w)
-            & (o.min_w <= self.max_w)
-    }
 }
 
 /// `min` without NaN handling: one instruction. Callers rule NaN out.

@@ -8,7 +8,9 @@
 //!   results, and a correctly rounded one keeps every reference state.
 
 mod atan2;
-#[doc(hidden)]
+// The argument classes of the maths checks: for the tests, and for
+// examples/libm_compare.rs through `crate::internals`.
+#[cfg(any(test, feature = "internals"))]
 pub mod classes;
 mod dd;
 mod exact;

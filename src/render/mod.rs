@@ -1,5 +1,5 @@
 //! Pictures of the world: an anti-aliased rasteriser, and PNG, GIF and SVG
-//! files. The live window is in [`window`].
+//! files; with the `window` feature, the pace of a run on screen.
 //!
 //! The picture is the original's: a black background, red lines in dark red
 //! and gray lines in gray, the box `[0.5, 1] x [0.5, 1]` filling the frame
@@ -8,14 +8,18 @@
 //! shape, centred, with black bars if the size has another shape.
 
 #[cfg(feature = "window")]
-pub mod embedded;
+pub(crate) mod embedded;
 #[cfg(feature = "window")]
-pub mod hud;
+mod hud;
 #[cfg(feature = "window")]
-pub mod live;
-pub mod raster;
+pub(crate) mod live;
+pub(crate) mod raster;
 #[cfg(feature = "window")]
-pub mod window;
+pub(crate) mod window;
+
+#[cfg(feature = "window")]
+pub use live::Pace;
+pub use raster::{draw_segment, Canvas};
 
 use crate::line::{Color, Line, BOX_MAX, BOX_MIN, WINDOW_HEIGHT, WINDOW_WIDTH};
 use crate::World;
@@ -24,7 +28,7 @@ use std::path::{Path, PathBuf};
 use tiny_skia::{LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 /// How red lines are drawn (dark red, as in the original).
-pub const RED: [u8; 3] = [170, 20, 20];
+pub(crate) const RED: [u8; 3] = [170, 20, 20];
 
 /// True when nothing more can happen in the world: every line is NaN, or
 /// none of them moves. The lines may come in any order (a world's
@@ -36,7 +40,18 @@ pub fn died_out<'a>(lines: impl IntoIterator<Item = &'a Line>) -> bool {
 }
 
 /// How gray lines are drawn.
-pub const GRAY: [u8; 3] = [150, 150, 150];
+pub(crate) const GRAY: [u8; 3] = [150, 150, 150];
+
+impl Color {
+    /// The colour lines of this colour are drawn in, as a [`Canvas`] pixel
+    /// (`0x00RRGGBB`).
+    pub fn rgb(self) -> u32 {
+        raster::pixel(match self {
+            Color::Red => RED,
+            Color::Gray => GRAY,
+        })
+    }
+}
 
 /// A frame's size in pixels.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -140,7 +155,7 @@ impl View {
 /// Draws `lines` (coloured by `colors`) into `pixmap`, over black, the box
 /// filling the window's shape. Lines whose coordinates are not finite are
 /// skipped.
-pub fn draw(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap) {
+pub(crate) fn draw(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap) {
     let size = Size {
         width: pixmap.width(),
         height: pixmap.height(),
@@ -149,7 +164,7 @@ pub fn draw(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap) {
 }
 
 /// [`draw`] as `view` maps the box.
-pub fn draw_in_view(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap, view: &View) {
+pub(crate) fn draw_in_view(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap, view: &View) {
     pixmap.fill(tiny_skia::Color::BLACK);
     let stroke = Stroke {
         width: view.stroke_width(),
@@ -188,7 +203,7 @@ pub fn frame(world: &World, size: Size) -> Pixmap {
 
 /// What `--render` writes, chosen by the file's extension.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Target {
+pub(crate) enum Target {
     /// The last frame as a PNG.
     Png(PathBuf),
     /// Every K-th frame as numbered PNGs: `NAME-000000.png`, ...
@@ -222,7 +237,7 @@ pub enum RenderError {
 
 /// Which frames a run's pictures hold.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Frames {
+pub(crate) enum Frames {
     /// The last one only (a `.png` is one picture).
     Last,
     /// A frame every so many steps (a `.png` becomes a numbered sequence).
@@ -270,13 +285,13 @@ fn written(e: crate::output::OutputError) -> RenderError {
 }
 
 /// The name of frame `index` of a PNG sequence named after `path`.
-pub fn sequence_name(path: &Path, index: u64) -> PathBuf {
+pub(crate) fn sequence_name(path: &Path, index: u64) -> PathBuf {
     let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("frame");
     path.with_file_name(format!("{stem}-{index:06}.png"))
 }
 
 /// The world as an SVG picture of `size`.
-pub fn svg(world: &World, size: Size) -> String {
+pub(crate) fn svg(world: &World, size: Size) -> String {
     let view = View::new(size);
     let mut out = String::new();
     let _ = writeln!(
@@ -323,7 +338,7 @@ pub fn save_svg(world: &World, size: Size, path: &Path) -> Result<(), RenderErro
 
 /// The GIF palette: black, then eight shades each of the two line colours
 /// from dark to full (anti-aliased edges blend them with the black).
-pub fn gif_palette() -> Vec<[u8; 3]> {
+pub(crate) fn gif_palette() -> Vec<[u8; 3]> {
     let mut palette = vec![[0, 0, 0]];
     for rgb in [RED, GRAY] {
         for k in 1..=8u16 {
@@ -334,7 +349,7 @@ pub fn gif_palette() -> Vec<[u8; 3]> {
 }
 
 /// An animated GIF being written frame by frame.
-pub struct GifWriter {
+pub(crate) struct GifWriter {
     encoder: gif::Encoder<std::io::BufWriter<crate::output::OutputFile>>,
     palette: Vec<[u8; 3]>,
     path: PathBuf,
@@ -412,7 +427,7 @@ impl GifWriter {
     }
 }
 
-/// Writes the frames of a run to a [`Target`]: call [`Recorder::start`]
+/// Writes the frames of a run to a file: call [`Recorder::start`]
 /// before the first step, [`Recorder::after_step`] after each, and
 /// [`Recorder::finish`] at the end. Sequences and GIFs get the first state
 /// and every `every`-th step (and the last state); PNG and SVG files get the
@@ -429,9 +444,24 @@ pub struct Recorder {
 }
 
 impl Recorder {
-    /// A recorder writing frames of `size` to `target`; GIF frames are shown
-    /// at `fps` frames per second.
-    pub fn new(target: Target, size: Size, every: u64, fps: u32) -> Result<Recorder, RenderError> {
+    /// A recorder writing frames of `size` to `path`, by its extension: a
+    /// `.png` of the last frame (with `every`, a numbered sequence
+    /// `NAME-000000.png`, ... of every `every`-th step), a `.gif` of every
+    /// `every`-th step (every step without it) shown at `fps` frames per
+    /// second, or an `.svg` of the last frame.
+    pub fn new(
+        path: &Path,
+        size: Size,
+        every: Option<u64>,
+        fps: u32,
+    ) -> Result<Recorder, RenderError> {
+        let frames = if every.is_some() {
+            Frames::Every
+        } else {
+            Frames::Last
+        };
+        let target = Target::for_path(path, frames)?;
+        let every = every.unwrap_or(1);
         let gif = match &target {
             Target::Gif(path) => {
                 let delay = (100.0 / f64::from(fps.max(1))).round().clamp(2.0, 65535.0) as u16;

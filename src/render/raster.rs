@@ -4,6 +4,10 @@
 //! of its own (anti-aliased lines one pixel wide, Xiaolin Wu's method),
 //! about a hundred times faster a line (`examples/draw_speed.rs`).
 
+// The window's passes (`Painter`, `draw_thin`) go unused in a build
+// without it.
+#![cfg_attr(not(feature = "window"), allow(dead_code))]
+
 use super::{draw_in_view, View, GRAY, RED};
 use crate::line::{Color, Line};
 use tiny_skia::Pixmap;
@@ -154,7 +158,7 @@ pub fn draw_thin_each<'a>(
     }
 }
 
-/// Draws one line as [`draw_thin`] does, from `a` to `b` in the frame's
+/// Draws one line as the window draws large scenes, from `a` to `b` in the frame's
 /// pixels as [`View::point`] gives them, in colour `rgb`, over what the
 /// canvas holds: for hosts that map the lines themselves (the web page
 /// draws lines another thread stepped).

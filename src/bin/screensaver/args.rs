@@ -1,11 +1,10 @@
 //! The command line's arguments, as clap reads them.
 
 use clap::{Args, Parser, Subcommand};
-use screensaver::detect::{DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 use screensaver::generate::SceneKind;
-use screensaver::render::live::Pace;
-use screensaver::render::{embedded, Size};
-use screensaver::DetectorKind;
+use screensaver::job::Screen;
+use screensaver::render::{Pace, Size};
+use screensaver::{DetectorConfig, DetectorKind};
 use std::path::PathBuf;
 
 /// Line segments bouncing in a box, with exact collision counts.
@@ -74,11 +73,11 @@ pub(crate) struct Cli {
     pub(crate) detector: DetectorKind,
 
     /// Quadtree: most lines a leaf holds before it splits.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_LEAF_SIZE, value_parser = at_least_one)]
+    #[arg(long, value_name = "N", default_value_t = DetectorConfig::default().leaf_size, value_parser = at_least_one)]
     pub(crate) leaf_size: usize,
 
     /// Quadtree: deepest level a node may split at.
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_DEPTH)]
+    #[arg(long, value_name = "N", default_value_t = DetectorConfig::default().max_depth)]
     pub(crate) max_depth: u32,
 
     /// Threads to run on (default: all cores). Results are the same for any
@@ -88,7 +87,7 @@ pub(crate) struct Cli {
 
     /// The smallest piece of work handed to a thread, in lines (or events,
     /// when resolving).
-    #[arg(long, value_name = "N", default_value_t = DEFAULT_GRAIN, value_parser = at_least_one)]
+    #[arg(long, value_name = "N", default_value_t = DetectorConfig::default().grain, value_parser = at_least_one)]
     pub(crate) grain: usize,
 
     /// Run the all-pairs detector beside the chosen one at every step and
@@ -126,7 +125,7 @@ pub(crate) struct Cli {
 
     /// Draw into the existing X window ID (hex 0x... or decimal), filling
     /// it and following its size.
-    #[arg(long, value_name = "ID", value_parser = embedded::parse_window_id, conflicts_with_all = ["render", "verify", "graphics"])]
+    #[arg(long, value_name = "ID", value_parser = Screen::parse_window_id, conflicts_with_all = ["render", "verify", "graphics"])]
     pub(crate) window_id: Option<u32>,
 
     /// Window: most frames drawn per second; GIFs: frames shown per second.

@@ -9,11 +9,8 @@ mod progress;
 use args::{parse_frames, Cli, Command, GenArgs};
 use clap::error::ErrorKind;
 use clap::{CommandFactory, Parser};
-use screensaver::generate::generate_iter;
 use screensaver::job::{Job, JobError, Screen};
-use screensaver::render::embedded::{self, Target};
-use screensaver::stop::Signal;
-use screensaver::{output, DetectorConfig};
+use screensaver::{DetectorConfig, Signal};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -56,7 +53,7 @@ fn with_xscreensaver_spellings(
 
 fn main() -> ExitCode {
     let cli = Cli::parse_from(with_xscreensaver_spellings(std::env::args_os()));
-    if let Err(e) = screensaver::stop::install() {
+    if let Err(e) = Signal::catch() {
         eprintln!("screensaver: warning: cannot catch SIGINT and SIGTERM: {e}");
     }
     let outcome = match &cli.command {
@@ -77,13 +74,10 @@ fn main() -> ExitCode {
 /// `screensaver gen`: streams the scene out, so that even huge scenes are
 /// never held in memory.
 fn gen(args: &GenArgs) -> Result<(), Failure> {
-    let lines = generate_iter(args.kind, args.lines, args.seed);
+    let (kind, lines, seed) = (args.kind, args.lines, args.seed);
     match &args.output {
-        Some(path) => output::write_with(path, |mut out| {
-            screensaver::scene::write_scene(&mut out, args.lines, lines)
-        })
-        .map_err(|e| Failure::Error(e.to_string())),
-        None => screensaver::scene::write_scene(&mut std::io::stdout().lock(), args.lines, lines)
+        Some(path) => (kind.save(lines, seed, path)).map_err(|e| Failure::Error(e.to_string())),
+        None => (kind.write(lines, seed, &mut std::io::stdout().lock()))
             .map_err(|e| stdout_failure(e, "the scene")),
     }
 }
@@ -101,13 +95,13 @@ fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
 /// before XScreenSaver's variable before `-g` and `--fullscreen`.
 fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
     if let Some(id) = cli.window_id {
-        return Ok(Some(Screen::Embedded(Target::Id(id))));
+        return Ok(Some(Screen::WindowId(id)));
     }
     if cli.root {
-        return Ok(Some(Screen::Embedded(Target::Root)));
+        return Ok(Some(Screen::Root));
     }
     if !cli.graphics && !cli.fullscreen {
-        if let Some(id) = embedded::screensaver_window() {
+        if let Some(screen) = Screen::from_environment() {
             if cli.render.is_some() || cli.verify {
                 return Err(Failure::Error(
                     "XSCREENSAVER_WINDOW is set, so the run draws in that window; \
@@ -115,9 +109,7 @@ fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
                         .into(),
                 ));
             }
-            return Ok(Some(Screen::Embedded(Target::Id(
-                id.map_err(Failure::Error)?,
-            ))));
+            return Ok(Some(screen.map_err(Failure::Error)?));
         }
     }
     Ok((cli.graphics || cli.fullscreen).then_some(Screen::Window {

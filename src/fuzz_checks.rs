@@ -1,14 +1,14 @@
 //! Properties checked on arbitrary bytes, shared by the fuzz targets
-//! (`fuzz/fuzz_targets/*.rs`) and by the corpus replay test
-//! (`tests/fuzz_corpus.rs`). Every function panics when a property fails,
-//! which is what libFuzzer reports as a crash.
+//! (`fuzz/fuzz_targets/*.rs`, built with `--cfg fuzzing`) and by the
+//! replay of their corpora in this file's tests. Every function panics
+//! when a property fails, which is what libFuzzer reports as a crash.
 
+use crate::checkpoint::Checkpoint;
+use crate::detect::Detector;
+use crate::geometry::{inside_parallelogram_by, segments_cross_by};
+use crate::line::{BOX_MAX, BOX_MIN, DT};
+use crate::{Color, Counters, DetectorConfig, DetectorKind, Event, Line, Scene, Vec2, World};
 use num_bigint::{BigInt, Sign};
-use screensaver::checkpoint::Checkpoint;
-use screensaver::detect::Detector;
-use screensaver::geometry::{inside_parallelogram_by, segments_cross_by};
-use screensaver::line::{BOX_MAX, BOX_MIN, DT};
-use screensaver::{Color, Counters, DetectorConfig, DetectorKind, Event, Line, Scene, Vec2, World};
 
 /// The origin every parse is given, so that error messages can be checked
 /// for it.
@@ -49,7 +49,7 @@ fn check_error_message(bytes: &[u8], line: usize, message: &str, what: &str) {
 
 /// The bits of every value of a scene line, for comparisons that tell
 /// `-0` from `0` and see NaN equal to itself.
-fn scene_line_bits(l: &screensaver::SceneLine) -> [u64; 6] {
+fn scene_line_bits(l: &crate::SceneLine) -> [u64; 6] {
     [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits)
 }
 
@@ -340,7 +340,7 @@ fn compare_events(
     }
     for e in brute.iter().filter(|e| !fast.contains(e)) {
         let (l1, l2) = (&before[e.first as usize], &before[e.second as usize]);
-        if screensaver::is_sliver(l1, l2, DT) {
+        if crate::narrow::is_sliver(l1, l2, DT) {
             // The documented exception (the contract's last section):
             // counted, and fuzzing goes on past it.
             let met = SLIVERS.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
@@ -512,7 +512,7 @@ fn checkpoint_parsed(bytes: &[u8]) -> Option<Checkpoint> {
     Some(checkpoint)
 }
 
-/// `screensaver::maths::hypot` against the system's `hypot` on two doubles
+/// `crate::maths::hypot` against the system's `hypot` on two doubles
 /// read from the input (16 bytes; fewer are padded with zeros, more are
 /// read 16 at a time), bit for bit, where the system's is the reference's
 /// (glibc on x86-64 Linux); elsewhere only that it does not panic.
@@ -527,7 +527,7 @@ pub fn hypot(bytes: &[u8]) {
         pair[..chunk.len()].copy_from_slice(chunk);
         let x = f64::from_le_bytes(pair[..8].try_into().expect("8 bytes"));
         let y = f64::from_le_bytes(pair[8..].try_into().expect("8 bytes"));
-        let ours = screensaver::maths::hypot(x, y);
+        let ours = crate::maths::hypot(x, y);
         if reference {
             let system = x.hypot(y);
             assert_eq!(
@@ -536,5 +536,138 @@ pub fn hypot(bytes: &[u8]) {
                 "hypot({x:e}, {y:e}) = {ours:e}, the system's {system:e}"
             );
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! The corpora (`fuzz/corpus/<target>/`) and the inputs that once
+    //! failed (`fuzz/regressions/<target>/`), replayed through the same
+    //! checks, so that CI keeps them passing on stable without libFuzzer.
+
+    use super::*;
+    use std::panic::{catch_unwind, AssertUnwindSafe};
+    use std::path::{Path, PathBuf};
+
+    /// Every file in the target's corpus and regressions folders, sorted; a
+    /// folder that does not exist holds nothing.
+    fn inputs(target: &str) -> Vec<PathBuf> {
+        let fuzz = Path::new(env!("CARGO_MANIFEST_DIR")).join("fuzz");
+        let mut files = Vec::new();
+        for folder in ["corpus", "regressions"] {
+            let Ok(entries) = std::fs::read_dir(fuzz.join(folder).join(target)) else {
+                continue;
+            };
+            for entry in entries {
+                let path = entry.expect("a readable folder entry").path();
+                if path.is_file() {
+                    files.push(path);
+                }
+            }
+        }
+        files.sort();
+        files
+    }
+
+    /// Runs `check` on every input of `target`; fails naming every file whose
+    /// check panicked (each panic's message is printed as it happens).
+    fn replay(target: &str, check: fn(&[u8])) {
+        let files = inputs(target);
+        assert!(!files.is_empty(), "no corpus for {target}");
+        let failed: Vec<_> = files
+            .iter()
+            .filter(|path| {
+                let bytes = std::fs::read(path).expect("a readable corpus file");
+                catch_unwind(AssertUnwindSafe(|| check(&bytes))).is_err()
+            })
+            .map(|path| path.display().to_string())
+            .collect();
+        assert!(
+            failed.is_empty(),
+            "{target}: {} of {} inputs failed:\n{}",
+            failed.len(),
+            files.len(),
+            failed.join("\n")
+        );
+    }
+
+    #[test]
+    fn scene_parser_corpus() {
+        replay("scene_parser", scene_parser);
+    }
+
+    #[test]
+    fn step_corpus() {
+        replay("step", step);
+    }
+
+    #[test]
+    fn checkpoint_parser_corpus() {
+        replay("checkpoint_parser", checkpoint_parser);
+    }
+
+    #[test]
+    fn hypot_corpus() {
+        replay("hypot", hypot);
+    }
+
+    /// A line from its endpoints and velocity.
+    fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> crate::Line {
+        use crate::Vec2;
+        crate::Line {
+            p1: Vec2::new(p1.0, p1.1),
+            p2: Vec2::new(p2.0, p2.1),
+            v: Vec2::new(v.0, v.1),
+        }
+    }
+
+    #[test]
+    fn exact_arithmetic_tells_rounding_noise_from_contact() {
+        use crate::{intersect, IntersectionKind};
+        let dt = crate::line::DT;
+        // Two segments on one line through the origin, 0.3 of the box apart:
+        // all four orientations come out near 1e-16 with signs that say
+        // "crossing", but the segments never meet.
+        let a = line(
+            (0.28934686269672605, 0.3468574840708857),
+            (-0.20250546880865056, -0.24275548304522368),
+            (0.046875, -0.01666666666666667),
+        );
+        let b = line(
+            (1.3371185213703929, 1.6028843786470577),
+            (0.5674932016761594, 0.6802882268228981),
+            (-0.0546875, 0.010930800335698477),
+        );
+        assert_eq!(
+            intersect(&a, &b, dt),
+            Some(IntersectionKind::AlreadyIntersected)
+        );
+        assert!(!truly_meet(&a, &b, dt));
+        // A segment at rest on the line of one that slides along itself, 0.06
+        // beyond the end of its sweep: the parallelogram `intersect` builds
+        // from rounded corners is a sliver whose sides cross far away, and its
+        // inside test holds there in exact arithmetic too. This is the
+        // contract's own answer, not noise.
+        let rest = line(
+            (1.0647144347264588, 0.7249015338304577),
+            (1.0687037965378123, 0.7194895144692043),
+            (0.0, 0.0),
+        );
+        let sliding = line(
+            (0.9979649053873545, 0.815454800799048),
+            (0.9699591478722643, 0.8534477703679866),
+            (0.020813462557612464, -0.028235810052612498),
+        );
+        assert_eq!(
+            intersect(&rest, &sliding, dt),
+            Some(IntersectionKind::L1WithL2)
+        );
+        assert!(truly_meet(&rest, &sliding, dt));
+        // Ordinary crossing and ordinary apart.
+        let c = line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0));
+        let d = line((0.6, 0.7), (0.7, 0.6), (0.0, 0.0));
+        assert!(truly_meet(&c, &d, dt));
+        let e = line((0.8, 0.6), (0.9, 0.6), (0.0, 0.0));
+        assert!(!truly_meet(&c, &e, dt));
     }
 }
