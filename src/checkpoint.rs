@@ -27,6 +27,7 @@
 //! edit or damage a located error rather than another run.
 
 use crate::counters::Counters;
+use crate::fnv::Fnv;
 use crate::line::{Color, Line};
 use crate::plural;
 use crate::scene::Scene;
@@ -85,41 +86,6 @@ pub enum LoadError {
     /// The text is not a checkpoint.
     #[error(transparent)]
     Parse(#[from] ParseError),
-}
-
-/// A digest of a scene's values (FNV-1a over every coordinate's bits and
-/// colour code), which tells whether a checkpoint belongs to it.
-pub(crate) fn scene_digest(scene: &Scene) -> u64 {
-    let mut hash = Fnv::default();
-    hash.add(scene.lines.len() as u64);
-    for l in &scene.lines {
-        for v in [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y] {
-            hash.add(v.to_bits());
-        }
-        hash.add(u64::from(l.color.code()));
-    }
-    hash.0
-}
-
-/// The 64-bit FNV-1a hash, fed eight bytes at a time.
-struct Fnv(u64);
-
-impl Default for Fnv {
-    fn default() -> Self {
-        Fnv(0xcbf2_9ce4_8422_2325)
-    }
-}
-
-impl Fnv {
-    fn add(&mut self, word: u64) {
-        self.bytes(&word.to_le_bytes());
-    }
-
-    fn bytes(&mut self, bytes: &[u8]) {
-        for &byte in bytes {
-            self.0 = (self.0 ^ u64::from(byte)).wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    }
 }
 
 /// A writer that hashes what it passes on.
@@ -707,14 +673,14 @@ mod tests {
         let a = crate::generate::default_scene();
         let mut b = a.clone();
         b.lines[5].v.x = f64::from_bits(b.lines[5].v.x.to_bits() ^ 1);
-        assert_eq!(scene_digest(&a), scene_digest(&a.clone()));
-        assert_ne!(scene_digest(&a), scene_digest(&b));
+        assert_eq!(a.digest(), a.clone().digest());
+        assert_ne!(a.digest(), b.digest());
     }
 
     #[test]
     fn a_checkpoint_continues_only_its_own_scene_within_the_run() {
         let scene = crate::generate::generate(crate::generate::SceneKind::Grid, 2, 3);
-        let digest = scene_digest(&scene);
+        let digest = scene.digest();
         let saved = Checkpoint {
             scene_digest: digest,
             ..sample()
@@ -727,7 +693,7 @@ mod tests {
         );
         let other = crate::generate::default_scene();
         let wrong = saved
-            .continues("a.ckpt", &other, scene_digest(&other), 5000)
+            .continues("a.ckpt", &other, other.digest(), 5000)
             .unwrap_err();
         assert!(wrong
             .to_string()

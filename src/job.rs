@@ -5,7 +5,7 @@
 //! screen with the window or a window another program owns, writes the
 //! files asked for and prints the original program's text (or JSON).
 
-use crate::checkpoint::{scene_digest, Checkpoint};
+use crate::checkpoint::Checkpoint;
 use crate::generate::{generate, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use crate::output;
 use crate::render::embedded;
@@ -366,7 +366,7 @@ impl Job {
         if self.config.threads == 0 {
             self.config.threads = default_threads(self.screen.is_some(), scene.lines.len());
         }
-        let digest = scene_digest(&scene);
+        let digest = scene.digest();
         // An endless run has no last step.
         let steps = self.frames.map_or(u64::MAX, |f| f.saturating_add(1));
         let world = match &self.resume {

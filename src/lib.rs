@@ -2,12 +2,13 @@
 //! "screensaver" program computed them, with fast collision detection.
 //!
 //! ```
-//! use screensaver::{generate::default_scene, DetectorKind, World};
+//! use screensaver::{generate::default_scene, DetectorConfig, DetectorKind, World};
 //!
-//! let mut world = World::with_detector(&default_scene(), DetectorKind::Brute);
-//! world.run(11);
-//! let counts = world.counters();
-//! println!("{} wall, {} line collisions", counts.wall, counts.line);
+//! let config = DetectorConfig { threads: 2, ..DetectorConfig::default() };
+//! let mut world = World::with_config(&default_scene(), DetectorKind::Sweep, &config)
+//!     .expect("two threads");
+//! world.run(1001); // 1000 frames, as `screensaver 1000` runs them
+//! assert_eq!(world.counters().wall, 1352);
 //! ```
 //!
 //! The API, in the order a program meets it:
@@ -40,6 +41,7 @@ pub mod broad_phase;
 pub mod checkpoint;
 mod counters;
 pub(crate) mod detect;
+mod fnv;
 #[cfg(any(test, fuzzing))]
 pub mod fuzz_checks;
 pub mod generate;

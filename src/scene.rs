@@ -321,7 +321,15 @@ impl Scene {
     /// and colour code): a checkpoint names the digest of its scene, and
     /// resumes only a run of that scene.
     pub fn digest(&self) -> u64 {
-        crate::checkpoint::scene_digest(self)
+        let mut hash = crate::fnv::Fnv::default();
+        hash.add(self.lines.len() as u64);
+        for l in &self.lines {
+            for v in [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y] {
+                hash.add(v.to_bits());
+            }
+            hash.add(u64::from(l.color.code()));
+        }
+        hash.0
     }
 
     /// Parses a scene text. `origin` names the text in error messages

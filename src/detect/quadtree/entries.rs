@@ -5,7 +5,6 @@
 //! jump far).
 
 use super::grid::{Cells, LEVEL_MASK};
-use super::tree::Tree;
 
 /// Where a sort runs: on the calling thread, or split over the current
 /// rayon pool.
@@ -77,7 +76,7 @@ fn merge_into(mut kept: &[Entry], movers: &[Entry], mut out: &mut [Entry]) {
     out.copy_from_slice(kept);
 }
 
-/// Up to this many descents, [`Tree::sort`] tries insertion first.
+/// Up to this many descents, [`Entries::sort`] tries insertion first.
 const INSERTION_MAX: usize = 64;
 
 /// A run of a tree's entries being set in place before a sort, each one
@@ -114,15 +113,28 @@ impl<'a> Refill<'a> {
     }
 }
 
-impl Tree {
+/// The entries in key order, and the buffers that keep them so.
+#[derive(Debug, Default)]
+pub struct Entries {
+    /// The lines' entries; [`Entries::sort`] puts them in key order.
+    pub list: Vec<Entry>,
+    /// Whether each entry's key may differ from that of the entry at its
+    /// place when the entries were last sorted (see [`Refill`]).
+    changed: Vec<bool>,
+    /// Buffers of [`Entries::sort`].
+    runs: Vec<SortRun>,
+    movers: Vec<Entry>,
+}
+
+impl Entries {
     /// The `n` entries, to be set one by one in place (all of them, as the
-    /// lines are filled into their slots) before [`Tree::sort`].
+    /// lines are filled into their slots) before [`Entries::sort`].
     pub fn refill_in_place(&mut self, n: usize) -> Refill<'_> {
-        let old = self.entries.len();
-        self.entries.resize(n, Entry::default());
+        let old = self.list.len();
+        self.list.resize(n, Entry::default());
         self.changed.resize(n, true);
         Refill {
-            entries: &mut self.entries,
+            entries: &mut self.list,
             changed: &mut self.changed,
             old,
         }
@@ -136,18 +148,18 @@ impl Tree {
     /// if `parallel`).
     pub fn sort(&mut self, threads: Threads) {
         let parallel = threads == Threads::Pool;
-        let n = self.entries.len();
+        let n = self.list.len();
         let descent = |w: &[Entry]| w[1].key < w[0].key;
         let descents = if parallel {
             use rayon::prelude::*;
-            self.entries.par_windows(2).filter(|w| descent(w)).count()
+            self.list.par_windows(2).filter(|w| descent(w)).count()
         } else {
-            self.entries.windows(2).filter(|w| descent(w)).count()
+            self.list.windows(2).filter(|w| descent(w)).count()
         };
         if descents == 0 {
             return;
         }
-        if descents <= INSERTION_MAX && sort_nearly_sorted(&mut self.entries) {
+        if descents <= INSERTION_MAX && sort_nearly_sorted(&mut self.list) {
             return;
         }
         if descents <= n / 8 {
@@ -156,9 +168,9 @@ impl Tree {
         }
         if parallel {
             use rayon::slice::ParallelSliceMut;
-            self.entries.par_sort_unstable_by_key(|e| e.key);
+            self.list.par_sort_unstable_by_key(|e| e.key);
         } else {
-            radsort::sort_by_key(&mut self.entries, |e| e.key);
+            radsort::sort_by_key(&mut self.list, |e| e.key);
         }
     }
 
@@ -172,7 +184,7 @@ impl Tree {
     /// are sorted and merged with the kept ones, each run's part on its own.
     fn merge_out_of_place(&mut self, threads: Threads) {
         let parallel = threads == Threads::Pool;
-        let n = self.entries.len();
+        let n = self.list.len();
         let tasks = if parallel {
             4 * rayon::current_num_threads()
         } else {
@@ -181,7 +193,7 @@ impl Tree {
         let chunk = n.div_ceil(tasks).max(1);
         let runs = n.div_ceil(chunk);
         self.runs.resize_with(runs, SortRun::default);
-        let (entries, changed) = (&self.entries, &self.changed);
+        let (entries, changed) = (&self.list, &self.changed);
         let known = changed.len() == n;
         let split = |first: usize, part: &[Entry], run: &mut SortRun| {
             run.kept.clear();
@@ -239,7 +251,7 @@ impl Tree {
         // Each run's part of the output: its kept entries and the movers
         // below the next run's first kept entry.
         let mut parts: Vec<(&[Entry], &[Entry], &mut [Entry])> = Vec::with_capacity(runs.len());
-        let mut out: &mut [Entry] = &mut self.entries;
+        let mut out: &mut [Entry] = &mut self.list;
         let mut rest: &[Entry] = movers;
         let nonempty: Vec<&SortRun> = runs.iter().filter(|r| !r.kept.is_empty()).collect();
         for (k, run) in nonempty.iter().enumerate() {
@@ -289,32 +301,36 @@ mod tests {
         };
         let mut expected: Vec<u64> = (0..1000u64).map(|k| jumped(k).key).collect();
         expected.sort_unstable();
-        let mut tree = Tree::new(4, 12);
-        tree.entries = (0..1000u64).map(jumped).collect();
-        tree.sort(Threads::One);
+        let mut entries = Entries {
+            list: (0..1000u64).map(jumped).collect(),
+            ..Entries::default()
+        };
+        entries.sort(Threads::One);
         assert_eq!(
-            tree.entries.iter().map(|e| e.key).collect::<Vec<_>>(),
+            entries.list.iter().map(|e| e.key).collect::<Vec<_>>(),
             expected
         );
-        tree.entries = (0..1000u64).map(jumped).collect();
-        tree.sort(Threads::Pool);
+        entries.list = (0..1000u64).map(jumped).collect();
+        entries.sort(Threads::Pool);
         assert_eq!(
-            tree.entries.iter().map(|e| e.key).collect::<Vec<_>>(),
+            entries.list.iter().map(|e| e.key).collect::<Vec<_>>(),
             expected
         );
         let mut reversed: Vec<Entry> = (0..1000u64).rev().map(mk).collect();
         assert!(!sort_nearly_sorted(&mut reversed));
-        let mut tree = Tree::new(4, 12);
-        tree.entries = reversed;
-        tree.sort(Threads::One);
-        assert!(tree.entries.windows(2).all(|w| w[0].key <= w[1].key));
+        let mut entries = Entries {
+            list: reversed,
+            ..Entries::default()
+        };
+        entries.sort(Threads::One);
+        assert!(entries.list.windows(2).all(|w| w[0].key <= w[1].key));
     }
 
-    /// Sets the tree's entries to `make(0..n)` in place (in runs of
+    /// Sets the entries to `make(0..n)` in place (in runs of
     /// `chunk` on the current rayon pool, if given), as the detector does,
     /// and sorts them.
     fn refill(
-        tree: &mut Tree,
+        entries: &mut Entries,
         n: usize,
         chunk: Option<usize>,
         make: impl Fn(usize) -> Entry + Sync,
@@ -327,15 +343,16 @@ mod tests {
         match chunk {
             Some(chunk) => {
                 use rayon::prelude::*;
-                tree.refill_in_place(n)
+                entries
+                    .refill_in_place(n)
                     .chunks(chunk)
                     .into_par_iter()
                     .enumerate()
                     .for_each(|(c, run)| fill(c * chunk, run));
             }
-            None => fill(0, tree.refill_in_place(n)),
+            None => fill(0, entries.refill_in_place(n)),
         }
-        tree.sort(if chunk.is_some() {
+        entries.sort(if chunk.is_some() {
             Threads::Pool
         } else {
             Threads::One
@@ -359,8 +376,8 @@ mod tests {
                 key: k,
                 cells: Cells { id: id as u32, ..Cells::default() },
             };
-            let mut tree = Tree::new(4, 12);
-            refill(&mut tree, keys.len(), None, |i| mk(keys[i], i));
+            let mut entries = Entries::default();
+            refill(&mut entries, keys.len(), None, |i| mk(keys[i], i));
             for &(at, key) in &changes {
                 if at < keys.len() {
                     keys[at] = key;
@@ -371,15 +388,15 @@ mod tests {
             let n = keys.len();
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
             let chunk = (threads > 1).then_some(64);
-            pool.install(|| refill(&mut tree, n, chunk, |i| mk(keys[i], i)));
-            let got: Vec<u64> = tree.entries.iter().map(|e| e.key).collect();
+            pool.install(|| refill(&mut entries, n, chunk, |i| mk(keys[i], i)));
+            let got: Vec<u64> = entries.list.iter().map(|e| e.key).collect();
             let mut expected = keys.clone();
             expected.sort_unstable();
             proptest::prop_assert_eq!(got, expected);
-            let mut ids: Vec<u32> = tree.entries.iter().map(|e| e.cells.id).collect();
+            let mut ids: Vec<u32> = entries.list.iter().map(|e| e.cells.id).collect();
             ids.sort_unstable();
             proptest::prop_assert!(ids.iter().enumerate().all(|(i, &id)| id as usize == i));
-            for e in &tree.entries {
+            for e in &entries.list {
                 proptest::prop_assert_eq!(e.key, keys[e.cells.id as usize]);
             }
         }

@@ -306,7 +306,7 @@ impl Quadtree {
         self.boxed.resize(n, false);
         let chunk = self.parallel_chunk(n);
         let grid = (self.grid, self.tree.max_depth());
-        let refill = self.tree.refill_in_place(n);
+        let refill = self.tree.entries.refill_in_place(n);
         let bounds = if let Some(chunk) = chunk {
             use rayon::prelude::*;
             self.order
@@ -367,8 +367,8 @@ impl Quadtree {
     fn reorder(&mut self) {
         // Slot `s` holds line `order[s]`: a small array to read, nearly in
         // order, where the slots themselves would be a large one.
-        let parallel = self.parallel_chunk(self.tree.entries.len()).is_some();
-        let (order, entries) = (&self.order, &self.tree.entries);
+        let parallel = self.parallel_chunk(self.tree.entries.list.len()).is_some();
+        let (order, entries) = (&self.order, &self.tree.entries.list);
         let id = |e: &Entry| order[e.cells.id as usize];
         let next = &mut self.next_order;
         next.clear();
@@ -408,11 +408,11 @@ impl Quadtree {
             self.lap(Phase::Fill);
         }
         let n = self.slots.len();
-        self.tree.sort(match self.parallel_chunk(n) {
+        self.tree.entries.sort(match self.parallel_chunk(n) {
             Some(_) => Threads::Pool,
             None => Threads::One,
         });
-        self.tree.entries.truncate(n - self.unboxed.len());
+        self.tree.entries.list.truncate(n - self.unboxed.len());
         self.lap(Phase::Sort);
         let mut collector =
             EventCollector::new(&self.slots, &self.order, dt, std::mem::take(events));

@@ -33,9 +33,9 @@
 //! keys), [`super::entries`] (the entries kept sorted), [`super::walk`]
 //! (the pair walk).
 
-use super::entries::{Entry, SortRun};
+use super::entries::Entries;
 use super::grid::GRID_LEVELS;
-use super::walk::{Scratch, WalkCounts};
+use super::walk::{Collector, Scratch, Walk, WalkCounts};
 
 /// The quadtree over a set of lines: their entries in key order and the
 /// buffers of the walks, reused from call to call.
@@ -43,15 +43,10 @@ use super::walk::{Scratch, WalkCounts};
 pub struct Tree {
     pub(super) leaf_size: usize,
     pub(super) max_depth: u32,
-    /// The lines' entries; [`Tree::sort`] puts them in key order.
-    pub entries: Vec<Entry>,
-    /// Whether each entry's key may differ from that of the entry at its
-    /// place when the entries were last sorted (see [`super::entries::Refill`]).
-    pub(super) changed: Vec<bool>,
-    /// Buffers of [`Tree::sort`].
-    pub(super) runs: Vec<SortRun>,
-    pub(super) movers: Vec<Entry>,
-    pub(super) scratch: Scratch,
+    /// The lines' entries, kept in key order.
+    pub entries: Entries,
+    /// The walks' buffers.
+    scratch: Scratch,
     /// What the walks have done.
     pub counts: WalkCounts,
 }
@@ -63,10 +58,7 @@ impl Tree {
         Self {
             leaf_size: leaf_size.max(1),
             max_depth: max_depth.min(GRID_LEVELS),
-            entries: Vec::new(),
-            changed: Vec::new(),
-            runs: Vec::new(),
-            movers: Vec::new(),
+            entries: Entries::default(),
             scratch: Scratch::default(),
             counts: WalkCounts::default(),
         }
@@ -75,5 +67,15 @@ impl Tree {
     /// The depth limit in force.
     pub fn max_depth(&self) -> u32 {
         self.max_depth
+    }
+
+    /// Hands `collector` once every pair of lines whose cells overlap
+    /// (entries must be sorted), on up to `threads` threads for trees of
+    /// at least `grain` lines (see [`Walk::new`]).
+    pub fn pairs<C: Collector>(&mut self, collector: &mut C, threads: usize, grain: usize) {
+        let entries = &self.entries.list;
+        let walk = Walk::new(entries, self.leaf_size, self.max_depth, threads, grain);
+        let counts = walk.run(&mut self.scratch, collector);
+        self.counts.add(&counts);
     }
 }

@@ -6,7 +6,6 @@
 
 use super::entries::Entry;
 use super::grid::{Block, Cells, GRID_LEVELS, LEVEL_BITS};
-use super::tree::Tree;
 
 /// Where a walk's pairs go. Parallel walks give each task a fresh
 /// collector ([`Collector::fork`]) and merge them back in tree order
@@ -75,7 +74,7 @@ pub(super) struct Scratch {
 }
 
 /// A walk's fixed settings, shared by its tasks.
-struct Walk<'t> {
+pub(super) struct Walk<'t> {
     entries: &'t [Entry],
     leaf_size: usize,
     max_depth: u32,
@@ -86,20 +85,24 @@ struct Walk<'t> {
     scan_max: usize,
 }
 
-impl Tree {
-    /// Hands `collector` once every pair of lines whose cells overlap
-    /// (entries must be sorted). With `threads` above 1 and at least `grain`
-    /// lines, subtrees are walked in parallel on the current rayon pool,
-    /// none smaller than `grain / 16` lines.
-    pub fn pairs<C: Collector>(&mut self, collector: &mut C, threads: usize, grain: usize) {
-        let n = self.entries.len();
-        if n == 0 {
-            return;
-        }
-        let walk = Walk {
-            entries: &self.entries,
-            leaf_size: self.leaf_size,
-            max_depth: self.max_depth,
+impl<'t> Walk<'t> {
+    /// A walk over `entries` (sorted) of a tree whose leaves hold at most
+    /// `leaf_size` lines unless `max_depth` stops the splitting. With
+    /// `threads` above 1 and at least `grain` lines, subtrees are walked in
+    /// parallel on the current rayon pool, none smaller than `grain / 16`
+    /// lines.
+    pub(super) fn new(
+        entries: &'t [Entry],
+        leaf_size: usize,
+        max_depth: u32,
+        threads: usize,
+        grain: usize,
+    ) -> Self {
+        let n = entries.len();
+        Walk {
+            entries,
+            leaf_size,
+            max_depth,
             // Enough tasks to balance the threads, none too small to pay;
             // a tree of less than a grain of lines stays on one thread
             // (measured: a walk of 4,000 or 10,000 lines split four ways
@@ -110,11 +113,19 @@ impl Tree {
                 0
             },
             scan_max: SCAN_MAX,
-        };
-        self.scratch.active.clear();
-        self.scratch.counts = WalkCounts::default();
-        walk.visit(&mut self.scratch, collector, 0, n, 0, Block::root(), 0);
-        self.counts.add(&self.scratch.counts);
+        }
+    }
+
+    /// Hands `collector` once every pair of lines whose cells overlap;
+    /// returns what the walk did.
+    pub(super) fn run<C: Collector>(&self, scratch: &mut Scratch, collector: &mut C) -> WalkCounts {
+        scratch.active.clear();
+        scratch.counts = WalkCounts::default();
+        let n = self.entries.len();
+        if n > 0 {
+            self.visit(scratch, collector, 0, n, 0, Block::root(), 0);
+        }
+        scratch.counts
     }
 }
 

@@ -17,10 +17,15 @@
 //! become infinite. It can only add overlaps between boxes closer than
 //! `f32` resolves, which the exact test behind the sweep turns down.
 
-use super::order::NO_KEY;
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
 use crate::line::Line;
 use multiversion::multiversion;
+
+/// The key of a box that takes no part in the sweep (a line without a
+/// finite hull): it sorts after every real key, and no comparison
+/// `key <= end` with a real box's end holds for it, so it also stops a
+/// scan.
+pub(crate) const NO_KEY: f32 = f32::INFINITY;
 
 /// Eight `f32` lower bounds: `[lo_x, lo_y, lo_u, lo_w, -hi_x, -hi_y, -hi_u, -hi_w]`.
 pub(crate) type Packed = [f32; 8];

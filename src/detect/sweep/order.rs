@@ -9,15 +9,9 @@
 //! apart) the insertion sort stops after a budget of moves and a radix
 //! sort does the whole job instead.
 
-use super::hull::Packed;
+use super::hull::{Packed, NO_KEY};
 use crate::team::{self, Team};
 use std::sync::atomic::{AtomicBool, Ordering};
-
-/// The key of a box that takes no part in the sweep (a line without a
-/// finite hull): it sorts after every real key, and no comparison
-/// `key <= end` with a real box's end holds for it, so it also stops a
-/// scan.
-pub(crate) const NO_KEY: f32 = f32::INFINITY;
 
 /// Moves an insertion sort may make per box before it gives way to a
 /// radix sort of keys and slots and one gather of the boxes. (Going to

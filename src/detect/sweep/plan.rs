@@ -7,8 +7,8 @@
 //! cost model, on the first step and every 256 steps after.
 
 use super::bands::Bands;
+use super::hull::NO_KEY;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
-use super::order::NO_KEY;
 
 /// How to sweep: the direction, and the bands cut across the other one.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -588,7 +588,7 @@ fn insert_runs(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::detect::sweep::order::{Boxes, NO_KEY};
+    use crate::detect::sweep::{hull::NO_KEY, order::Boxes};
     use crate::team::Team;
 
     fn hull(key: f32, lo_y: f32, hi_y: f32) -> Packed {

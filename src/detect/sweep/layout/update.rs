@@ -33,7 +33,7 @@ use super::{
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::hull::{hi, lo, Packed};
-use crate::detect::sweep::order::{Boxes, NO_KEY};
+use crate::detect::sweep::{hull::NO_KEY, order::Boxes};
 use crate::team::Team;
 use std::ops::Range;
 
