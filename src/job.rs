@@ -51,6 +51,17 @@ impl Screen {
 /// One run of the command: the scene, how long it runs, where it is shown
 /// and which files it writes. [`Job::default`] is the built-in scene run
 /// off screen, which needs `frames`.
+///
+/// ```
+/// use screensaver::job::Job;
+///
+/// // What `screensaver --lines 200 --json 10` prints.
+/// let job = Job { frames: Some(10), lines: Some(200), json: true, ..Job::default() };
+/// let mut out = Vec::new();
+/// job.run(&mut out, None).expect("the run");
+/// let text = String::from_utf8(out).unwrap();
+/// assert!(text.starts_with("{") && text.contains("\"steps_run\":11"));
+/// ```
 #[derive(Clone, Debug)]
 pub struct Job {
     /// Frames to run (FRAMES + 1 steps); `None` runs until stopped, which
@@ -332,7 +343,7 @@ impl Job {
 
     /// The arrangement of the `k`-th generated scene (from 0).
     fn kind_of(&self, k: u64) -> SceneKind {
-        (self.kind).unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
+        kind_of(self.kind, k)
     }
 
     /// Loads or generates the scene and builds the world, resumed from the
@@ -355,13 +366,14 @@ impl Job {
                 Scene::load(path).map_err(|e| e.to_string())?,
                 path.display().to_string(),
             ),
-            None if built_in && !endless => (generate(self.kind_of(0), lines, seed), {
-                report::built_in_input()
-            }),
-            None => (
-                generate(self.kind_of(0), lines, seed),
-                report::generated_input(self.kind_of(0), lines, seed),
-            ),
+            None => {
+                let name = if built_in && !endless {
+                    report::built_in_input()
+                } else {
+                    report::generated_input(self.kind_of(0), lines, seed)
+                };
+                (generate(self.kind_of(0), lines, seed), name)
+            }
         };
         if self.config.threads == 0 {
             self.config.threads = default_threads(self.screen.is_some(), scene.lines.len());
@@ -475,14 +487,13 @@ impl Job {
 
     /// Runs the steps on screen, until they end or the window closes.
     fn on_screen(&self, screen: Screen, world: World, seed: u64) -> Result<Finished, JobError> {
-        let steps = self.frames.map(|f| f.saturating_add(1) - world.steps());
+        let steps = (self.frames).map(|f| f.saturating_add(1).saturating_sub(world.steps()));
         let scenes = if self.cycles() {
             let (detector, kinds, timing, config) =
                 (self.detector, self.kind, self.stats, self.config);
             let lines = self.lines.unwrap_or(DEFAULT_LINES);
             let make = move |k: u64| {
-                let kind = kinds.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()]);
-                let scene = generate(kind, lines, seed.wrapping_add(k));
+                let scene = generate(kind_of(kinds, k), lines, seed.wrapping_add(k));
                 let mut world = World::with_config(&scene, detector, &config)
                     .expect("threads started once start again");
                 world.set_timing(timing);
@@ -591,6 +602,12 @@ impl Job {
         }
         format!("{value}\n")
     }
+}
+
+/// The arrangement of the `k`-th generated scene (from 0): `kind`, or each
+/// kind in turn.
+fn kind_of(kind: Option<SceneKind>, k: u64) -> SceneKind {
+    kind.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
 }
 
 /// What `--verify` says of a run that matched the all-pairs detector.

@@ -39,6 +39,23 @@ impl Checkpoints<'_> {
 }
 
 /// What goes around the steps of a run; by default nothing.
+///
+/// ```
+/// use screensaver::run::Run;
+/// use screensaver::{generate::default_scene, DetectorKind, World};
+///
+/// let mut world = World::with_detector(&default_scene(), DetectorKind::Sweep);
+/// let mut seen = 0;
+/// let mut progress = |_: &World, _| seen += 1;
+/// let run = Run {
+///     verify: true, // every step checked against all pairs
+///     progress: Some(&mut progress),
+///     ..Run::default()
+/// };
+/// let ran = run.run(&mut world, 101).expect("the sweep agrees with all pairs");
+/// assert!(!ran.stopped);
+/// assert_eq!((world.steps(), seen), (101, 101));
+/// ```
 #[derive(Default)]
 pub struct Run<'a> {
     /// Checks every step against the all-pairs detector.
