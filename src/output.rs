@@ -247,7 +247,7 @@ impl Write for OutputFile {
     }
 }
 
-#[cfg(feature = "render")]
+#[cfg(any(test, feature = "render"))]
 /// Writes `bytes` to `path`, a regular file whole or not at all.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<(), OutputError> {
     let mut file = OutputFile::create(path)?;
@@ -273,7 +273,7 @@ pub fn write_with(
     file.commit()
 }
 
-#[cfg(feature = "window")]
+#[cfg(any(test, feature = "window"))]
 /// Checks, before a long run, that `path` can be written: a regular file's
 /// folder exists and takes new files; anything else opens for writing (a
 /// FIFO is not opened: that would wait for a reader). Nothing is left
@@ -291,13 +291,14 @@ pub fn check_writable(path: &Path) -> Result<(), OutputError> {
     OutputFile::create(path).map(drop)
 }
 
-#[cfg(feature = "window")]
+#[cfg(any(test, feature = "window"))]
 #[cfg(unix)]
 fn is_fifo(path: &Path) -> bool {
     use std::os::unix::fs::FileTypeExt;
     std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo())
 }
 
+#[cfg(any(test, feature = "window"))]
 #[cfg(not(unix))]
 fn is_fifo(_: &Path) -> bool {
     false
