@@ -100,6 +100,13 @@ pub enum RunError {
     Mismatch(String),
 }
 
+/// The time now, where there is a clock to read: std's `Instant` panics in
+/// WebAssembly without a host, so a run there (the web page's, which times
+/// itself) reports no time.
+fn clock() -> Option<Instant> {
+    (!cfg!(all(target_arch = "wasm32", target_os = "unknown"))).then(Instant::now)
+}
+
 /// Whether a signal asked the program to stop.
 fn signalled() -> bool {
     #[cfg(feature = "signals")]
@@ -139,7 +146,8 @@ impl Run<'_> {
         // The first picture is drawn before the loop's clock starts.
         let drawn_before = drawing;
         let verified_before = world.verifying_time();
-        let start = Instant::now();
+        let start = clock();
+        let since_start = || start.map_or(Duration::ZERO, |s| s.elapsed());
         let stopped = world.run_with(steps, |world| {
             if world.mismatch().is_some() {
                 return ControlFlow::Break(false);
@@ -164,7 +172,7 @@ impl Run<'_> {
                 }
             }
             if let Some(progress) = &mut progress {
-                progress(world, start.elapsed());
+                progress(world, since_start());
             }
             if stop.is_some_and(|stop| stop(world)) || signalled() {
                 return ControlFlow::Break(true);
@@ -174,9 +182,7 @@ impl Run<'_> {
         // The simulation alone: not the pictures, the checkpoints, nor the
         // all-pairs check of --verify.
         let verifying = world.verifying_time() - verified_before;
-        let elapsed = start
-            .elapsed()
-            .saturating_sub(drawing - drawn_before + saving + verifying);
+        let elapsed = since_start().saturating_sub(drawing - drawn_before + saving + verifying);
         if let Some(e) = failed {
             return Err(e);
         }
