@@ -546,6 +546,7 @@ mod tests {
     //! checks, so that CI keeps them passing on stable without libFuzzer.
 
     use super::*;
+    use crate::test_util::{line, sliver_pair};
     use std::panic::{catch_unwind, AssertUnwindSafe};
     use std::path::{Path, PathBuf};
 
@@ -611,16 +612,6 @@ mod tests {
         replay("hypot", hypot);
     }
 
-    /// A line from its endpoints and velocity.
-    fn line(p1: (f64, f64), p2: (f64, f64), v: (f64, f64)) -> crate::Line {
-        use crate::Vec2;
-        crate::Line {
-            p1: Vec2::new(p1.0, p1.1),
-            p2: Vec2::new(p2.0, p2.1),
-            v: Vec2::new(v.0, v.1),
-        }
-    }
-
     #[test]
     fn exact_arithmetic_tells_rounding_noise_from_contact() {
         use crate::{intersect, IntersectionKind};
@@ -648,16 +639,7 @@ mod tests {
         // from rounded corners is a sliver whose sides cross far away, and its
         // inside test holds there in exact arithmetic too. This is the
         // contract's own answer, not noise.
-        let rest = line(
-            (1.0647144347264588, 0.7249015338304577),
-            (1.0687037965378123, 0.7194895144692043),
-            (0.0, 0.0),
-        );
-        let sliding = line(
-            (0.9979649053873545, 0.815454800799048),
-            (0.9699591478722643, 0.8534477703679866),
-            (0.020813462557612464, -0.028235810052612498),
-        );
+        let (rest, sliding) = sliver_pair();
         assert_eq!(
             intersect(&rest, &sliding, dt),
             Some(IntersectionKind::L1WithL2)

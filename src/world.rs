@@ -145,6 +145,22 @@ fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
     events
 }
 
+/// A scene's lines in box coordinates (converted from window coordinates
+/// exactly as the reference did), and their colours.
+fn box_lines(scene: &Scene) -> (Vec<Line>, Vec<Color>) {
+    let lines = scene
+        .lines
+        .iter()
+        .map(|l| Line {
+            p1: window_to_box_point(l.p1),
+            p2: window_to_box_point(l.p2),
+            v: window_to_box_velocity(l.v),
+        })
+        .collect();
+    let colors = scene.lines.iter().map(|l| l.color).collect();
+    (lines, colors)
+}
+
 impl World {
     /// A world holding `lines` (in box coordinates, ids by position) that
     /// finds collisions with `detector`.
@@ -186,10 +202,8 @@ impl World {
         kind: DetectorKind,
         config: &DetectorConfig,
     ) -> Result<Self, ThreadsError> {
-        let mut world = Self::from_scene(scene, kind.build_with(config));
-        world.set_threads(config.threads)?;
-        world.set_grain(config.grain);
-        Ok(world)
+        let (lines, colors) = box_lines(scene);
+        Self::from_lines(lines, colors, kind, config)
     }
 
     /// A world holding `lines` (in box coordinates, ids by position) of
@@ -258,16 +272,7 @@ impl World {
     /// A world built from a scene (window coordinates converted to box
     /// coordinates exactly as the reference did).
     pub(crate) fn from_scene(scene: &Scene, detector: Box<dyn Detector>) -> Self {
-        let lines = scene
-            .lines
-            .iter()
-            .map(|l| Line {
-                p1: window_to_box_point(l.p1),
-                p2: window_to_box_point(l.p2),
-                v: window_to_box_velocity(l.v),
-            })
-            .collect();
-        let colors = scene.lines.iter().map(|l| l.color).collect();
+        let (lines, colors) = box_lines(scene);
         Self::new(lines, colors, detector)
     }
 
@@ -814,16 +819,7 @@ mod tests {
     /// exception rather than a mismatch.
     #[test]
     fn a_sliver_is_the_documented_exception_not_a_mismatch() {
-        let rest = line(
-            (1.0647144347264588, 0.7249015338304577),
-            (1.0687037965378123, 0.7194895144692043),
-            (0.0, 0.0),
-        );
-        let sliding = line(
-            (0.9979649053873545, 0.815454800799048),
-            (0.9699591478722643, 0.8534477703679866),
-            (0.020813462557612464, -0.028235810052612498),
-        );
+        let (rest, sliding) = crate::test_util::sliver_pair();
         assert!(crate::narrow::is_sliver(&rest, &sliding, DT));
         let mut w = World::new(
             vec![rest, sliding],

@@ -117,8 +117,8 @@ fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
     }))
 }
 
-/// FRAMES and INPUT as given: FRAMES may be left out of a live run, and
-/// then a lone positional argument that is not a number is the input.
+/// FRAMES and INPUT as given: in a live run, a lone positional argument
+/// that is not a number is the input.
 fn positionals(cli: &Cli, live: bool) -> Result<(Option<u64>, Option<PathBuf>), Failure> {
     if let Some(extra) = cli.extra.first() {
         return Err(Failure::Usage(
@@ -127,13 +127,8 @@ fn positionals(cli: &Cli, live: bool) -> Result<(Option<u64>, Option<PathBuf>), 
         ));
     }
     match (&cli.frames, &cli.input) {
-        (None, _) if live => Ok((None, None)),
-        (None, _) => Err(Failure::Usage(
-            ErrorKind::MissingRequiredArgument,
-            "FRAMES is required (it may be left out only with -g, --fullscreen, \
-             --root, --window-id or under XScreenSaver)"
-                .into(),
-        )),
+        // Without FRAMES (refused by the job off screen), no INPUT either.
+        (None, _) => Ok((None, None)),
         (Some(first), None) if live && first.parse::<u64>().is_err() => {
             Ok((None, Some(PathBuf::from(first))))
         }
