@@ -512,6 +512,7 @@ impl Job {
         };
         let pace = self.pace.unwrap_or(Pace::PerFrame);
         let (hud, fps) = (self.hud, self.fps);
+        let embedded_options = embedded::Options { fps, hud, pace };
         let (outcome, drawn): (Outcome, DrawStats) = match screen {
             Screen::Window { fullscreen } => {
                 let hold = self.hold;
@@ -524,12 +525,9 @@ impl Job {
                 };
                 window::run(scenes, options)
             }
-            Screen::Root | Screen::WindowId(_) => {
-                let target = match screen {
-                    Screen::WindowId(id) => embedded::Target::Id(id),
-                    _ => embedded::Target::Root,
-                };
-                embedded::run(target, scenes, embedded::Options { fps, hud, pace })
+            Screen::Root => embedded::run(embedded::Target::Root, scenes, embedded_options),
+            Screen::WindowId(id) => {
+                embedded::run(embedded::Target::Id(id), scenes, embedded_options)
             }
         }?;
         let last = outcome.scenes - 1;
