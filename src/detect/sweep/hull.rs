@@ -90,7 +90,7 @@ fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
     [x, y, x_ + y_, x_ - y_]
 }
 
-/// Makes the packed hull of each line `ids[k]` into `hulls[k]`, and its
+/// Makes the packed hull of each line `slots[k]` into `hulls[k]`, and its
 /// least value along direction `along` into `keys[k]` ([`NO_KEY`] for a
 /// line without a hull).
 ///
@@ -104,14 +104,14 @@ fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
 #[multiversion(targets("x86_64+avx2"))]
 pub(crate) fn make(
     lines: &[Line],
-    ids: &[u32],
+    slots: &[u32],
     hulls: &mut [Packed],
     keys: &mut [f32],
     along: usize,
     dt: f64,
 ) {
-    let n = ids.len().min(hulls.len()).min(keys.len());
-    let line = |k: usize| &lines[ids[k] as usize];
+    let n = slots.len().min(hulls.len()).min(keys.len());
+    let line = |k: usize| &lines[slots[k] as usize];
     multiversion::target::match_target! {
         "x86_64+avx2" => avx2::make_each(line, &mut hulls[..n], &mut keys[..n], along, dt),
         _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, portable_batch),
@@ -638,10 +638,10 @@ mod tests {
                 .chunks_exact(6)
                 .map(|v| crate::test_util::line((v[0], v[1]), (v[2], v[3]), (v[4], v[5])))
                 .collect();
-            let ids: Vec<u32> = (0..lines.len() as u32).collect();
-            let mut hulls = vec![[0.0; 8]; ids.len()];
-            let mut keys = vec![0.0; ids.len()];
-            make(&lines, &ids, &mut hulls, &mut keys, along, dt);
+            let slots: Vec<u32> = (0..lines.len() as u32).collect();
+            let mut hulls = vec![[0.0; 8]; slots.len()];
+            let mut keys = vec![0.0; slots.len()];
+            make(&lines, &slots, &mut hulls, &mut keys, along, dt);
             for (k, line) in lines.iter().enumerate() {
                 match of_line(line, dt) {
                     Some(packed) => {
@@ -660,12 +660,12 @@ mod tests {
     #[test]
     fn lines_made_in_batches_get_the_bits_of_lines_made_alone() {
         let lines = awkward_lines();
-        let ids: Vec<u32> = (0..lines.len() as u32).rev().collect();
+        let slots: Vec<u32> = (0..lines.len() as u32).rev().collect();
         for along in 0..DIRECTIONS {
-            let mut hulls = vec![[0.0; 8]; ids.len()];
-            let mut keys = vec![0.0; ids.len()];
-            make(&lines, &ids, &mut hulls, &mut keys, along, 0.5);
-            for (k, &id) in ids.iter().enumerate() {
+            let mut hulls = vec![[0.0; 8]; slots.len()];
+            let mut keys = vec![0.0; slots.len()];
+            make(&lines, &slots, &mut hulls, &mut keys, along, 0.5);
+            for (k, &id) in slots.iter().enumerate() {
                 match of_line(&lines[id as usize], 0.5) {
                     Some(packed) => {
                         assert_eq!(packed.map(f32::to_bits), hulls[k].map(f32::to_bits));

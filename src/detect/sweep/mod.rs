@@ -5,50 +5,52 @@
 //! Every phase runs on the world's team of threads (a team of one on one
 //! thread, and for scenes too small to share), in the same code whatever
 //! its size. A step runs down this folder's files in order:
-//! 1. [`hull`]: every line's padded swept hull, packed as eight `f32`
-//!    lanes, made in last step's order (with several bands, the boxes
-//!    that left their band noted as they are made);
+//! 1. [`hull`]: every line's box, made in last step's order (with several
+//!    bands, the movers noted as they are made);
 //! 2. [`plan`]: now and then, the direction to sweep along and the bands
 //!    to cut the plane into, chosen on a sample;
-//! 3. with one band, [`order`]: the boxes sorted in place by their least
-//!    value along that direction (nearly sorted already);
-//! 4. with several, [`bands`] and [`layout`]: each box's home band (the
-//!    one holding its least value across them), the boxes laid out band by
-//!    band, each band sorted, and beside each band the boxes reaching into
-//!    it from below (its guests), sorted too; a group of bands a thread;
+//! 3. with one band, [`order`]: the boxes sorted in place by key (nearly
+//!    sorted already);
+//! 4. with several, [`bands`] and [`layout`]: the boxes laid out band by
+//!    band, homes and guests, each sorted; a group of bands a thread;
 //! 5. [`scan`]: with one band, the sorted boxes swept a chunk at a time;
 //!    with several, each group's bands swept by the thread that laid them
-//!    out, as soon as it has, each band's homes among themselves and
-//!    against its guests; the pairs whose hulls overlap go to the exact
-//!    test.
+//!    out, as soon as it has; the pairs whose boxes overlap go to the
+//!    exact test.
 //!
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
 //!
-//! Words the files use:
+//! Words the files use, one concept each:
 //! - *box*: a line's padded swept hull, eight `f32` lanes ([`hull::Packed`]);
-//! - *slot*: where a line sits in the world's storage; the arrays of boxes
-//!   name lines by slot;
+//!   *boxes* are kept as parallel arrays of keys, hulls and slots ([`boxes`]);
+//! - *slot*: a line's place in the lines the detector is handed (where the
+//!   world stores it); boxes name their lines by slot, and [`Stored::id`]
+//!   gives the line's id in the scene;
 //! - *key*: a box's least value along the direction swept ([`hull::lo`]);
+//!   the boxes without a finite hull have none ([`hull::NO_KEY`]) and come
+//!   last, after the *boxed* ones;
 //! - *along*, *across*: the direction swept, and the one the bands cut;
-//! - *boxed*: the boxes with a finite hull, first in the order;
-//! - *band*: a stretch across; a box's *home* band holds its least value
-//!   across, and it is a *guest* in each band above that its hull reaches
-//!   into; *entries* are homes and guests together;
-//! - *layout*: the boxes band by band, homes then guests, each sorted;
-//!   *kept* (last step's, updated) or laid out *anew*;
-//! - *mover*: a box whose home band changed since the last step, a
-//!   *leaver* as its old band sees it and a *newcomer* as its new one does;
-//! - *reach*: what a box's lanes are compared with ([`hull::reach`]);
-//! - *group*: the consecutive bands one thread lays out and sweeps;
 //! - *plan*: the direction and the bands, chosen on a sample from the
 //!   *spread* of each direction;
+//! - *band*: a stretch across; a box's *home* band holds its least value
+//!   across, and it is a *guest* in each band above that its box reaches;
+//!   its *end* is the band after the last it reaches;
+//! - *layout*: the boxes band by band, homes then guests, each sorted;
+//!   *kept* (last step's, updated) or laid out *anew*;
+//! - *mover*: a box whose home band changed since the last step; a
+//!   *stayer* kept its band;
+//! - *reach*: the upper bounds a box's lanes are compared with
+//!   ([`hull::reach`]);
+//! - *group*: the consecutive bands one thread lays out and sweeps;
+//! - *share*: the boxes `team::share` gives a thread in a phase;
 //! - *chunk*: what one piece of the sweep finds (events, counts, pairs):
 //!   a group's, or with one band, a run of boxes swept at a time;
-//! - *dense*: last step's candidates per entry were many, so the scan
+//! - *dense*: last step's candidates per box were many, so the scan
 //!   takes its loop for crowded bands.
 
 pub(crate) mod bands;
+mod boxes;
 pub(crate) mod hull;
 pub(crate) mod layout;
 pub(crate) mod order;
@@ -56,16 +58,18 @@ pub(crate) mod plan;
 pub(crate) mod scan;
 
 use super::clock::PhaseClock;
-use super::swept::{test_ordered, test_wild, PairCounts};
+use super::swept::{test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
-use crate::line::{read_ahead, Line, LARGE_SCENE};
+use crate::line::{Line, LARGE_SCENE};
 use crate::narrow::Event;
 use crate::team::{self, Team};
 use bands::Bands;
+use boxes::BoxSlice;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
 use order::Boxes;
 use plan::Plan;
+use scan::Tester;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -75,110 +79,69 @@ const PLAN_EVERY: u64 = 256;
 
 /// Scenes of this many lines or more have the world store their lines in
 /// the sweep's order ([`crate::storage`]) even on one thread, as do scenes
-/// that a team shares: each thread then moves and makes the hulls of the
-/// same lines, and an exact test reads lines near each other. On one
-/// thread a scene that fits the cache only pays for it: stored from the
-/// first line on (every `STORE_EVERY` steps), `mit` 4000 frames took 0.143
-/// s against 0.123 and `koch` 0.126 against 0.123 (medians of 7
-/// interleaved rounds). Storing every step, when it was first measured,
-/// made 100,000 lines 6% and a million 7% faster on one thread, and on
-/// two threads 10,000 lines 11% and a million 16%.
+/// that a team shares: each thread then moves and makes the boxes of the
+/// same lines, and the exact tests read lines near each other. On one
+/// thread a scene that fits the cache only pays for the copy
+/// (`docs/DESIGN.md`, storage order).
 const STORE_FROM: usize = LARGE_SCENE;
 
 /// Steps between two times the world stores the lines in the sweep's
 /// order; in between they move where they are. From step to step only the
-/// few boxes that change band leave the order the lines are stored in, so
-/// the hulls and the exact tests still read lines near each other, while
-/// the move works in place instead of copying every line. Against storing
-/// every step, on two threads (medians of 9 interleaved rounds): `koch`
-/// 1000 frames 0.094 s against 0.099, 10,000 lines 0.343 s against 0.373,
-/// a million lines 100 steps 4.75 s against 5.02; 8 and 32 steps did no
-/// better in a trial.
+/// few movers leave the stored order, so reads stay near each other, and
+/// the move works in place instead of copying every line.
 const STORE_EVERY: u64 = 16;
 
-// Scenes of `LARGE_SCENE` lines or more read each pair's lines a few
-// pairs ahead of its exact test ([`Tester`]): a million lines, 99 steps,
-// took 3.78 s on two threads and 6.97 on one, against 3.95 and 7.30
-// without (medians of 5 interleaved rounds).
-
-/// Boxes whose hulls are made at a time before the ones among them that
-/// left their band are noted (16 KB of hulls, at hand in the cache).
+/// Boxes made at a time before the movers among them are noted (16 KB of
+/// hulls, at hand in the cache).
 const NOTE_BLOCK: usize = 512;
 
-/// Candidates a box (in last step) above which the sweep meets every box's
+/// Candidates a box (last step) above which the sweep meets every box's
 /// candidates a block of eight at a time, with no branch on how many it
-/// has ([`scan::sweep`]): 10,000 lines (four candidates a box) ran 8%
-/// faster on one thread, 100,000 lines 5%, a million 3%; `mit` (fourteen a
-/// box, most of which take blocks anyway) the same within noise, and
-/// `koch` (under one a box) 20% slower in a trial, so sparse scenes keep
-/// the branches.
+/// has ([`scan::sweep`]): 10,000 lines ran 8% faster on one thread, while
+/// `koch` (under one a box) was 20% slower.
 const DENSE: f64 = 2.0;
 
 /// Scenes of fewer boxes keep the sweep on one thread even with a team:
-/// below this the hand-offs and the lines' travel between the cores' caches
-/// cost more than the shared work saves. On two threads, against one
-/// (medians of 9 interleaved rounds, the move shared from the same size):
-/// generated scenes of 300 lines ran 0.85x, of 400 1.13x, of 500 1.24x and
-/// of 700 1.29x; `beaver` (294 lines) 0.83x, `box` (401) 1.15x, `mit`
-/// (809) 1.28x, `explosion` (600) 1.38x, the built-in 1000-line scene
-/// 1.37x.
+/// below this the hand-offs and the lines' travel between the cores'
+/// caches cost more than the shared work saves (two threads against one:
+/// 300 lines 0.85x, 400 lines 1.13x).
 pub(crate) const TEAM_MIN_BOXES: usize = 384;
 
 /// Boxes a thread of a team sweeps at a time (with one band).
 const TEAM_SWEEP_CHUNK: usize = 256;
 
-/// The sweep's phases, as [`Detector::phase_times`] names them.
-#[derive(Clone, Copy, Debug)]
-enum Phase {
-    /// Making the packed hulls, noting the boxes that left their band
-    /// (and, now and then, the plan).
-    Hulls,
-    /// With one band, sorting them along the sweep direction (with
-    /// several, the layout sorts each band).
-    Sort,
-    /// With several bands, laying them out band by band, each sorted, with
-    /// their guests. (Each thread sweeps its bands as soon as it has laid
-    /// them out: the layout ends where the stepping thread's own part of
-    /// it ended.)
-    Layout,
-    /// Sweeping the bands and testing the pairs that overlap; listing and
-    /// testing the wild lines.
-    Sweep,
-}
-
-impl Phase {
-    const ALL: [Phase; 4] = [Phase::Hulls, Phase::Sort, Phase::Layout, Phase::Sweep];
-
-    fn name(self) -> &'static str {
-        match self {
-            Phase::Hulls => "hulls",
-            Phase::Sort => "sort",
-            Phase::Layout => "layout",
-            Phase::Sweep => "sweep and test",
-        }
-    }
-}
+/// The sweep's phases, as [`Detector::phase_times`] names them: making
+/// the boxes and noting the movers (and now and then the plan); with one
+/// band, sorting them; with several, laying them out band by band (until
+/// the stepping thread's own part of it ended: each thread sweeps its
+/// bands as soon as it laid them out); sweeping and testing the pairs that
+/// overlap, and the wild lines.
+const PHASES: [&str; 4] = ["hulls", "sort", "layout", "sweep and test"];
+const HULLS: usize = 0;
+const SORT: usize = 1;
+const LAYOUT: usize = 2;
+const SWEEP: usize = 3;
 
 /// The sweep's phase timing.
-type Clock = PhaseClock<{ Phase::ALL.len() }>;
+type Clock = PhaseClock<{ PHASES.len() }>;
 
-/// The sort-based broad phase: packed hulls sorted along one direction and
+/// The sort-based broad phase: boxes sorted along one direction and
 /// swept, in bands across the other where one direction meets too much
-/// (the design write-up, `docs/DESIGN.md`, tells how and why).
+/// (`docs/DESIGN.md` tells how and why).
 #[derive(Debug)]
 pub struct Sweep {
     plan: Plan,
     /// Steps until the next plan.
     until_plan: u64,
-    /// Every line's key, packed hull and id: this step's boxed lines first
-    /// (with one band in sorted order, with several band by band, each
-    /// band's own in sorted order), then the others. Next step's hulls are
-    /// made in this order, so that its sort has little to do.
+    /// Every line's box: this step's boxed lines first (with one band in
+    /// sorted order, with several band by band, each band's homes in
+    /// sorted order), then the others. Next step's boxes are made in this
+    /// order, so that its sort has little to do.
     sorted: Boxes,
     /// With several bands: where each band starts in `sorted`, its guests,
     /// and the buffers that lay them out.
     layout: Layout,
-    /// Slots of this step's wild lines.
+    /// Ids of this step's wild lines.
     wild: Vec<u32>,
     stats: DetectorStats,
     clock: Option<Clock>,
@@ -187,7 +150,7 @@ pub struct Sweep {
     team: Arc<Team>,
     /// A team of one: this thread alone, for scenes too small to share.
     solo: Arc<Team>,
-    /// The findings of the groups of bands or chunks of boxes swept.
+    /// The findings of the chunks swept.
     chunks: Vec<Mutex<Chunk>>,
     /// Whether last step met many candidates a box ([`DENSE`]).
     dense: bool,
@@ -221,24 +184,9 @@ impl Sweep {
         }
     }
 
-    /// The direction swept along (`x`, `y`, `u` or `w`) and the number of
-    /// bands, as they stand.
-    fn plan_text(&self) -> String {
-        let name = ["x", "y", "u", "w"];
-        let bands = self.plan.bands;
-        if bands.count == 1 {
-            format!("along {}, one band", name[self.plan.along])
-        } else {
-            format!(
-                "along {}, {} bands across {}",
-                name[self.plan.along], bands.count, name[bands.across]
-            )
-        }
-    }
-
-    fn lap(&mut self, phase: Phase) {
+    fn lap(&mut self, phase: usize) {
         if let Some(clock) = &mut self.clock {
-            clock.lap(phase as usize);
+            clock.lap(phase);
         }
     }
 
@@ -252,36 +200,37 @@ impl Sweep {
         }
     }
 
-    /// Makes every line's packed hull and key, in last step's order. When
-    /// last step's layout may be kept, notes the boxes that left their
-    /// band as it goes ([`Layout::leaver_check`]), a block at a time while
-    /// its hulls are at hand.
+    /// Makes every line's box and key, in last step's order, a share a
+    /// thread. When last step's layout may be kept, each share notes its
+    /// movers as it goes ([`Layout::mover_check`]), a block at a time
+    /// while its boxes are at hand.
     fn make_hulls(&mut self, lines: &[Line], dt: f64) {
         let along = self.plan.along;
         let n = self.sorted.len();
         let team = self.team_for(n);
         let threads = team.threads();
-        let (check, noted) = (self.layout).leaver_check(n, &self.plan.bands, threads, threads);
-        let b = &mut self.sorted;
-        let (ids, hulls, keys) = (&b.ids[..n], &mut b.hulls[..n], &mut b.keys[..n]);
+        let (check, noted) = (self.layout).mover_check(n, &self.plan.bands, threads, threads);
+        let b = self.sorted.slice_mut(n);
         let (hulls, keys, noted) = (
-            team::shares_mut(hulls, threads),
-            team::shares_mut(keys, threads),
+            team::shares_mut(b.hulls, threads),
+            team::shares_mut(b.keys, threads),
             team::shares_mut(noted, threads),
         );
+        let slots: &[u32] = b.slots;
         team.run(&|k| {
             let share = team::share(n, threads, k);
             let mut hulls = hulls[k].lock().expect("a share");
             let mut keys = keys[k].lock().expect("a share");
             let noted = &mut noted[k].lock().expect("a share")[0];
             noted.clear();
-            let blocks = ids[share.clone()]
+            let blocks = slots[share.clone()]
                 .chunks(NOTE_BLOCK)
                 .zip(hulls.chunks_mut(NOTE_BLOCK));
-            for (j, ((ids, hulls), keys)) in blocks.zip(keys.chunks_mut(NOTE_BLOCK)).enumerate() {
-                hull::make(lines, ids, hulls, keys, along, dt);
+            for (j, ((slots, hulls), keys)) in blocks.zip(keys.chunks_mut(NOTE_BLOCK)).enumerate() {
+                hull::make(lines, slots, hulls, keys, along, dt);
                 if let Some(check) = &check {
-                    check.note(share.start + j * NOTE_BLOCK, (keys, hulls, ids), noted);
+                    let made = BoxSlice { keys, hulls, slots };
+                    check.note(share.start + j * NOTE_BLOCK, made, noted);
                 }
             }
         });
@@ -308,7 +257,7 @@ impl Sweep {
     }
 
     /// Finds the events among `stored`'s lines (see [`Detector::detect`]
-    /// and [`Detector::detect_stored`]): the hulls (and now and then a
+    /// and [`Detector::detect_stored`]): the boxes (and now and then a
     /// plan), the boxes in order (one band) or laid out band by band, the
     /// sweep, then the wild lines against every box.
     fn detect_lines(&mut self, stored: Stored, dt: f64, events: &mut Vec<Event>) {
@@ -328,7 +277,7 @@ impl Sweep {
             self.make_plan();
         }
         self.until_plan -= 1;
-        self.lap(Phase::Hulls);
+        self.lap(HULLS);
 
         let n = lines.len();
         let (boxed, entries, mut counts) = if self.plan.bands.count > 1 {
@@ -336,28 +285,28 @@ impl Sweep {
         } else {
             self.layout.forget();
             let boxed = self.sorted.sort(&self.team_for(n));
-            self.lap(Phase::Sort);
-            self.lap(Phase::Layout);
+            self.lap(SORT);
+            self.lap(LAYOUT);
             (boxed, boxed, self.sweep_chunks(stored, dt, boxed, events))
         };
         self.wild.clear();
         self.wild.extend(
-            self.sorted.ids[boxed..n]
+            self.sorted.slots[boxed..n]
                 .iter()
                 .copied()
-                .filter(|&slot| !lines[slot as usize].is_inert()),
+                .filter(|&id| !lines[id as usize].is_inert()),
         );
         test_wild(
             lines,
             |k| stored.id(k),
             &self.wild,
-            self.sorted.ids[..boxed].iter().copied(),
+            self.sorted.slots[..boxed].iter().copied(),
             dt,
             events,
             &mut counts,
         );
         self.dense = counts.candidates as f64 > DENSE * entries as f64;
-        self.lap(Phase::Sweep);
+        self.lap(SWEEP);
 
         self.stats.candidate_pairs += counts.candidates;
         self.stats.exact_tests += counts.exact;
@@ -367,8 +316,8 @@ impl Sweep {
     /// Lays the boxes out in this step's bands and sweeps them, a group of
     /// bands a member of the team, each member sweeping its group as soon
     /// as it laid it out (while its boxes are at hand). Returns the
-    /// boxes with a finite hull, the entries (homes and guests) and what
-    /// the groups found, put together in group order.
+    /// boxed lines, the homes and guests, and what the groups found, put
+    /// together in group order.
     fn lay_out_and_sweep(
         &mut self,
         stored: Stored,
@@ -379,7 +328,7 @@ impl Sweep {
         let bands = self.plan.bands;
         let team = self.team_for(n);
         let groups = team.threads();
-        self.lap(Phase::Sort);
+        self.lap(SORT);
         let mut found = std::mem::take(&mut self.chunks);
         // A member without a group (fewer bands than threads) finds
         // nothing: every group's findings start empty.
@@ -401,14 +350,13 @@ impl Sweep {
                 counts,
                 pairs,
             } = &mut *chunk;
-            let test = tester(stored, dt, events, counts);
-            let candidates = scan::sweep_group(&group, along, dense, pairs, test);
-            counts.candidates = candidates;
+            let mut test = Tester::new(stored, dt, events, counts);
+            counts.candidates = scan::sweep_group(&group, along, dense, pairs, &mut test);
         };
         let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
             let end = layout_end.into_inner().expect("the layout's end");
-            clock.lap_at(Phase::Layout as usize, end.unwrap_or_else(Instant::now));
+            clock.lap_at(LAYOUT, end.unwrap_or_else(Instant::now));
         }
         let mut counts = PairCounts::default();
         join_findings(&mut found[..groups], events, &mut counts);
@@ -416,7 +364,7 @@ impl Sweep {
         (boxed, boxed + self.layout.guest_count(), counts)
     }
 
-    /// Sweeps the boxed lines in one band and tests the pairs whose hulls
+    /// Sweeps the boxed lines in one band and tests the pairs whose boxes
     /// overlap: a chunk of the order at a time (each box against the boxes
     /// after it, wherever they lie), the members taking the next chunk as
     /// they finish one, since some stretches of the order meet far more
@@ -452,8 +400,8 @@ impl Sweep {
             } = &mut *chunk;
             *counts = PairCounts::default();
             let range = c * size..((c + 1) * size).min(boxed);
-            let test = tester(stored, dt, events, counts);
-            counts.candidates = scan::sweep_sorted(sorted, range, along, dense, pairs, test);
+            let mut test = Tester::new(stored, dt, events, counts);
+            counts.candidates = scan::sweep_sorted(sorted, range, along, dense, pairs, &mut test);
         });
         let mut counts = PairCounts::default();
         join_findings(&mut found[..chunks], events, &mut counts);
@@ -462,89 +410,27 @@ impl Sweep {
     }
 }
 
-/// The lines as the world stores them: `lines[slot]` has id `ids[slot]`,
-/// or id `slot` without `ids`.
+/// The lines as the world stores them: the line in slot `k` has id
+/// `ids[k]`, or id `k` without `ids`.
 #[derive(Clone, Copy, Debug)]
-struct Stored<'a> {
-    lines: &'a [Line],
+pub(crate) struct Stored<'a> {
+    pub lines: &'a [Line],
     ids: Option<&'a [u32]>,
 }
 
 impl Stored<'_> {
-    /// The id of the line in `slot`.
+    /// The id of the line in slot `k`.
     #[inline(always)]
-    fn id(self, slot: u32) -> u32 {
+    pub(crate) fn id(self, k: u32) -> u32 {
         match self.ids {
-            Some(ids) => ids[slot as usize],
-            None => slot,
+            Some(ids) => ids[k as usize],
+            None => k,
         }
     }
 }
 
-/// What a sweep hands each pair of slots whose hulls overlap to: the exact
-/// test, appending to `events` and counting in `counts`.
-fn tester<'a>(
-    lines: Stored<'a>,
-    dt: f64,
-    events: &'a mut Vec<Event>,
-    counts: &'a mut PairCounts,
-) -> Tester<'a> {
-    Tester {
-        lines,
-        ahead: lines.lines.len() >= LARGE_SCENE,
-        dt,
-        events,
-        counts,
-    }
-}
-
-/// The exact test of the pairs a sweep finds (see [`tester`]).
-struct Tester<'a> {
-    lines: Stored<'a>,
-    /// Whether to read each pair's lines ahead of its test.
-    ahead: bool,
-    dt: f64,
-    events: &'a mut Vec<Event>,
-    counts: &'a mut PairCounts,
-}
-
-impl scan::Found for Tester<'_> {
-    /// In scenes larger than the cache.
-    fn reads_ahead(&self) -> bool {
-        self.ahead
-    }
-
-    /// Reads both lines ahead.
-    #[inline(always)]
-    fn ahead(&self, a: u32, b: u32) {
-        for id in [a, b] {
-            if let Some(line) = self.lines.lines.get(id as usize) {
-                read_ahead(line);
-            }
-        }
-    }
-
-    #[inline(always)]
-    fn found(&mut self, a: u32, b: u32) {
-        let stored = self.lines;
-        let (a, b) = if stored.id(a) < stored.id(b) {
-            (a, b)
-        } else {
-            (b, a)
-        };
-        test_ordered(
-            &stored.lines[a as usize],
-            &stored.lines[b as usize],
-            (a, b),
-            self.dt,
-            self.events,
-            self.counts,
-        )
-    }
-}
-
-/// One chunk's findings when a team sweeps, kept from step to step so
-/// that its buffers are not allocated anew every step.
+/// One chunk's findings, kept from step to step so that its buffers are
+/// not allocated anew every step.
 #[derive(Debug, Default)]
 struct Chunk {
     events: Vec<Event>,
@@ -596,15 +482,22 @@ impl Detector for Sweep {
             return None;
         }
         self.until_store = STORE_EVERY - 1;
-        Some(&mut self.sorted.ids[..n])
+        Some(&mut self.sorted.slots[..n])
     }
 
     fn stats(&self) -> DetectorStats {
         self.stats
     }
 
+    /// The direction swept along (`x`, `y`, `u` or `w`) and the number of
+    /// bands, as they stand.
     fn describe(&self) -> String {
-        self.plan_text()
+        let name = ["x", "y", "u", "w"];
+        let (along, bands) = (name[self.plan.along], self.plan.bands);
+        match bands.count {
+            1 => format!("along {along}, one band"),
+            count => format!("along {along}, {count} bands across {}", name[bands.across]),
+        }
     }
 
     fn set_timing(&mut self, on: bool) {
@@ -616,7 +509,7 @@ impl Detector for Sweep {
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {
-        Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name))
+        Clock::report_of(self.clock.as_ref(), PHASES)
     }
 }
 

@@ -1,5 +1,5 @@
 //! The boxes in sorted order: by their least value along the sweep
-//! direction, as parallel arrays of keys, packed hulls and ids, kept from
+//! direction, as parallel arrays of keys, packed hulls and slots, kept from
 //! step to step.
 //!
 //! Lines move little in a step, so last step's order is nearly this step's:
@@ -9,17 +9,16 @@
 //! apart) the insertion sort stops after a budget of moves and a radix
 //! sort does the whole job instead.
 
+use super::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use super::hull::{Packed, NO_KEY};
 use crate::team::{self, Team};
 use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Moves an insertion sort may make per box before it gives way to a
-/// radix sort of keys and slots and one gather of the boxes. (Going to
-/// the radix sort at once for a while after it was needed, and from two
-/// moves a box, gained nothing on `smalllines`, whose boxes overtake each
-/// other most: 1.10x and 0.99x without it, two threads and one; medians
-/// of 7 and 5 interleaved rounds.)
-const MOVES_PER_BOX: usize = 8;
+/// radix sort. (Going to the radix sort at once for a while after it was
+/// needed, and from two moves a box, gained nothing on `smalllines`, whose
+/// boxes overtake each other most.)
+pub(crate) const MOVES_PER_BOX: usize = 8;
 
 /// Boxes as parallel arrays, followed by one sentinel entry (key
 /// [`NO_KEY`]) so that a scan always stops.
@@ -30,134 +29,120 @@ pub(crate) struct Boxes {
     /// Packed hull (meaningless where the key is [`NO_KEY`]).
     pub hulls: Vec<Packed>,
     /// Line id.
-    pub ids: Vec<u32>,
-    /// Spare arrays for the gather after a radix sort.
-    spare: Option<Box<Boxes>>,
-    /// Keys and slots, for the radix sort.
+    pub slots: Vec<u32>,
+    /// Keys and places, and spare arrays, for the radix sort.
     keyed: Vec<(f32, u32)>,
+    spare: BoxList,
 }
 
 impl Boxes {
-    /// Resets to the ids `0..n`, in that order, with room for their hulls.
+    /// Resets to the slots `0..n`, in that order, with room for their hulls.
     pub(crate) fn reset(&mut self, n: usize) {
-        self.ids.clear();
-        self.ids.extend(0..n as u32);
-        self.ids.push(u32::MAX);
+        self.slots.clear();
+        self.slots.extend(0..n as u32);
+        self.slots.push(u32::MAX);
         self.keys.clear();
         self.keys.resize(n + 1, NO_KEY);
         self.hulls.clear();
         self.hulls.resize(n + 1, [0.0; 8]);
     }
 
+    /// Makes room for `n` boxes and the sentinel.
+    pub(crate) fn set_len(&mut self, n: usize) {
+        self.keys.resize(n + 1, NO_KEY);
+        self.hulls.resize(n + 1, [0.0; 8]);
+        self.slots.resize(n + 1, u32::MAX);
+        (self.keys[n], self.slots[n]) = (NO_KEY, u32::MAX);
+    }
+
     /// Boxes held, the sentinel not counted.
     pub(crate) fn len(&self) -> usize {
-        self.ids.len().saturating_sub(1)
+        self.slots.len().saturating_sub(1)
+    }
+
+    /// The first `n` boxes.
+    pub(crate) fn slice(&self, n: usize) -> BoxSlice<'_> {
+        BoxSlice {
+            keys: &self.keys[..n],
+            hulls: &self.hulls[..n],
+            slots: &self.slots[..n],
+        }
+    }
+
+    /// The first `n` boxes, to write.
+    pub(crate) fn slice_mut(&mut self, n: usize) -> BoxSliceMut<'_> {
+        let (keys, hulls, slots) = (
+            &mut self.keys[..n],
+            &mut self.hulls[..n],
+            &mut self.slots[..n],
+        );
+        BoxSliceMut { keys, hulls, slots }
     }
 
     /// Sorts the boxes by key (ties in any order: the sweep tests tied
     /// boxes both ways round), the sentinel staying last, sharing the work
-    /// with `team`. Keys are never NaN. Returns the number
-    /// of boxes with a real key, which now come first.
+    /// with `team`: each member sorts its share in place by insertion (the
+    /// boxes it made the hulls of, still in its cache), then the few boxes
+    /// that belong before the start of their share are moved there on this
+    /// thread; by radix if that takes too many moves. Keys are never NaN.
+    /// Returns the number of boxes with a real key, which now come first.
     pub(crate) fn sort(&mut self, team: &Team) -> usize {
-        let n = self.len();
-        if !self.insertion_sort_shared(n, MOVES_PER_BOX * n, team) {
-            self.sort_by_radix(n);
-        }
-        self.keys[..n].partition_point(|&k| k != NO_KEY)
-    }
-
-    /// The first `n` keys, hulls and ids.
-    fn arrays(&mut self, n: usize) -> (&mut [f32], &mut [Packed], &mut [u32]) {
-        (
-            &mut self.keys[..n],
-            &mut self.hulls[..n],
-            &mut self.ids[..n],
-        )
-    }
-
-    /// Insertion sort of the first `n` boxes shared with `team`: each
-    /// member sorts its share of the order in place (the boxes it made the
-    /// hulls of, still in its cache), then the few boxes that belong before
-    /// the start of their share are moved there on this thread. Gives up
-    /// after about `budget` moves (leaving the boxes permuted but
-    /// unsorted); returns whether it finished.
-    fn insertion_sort_shared(&mut self, n: usize, budget: usize, team: &Team) -> bool {
-        let threads = team.threads();
-        let (keys, hulls, ids) = self.arrays(n);
-        let (keys, hulls, ids) = (
-            team::shares_mut(keys, threads),
-            team::shares_mut(hulls, threads),
-            team::shares_mut(ids, threads),
+        let (n, threads) = (self.len(), team.threads());
+        let mut budget = MOVES_PER_BOX * n;
+        let b = self.slice_mut(n);
+        let (keys, hulls, slots) = (
+            team::shares_mut(b.keys, threads),
+            team::shares_mut(b.hulls, threads),
+            team::shares_mut(b.slots, threads),
         );
         let sorted = AtomicBool::new(true);
         team.run(&|k| {
-            let (mut keys, mut hulls, mut ids) = (
+            let (mut keys, mut hulls, mut slots) = (
                 keys[k].lock().expect("a share"),
                 hulls[k].lock().expect("a share"),
-                ids[k].lock().expect("a share"),
+                slots[k].lock().expect("a share"),
             );
-            if insert(
-                (&mut keys, &mut hulls, &mut ids),
-                1,
-                budget / threads,
-                false,
-            )
-            .is_none()
-            {
+            let share = BoxSliceMut {
+                keys: &mut keys,
+                hulls: &mut hulls,
+                slots: &mut slots,
+            };
+            if insert(share, 1, budget / threads, false).is_none() {
                 sorted.store(false, Ordering::Relaxed);
             }
         });
-        if !sorted.load(Ordering::Relaxed) {
-            return false;
-        }
-        let mut budget = budget;
+        let mut sorted = sorted.into_inner();
         for k in 1..threads {
             let start = team::share(n, threads, k).start;
-            if start == 0 || start >= n {
-                continue;
-            }
-            match insert(self.arrays(n), start, budget, true) {
-                Some(moves) => budget -= moves,
-                None => return false,
+            if sorted && start > 0 && start < n {
+                match insert(self.slice_mut(n), start, budget, true) {
+                    Some(moves) => budget -= moves,
+                    None => sorted = false,
+                }
             }
         }
-        true
+        if !sorted {
+            let (keys, hulls, slots) = (
+                &mut self.keys[..n],
+                &mut self.hulls[..n],
+                &mut self.slots[..n],
+            );
+            BoxSliceMut { keys, hulls, slots }.sort_by_radix(&mut self.keyed, &mut self.spare);
+        }
+        self.keys[..n].partition_point(|&k| k != NO_KEY)
     }
+}
 
-    /// Sorts the first `n` boxes' keys and slots by radix, then gathers
-    /// the boxes in that order.
-    fn sort_by_radix(&mut self, n: usize) {
-        self.keyed.clear();
-        self.keyed.extend(
-            self.keys[..n]
-                .iter()
-                .enumerate()
-                .map(|(k, &key)| (key, k as u32)),
-        );
-        radsort::sort_by_key(&mut self.keyed, |k| k.0);
-        self.gather();
-    }
-
-    /// Puts the boxes in the order of `keyed`.
-    fn gather(&mut self) {
-        let mut spare = self.spare.take().unwrap_or_default();
-        spare.keys.clear();
-        spare.hulls.clear();
-        spare.ids.clear();
-        spare.keys.extend(self.keyed.iter().map(|k| k.0));
-        spare
-            .hulls
-            .extend(self.keyed.iter().map(|k| self.hulls[k.1 as usize]));
-        spare
-            .ids
-            .extend(self.keyed.iter().map(|k| self.ids[k.1 as usize]));
-        spare.keys.push(NO_KEY);
-        spare.hulls.push([0.0; 8]);
-        spare.ids.push(u32::MAX);
-        std::mem::swap(&mut self.keys, &mut spare.keys);
-        std::mem::swap(&mut self.hulls, &mut spare.hulls);
-        std::mem::swap(&mut self.ids, &mut spare.ids);
-        self.spare = Some(spare);
+/// Sorts nearly sorted boxes by key in place: by insertion while that
+/// stays short, else by radix through `order` and `spare`.
+pub(crate) fn sort_nearly_sorted(
+    mut b: BoxSliceMut,
+    order: &mut Vec<(f32, u32)>,
+    spare: &mut BoxList,
+) {
+    let budget = MOVES_PER_BOX * b.len() + 16;
+    if insert(b.at(0..b.len()), 1, budget, false).is_none() {
+        b.sort_by_radix(order, spare);
     }
 }
 
@@ -167,11 +152,12 @@ impl Boxes {
 /// already and it stops at the first that needs no move. Returns the moves
 /// made, if it finished.
 pub(crate) fn insert(
-    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
+    b: BoxSliceMut,
     from: usize,
     mut budget: usize,
     until_in_place: bool,
 ) -> Option<usize> {
+    let BoxSliceMut { keys, hulls, slots } = b;
     let mut moves = 0;
     for i in from.max(1)..keys.len() {
         let key = keys[i];
@@ -181,17 +167,17 @@ pub(crate) fn insert(
             }
             continue;
         }
-        let (hull, id) = (hulls[i], ids[i]);
+        let (hull, id) = (hulls[i], slots[i]);
         let mut j = i;
         while j > 0 && keys[j - 1] > key {
             keys[j] = keys[j - 1];
             hulls[j] = hulls[j - 1];
-            ids[j] = ids[j - 1];
+            slots[j] = slots[j - 1];
             j -= 1;
         }
         keys[j] = key;
         hulls[j] = hull;
-        ids[j] = id;
+        slots[j] = id;
         let moved = i - j;
         if moved > budget {
             return None;
@@ -220,15 +206,15 @@ mod tests {
         let n = keys.len();
         assert!(b.keys[..n].windows(2).all(|w| w[0] <= w[1]));
         assert_eq!(b.keys[n], NO_KEY);
-        assert_eq!(b.ids[n], u32::MAX);
+        assert_eq!(b.slots[n], u32::MAX);
         for k in 0..n {
             // Each box kept its hull and id together.
-            assert_eq!(b.keys[k], keys[b.ids[k] as usize]);
+            assert_eq!(b.keys[k], keys[b.slots[k] as usize]);
             assert!(b.hulls[k][0] == b.keys[k] || b.keys[k] == NO_KEY);
         }
-        let mut ids = b.ids[..n].to_vec();
-        ids.sort_unstable();
-        assert_eq!(ids, (0..n as u32).collect::<Vec<_>>());
+        let mut slots = b.slots[..n].to_vec();
+        slots.sort_unstable();
+        assert_eq!(slots, (0..n as u32).collect::<Vec<_>>());
         assert_eq!(b.keys[..n].partition_point(|&k| k != NO_KEY), boxed);
     }
 
@@ -240,7 +226,7 @@ mod tests {
         keys[7] = NO_KEY;
         let mut b = boxes(&keys);
         let n = keys.len();
-        assert!(insert(b.arrays(n), 1, 1000, false).is_some());
+        assert!(insert(b.slice_mut(n), 1, 1000, false).is_some());
         let mut b = boxes(&keys);
         assert_eq!(b.sort(&Team::solo()), 999);
         check(&b, &keys, 999);
@@ -254,7 +240,7 @@ mod tests {
         keys.extend([f32::NEG_INFINITY, -0.0, 0.0, NO_KEY]);
         let mut b = boxes(&keys);
         let n = keys.len();
-        assert!(insert(b.arrays(n), 1, 8 * n, false).is_none());
+        assert!(insert(b.slice_mut(n), 1, 8 * n, false).is_none());
         let mut b = boxes(&keys);
         assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
         check(&b, &keys, keys.len() - 1);
@@ -286,6 +272,24 @@ mod tests {
             let mut b = boxes(&keys);
             assert_eq!(b.sort(&team), 2);
             check(&b, &keys, 2);
+        }
+    }
+
+    #[test]
+    fn far_out_of_order_boxes_fall_back_to_radix() {
+        let mut keys: Vec<f32> = (0..500u32).map(|i| ((i * 7919) % 500) as f32).collect();
+        let mut hulls: Vec<Packed> = keys.iter().map(|&k| [k; 8]).collect();
+        let mut slots: Vec<u32> = (0..500).collect();
+        let b = BoxSliceMut {
+            keys: &mut keys,
+            hulls: &mut hulls,
+            slots: &mut slots,
+        };
+        sort_nearly_sorted(b, &mut Vec::new(), &mut BoxList::default());
+        assert!(keys.windows(2).all(|w| w[0] <= w[1]));
+        for k in 0..500 {
+            assert_eq!(hulls[k][0], keys[k]);
+            assert_eq!(keys[k], ((slots[k] * 7919) % 500) as f32);
         }
     }
 }

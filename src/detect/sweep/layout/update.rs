@@ -1,48 +1,37 @@
-//! Last step's layout updated ([`Layout::lay_out`]): only the boxes that
-//! changed band are moved apart and merged in. Kept from step to step, a
-//! layout costs about 65 instructions a box on `koch` (made anew every
-//! step, 230): 10,000 lines, 1000 frames, took 0.262 s on two threads
-//! against 0.372 made anew every step, and `koch` 0.063 against 0.093
-//! (medians of 5 interleaved rounds).
+//! Last step's layout updated ([`Layout::lay_out`]): only the movers are
+//! moved apart and merged in. Kept from step to step, a layout costs about
+//! 65 instructions a box on `koch` (made anew every step, 230).
 //!
-//! The boxes that left their band (the *leavers*) are found as the hulls
-//! are made, a block at a time while the block is at hand
-//! ([`Layout::leaver_check`], [`LeaverCheck::note`]), by each share of the
-//! hull phase; a million lines on two threads kept their layout in 7.7 ms
-//! a step instead of 12.1 when the layout read every box again to find
-//! them (8% faster in all, 5% on one thread; `koch`, in the cache, the
-//! same within noise). With several groups of bands, the boxes that stay
-//! in their band and reach up into the next group's first band are noted
-//! too: that group's thread would otherwise pick its first band's guests
-//! out of the bands below, which the other thread made the hulls of (on
-//! `koch`, two threads, about 330 boxes and 2.4 to 3.5 us a step).
+//! The movers are found as the hulls are made, a block at a time while
+//! the block is at hand, by each share of the hull phase
+//! ([`Layout::mover_check`], [`MoverCheck::note`]): a million lines on
+//! two threads kept their layout in 7.7 ms a step instead of 12.1 when the
+//! layout read every box again. With several groups of bands, the boxes
+//! that stay in their band and reach up into the next group's first band
+//! are noted too, so that group's thread need not read the bands below,
+//! which another thread made the hulls of.
 //!
-//! Then each group of bands copies each of its bands to its new place in
-//! the other arrays in one pass (the stayers a run at a time between the
-//! leavers' places, the newcomers merged in) and sorts it there, each
-//! group writing only its own stretch. (Closing the bands up in place
-//! first, and inserting the newcomers after the copy, moved each band two
-//! more times: at 100,000 lines on two threads, 67 M instructions of
-//! copying in 10 steps instead of 26 M.) On one thread, with the layout
-//! kept, the one group updates it in place instead
+//! Then each group copies each of its bands to its new place in the other
+//! arrays in one pass (the stayers a run at a time between the movers'
+//! places, the movers merged in) and sorts it there, writing only its
+//! own stretch. On one thread a kept layout is updated in place instead
 //! ([`Layout::finish_in_place`]).
 
 use super::{
-    end_guests, groups_of_bands, insert_runs, run_each, set_starts, sort_in_place, sort_movers,
-    stretches, Group, GroupView, Layout, Run, Stretch, ThenEach,
+    groups_of_bands, insert_runs, run_each, set_starts, stretches, Group, GroupView, Layout,
+    Stretch, ThenEach,
 };
 use crate::detect::sweep::bands::Bands;
-use crate::detect::sweep::hull::{hi, lo, Packed};
-use crate::detect::sweep::{hull::NO_KEY, order::Boxes};
+use crate::detect::sweep::boxes::{BoxList, BoxSlice, BoxSliceMut};
+use crate::detect::sweep::hull::{hi, lo, NO_KEY};
+use crate::detect::sweep::order::{sort_nearly_sorted, Boxes};
 use crate::team::Team;
 use std::ops::Range;
 
 /// What every group reads while it finishes its bands.
 struct Closed<'a> {
     /// Last step's boxes, where they arrived.
-    keys: &'a [f32],
-    hulls: &'a [Packed],
-    ids: &'a [u32],
+    arrived: BoxSlice<'a>,
     old_starts: &'a [usize],
     starts: &'a [usize],
     /// Where boxes left their band, in order, and where each band's
@@ -51,18 +40,18 @@ struct Closed<'a> {
     gap_starts: &'a [usize],
     /// Per band, the last band its homes (this step's) reach.
     reach: &'a [u32],
-    /// The boxes that changed band, sorted by band and then by key.
-    movers: &'a Run,
-    /// Where each band's movers start in `movers`, and their end.
+    /// The movers, sorted by band and then by key, and where each band's
+    /// start among them (then their end).
+    movers: &'a BoxList,
     mover_starts: &'a [usize],
     bands: &'a Bands,
-    /// What the shares noted, the boxes that stayed in their band and
-    /// reach a group's first band among it ([`Leavers`]).
-    carried: &'a [Leavers],
+    /// What the shares noted, with the stayers that reach a group's first
+    /// band ([`Noted`]).
+    carried: &'a [Noted],
 }
 
 impl Closed<'_> {
-    /// The runs of band `b`'s boxes that stayed in it, where they arrived.
+    /// The runs of band `b`'s stayers, where they arrived.
     fn stayers(&self, b: usize) -> impl Iterator<Item = Range<usize>> + '_ {
         let band = self.old_starts[b]..self.old_starts[b + 1];
         runs_between(band, &self.gaps[self.gap_starts[b]..self.gap_starts[b + 1]])
@@ -71,28 +60,27 @@ impl Closed<'_> {
 
 /// What a share of the boxes, as they arrive in last step's layout with
 /// their hulls made anew, holds that left their band: found as the hulls
-/// are made ([`LeaverCheck::note`]), while they are at hand, so that
-/// keeping the layout need not read every box once more to find them.
+/// are made ([`MoverCheck::note`]), while they are at hand.
 #[derive(Debug, Default)]
-pub(crate) struct Leavers {
+pub(crate) struct Noted {
     /// The first band the share touches.
     first_band: usize,
-    /// Per band from `first_band` on: the share's boxes that left it, and
-    /// the greatest value across the bands that those that stayed reach.
+    /// Per band from `first_band` on: the share's movers, and the
+    /// greatest value across the bands that its stayers reach.
     left: Vec<usize>,
     tops: Vec<f32>,
-    /// The boxes that left, with their new home band, and their places
-    /// (ascending).
-    movers: Run,
+    /// The movers, each with its new home band as its end, and their
+    /// places (ascending).
+    movers: BoxList,
     gaps: Vec<usize>,
-    /// The boxes that stayed and reach up into the first band of a group
-    /// of bands above their own (see [`LeaverCheck`]), with the band after
-    /// the last they reach; and their bands.
-    carried: Run,
+    /// The stayers that reach up into the first band of a group of bands
+    /// above their own (see [`MoverCheck`]), with the band after the last
+    /// they reach; and their bands.
+    carried: BoxList,
     carried_from: Vec<u32>,
 }
 
-impl Leavers {
+impl Noted {
     /// Empties it for a share's boxes.
     pub(crate) fn clear(&mut self) {
         self.first_band = 0;
@@ -104,7 +92,7 @@ impl Leavers {
         self.carried_from.clear();
     }
 
-    /// Adds what a run of band `b`'s boxes held: `left` leavers, and
+    /// Adds what a run of band `b`'s boxes held: `left` movers, and
     /// stayers reaching up to `top` across.
     fn add(&mut self, b: usize, left: usize, top: f32) {
         if self.left.is_empty() {
@@ -121,32 +109,26 @@ impl Leavers {
     }
 }
 
-/// Last step's layout, to find the boxes that left their band as their
-/// hulls are made (see [`Leavers`]).
+/// Last step's layout, to find the movers as the hulls are made (see
+/// [`Noted`]).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct LeaverCheck<'a> {
+pub(crate) struct MoverCheck<'a> {
     starts: &'a [usize],
     edges: &'a [f32],
     bands: Bands,
     /// Per band, the least value of the first band of the next group of
     /// bands above it (`+inf` for the last group's bands; empty with one
-    /// group): a box that stays in its band and reaches that far is one of
-    /// that group's first band's guests, noted as the hulls are made so
-    /// that the group need not read the bands below it.
+    /// group): a stayer that reaches that far is one of that group's first
+    /// band's guests.
     carry: &'a [f32],
 }
 
-impl LeaverCheck<'_> {
-    /// Notes into `into` which of the boxes `at..` (`keys`, `hulls` and
-    /// `ids`, just made) left their band; the boxes of a share are noted in
-    /// order, from a cleared `into` ([`Leavers::clear`]).
-    pub(crate) fn note(
-        &self,
-        at: usize,
-        (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
-        into: &mut Leavers,
-    ) {
-        let end = at + keys.len();
+impl MoverCheck<'_> {
+    /// Notes into `into` which of the boxes `boxes` (from place `at`, their
+    /// hulls just made) left their band; the boxes of a share are noted in
+    /// order, from a cleared `into` ([`Noted::clear`]).
+    pub(crate) fn note(&self, at: usize, boxes: BoxSlice, into: &mut Noted) {
+        let end = at + boxes.len();
         let mut k = at;
         // The band holding `at` (the last band starting there or before).
         let mut b = self.starts.partition_point(|&s| s <= at) - 1;
@@ -156,14 +138,13 @@ impl LeaverCheck<'_> {
             }
             let run = k - at..self.starts[b + 1].min(end) - at;
             let before = into.gaps.len();
-            let arrays = (keys, hulls, ids);
             let carry = self.carry.get(b).copied().unwrap_or(f32::INFINITY);
-            let (edges, bands, next) = (self.edges, &self.bands, at + run.end);
+            let next = at + run.end;
             // Only the bands below a group's first band have stayers to
             // note as its guests; the rest skip the comparison.
             let top = match carry < f32::INFINITY {
-                true => close_up::<true>(arrays, at, run, (b, carry), edges, bands, into),
-                false => close_up::<false>(arrays, at, run, (b, carry), edges, bands, into),
+                true => close_up::<true>(boxes, at, run, (b, carry), self, into),
+                false => close_up::<false>(boxes, at, run, (b, carry), self, into),
             };
             into.add(b, into.gaps.len() - before, top);
             k = next;
@@ -179,23 +160,23 @@ impl Layout {
         self.kept == Some(*bands) && self.starts.len() == count + 2 && self.starts[count + 1] == n
     }
 
-    /// Last step's layout, to note the boxes that leave their band as the
-    /// hulls of the `n` boxes are made, if the layout of `bands` may be
-    /// kept this step (else `None`), in `groups` groups of bands; and
-    /// `shares` buffers to note them in, one per share of the boxes in
-    /// order. [`Layout::lay_out`] then takes what they hold.
-    pub(crate) fn leaver_check(
+    /// Last step's layout, to note the movers as the hulls of the `n`
+    /// boxes are made, if the layout of `bands` may be kept this step (else
+    /// `None`), in `groups` groups of bands; and `shares` buffers to note
+    /// them in, one per share of the boxes in order. [`Layout::lay_out`]
+    /// then takes what they hold.
+    pub(crate) fn mover_check(
         &mut self,
         n: usize,
         bands: &Bands,
         shares: usize,
         groups: usize,
-    ) -> (Option<LeaverCheck<'_>>, &mut [Leavers]) {
+    ) -> (Option<MoverCheck<'_>>, &mut [Noted]) {
         let count = bands.count;
         let keeps = self.keeps(bands, n);
         self.noted_for = keeps.then_some((*bands, groups));
         self.noted
-            .resize_with(shares.max(self.noted.len()), Leavers::default);
+            .resize_with(shares.max(self.noted.len()), Noted::default);
         self.noted_shares = shares;
         self.carry.clear();
         if keeps && groups > 1 {
@@ -213,7 +194,7 @@ impl Layout {
                 }),
             );
         }
-        let check = keeps.then_some(LeaverCheck {
+        let check = keeps.then_some(MoverCheck {
             starts: &self.starts,
             edges: &self.edges,
             bands: *bands,
@@ -222,12 +203,12 @@ impl Layout {
         (check, &mut self.noted[..shares])
     }
 
-    /// Lays out the first `n` boxes of `slots` in `bands` (their hulls
+    /// Lays out the first `n` boxes of `arriving` in `bands` (their hulls
     /// made anew), as they arrive in the order of last step's layout:
     /// last step's layout updated if it was of `bands` and of as many
     /// boxes, else laid out anew, as from a layout that held every box
     /// among the boxes without a key, so that every box with a key is a
-    /// newcomer to its band. Leaves them in `slots`, sentinel last, and
+    /// mover to its band. Leaves them in `arriving`, sentinel last, and
     /// returns the boxes with a key, which come first.
     ///
     /// The work is shared among groups of bands, one a member of `team`,
@@ -235,36 +216,41 @@ impl Layout {
     /// out, by the thread that laid it out.
     pub(crate) fn lay_out(
         &mut self,
-        slots: &mut Boxes,
+        arriving: &mut Boxes,
         n: usize,
         bands: &Bands,
         team: &Team,
         then_each: ThenEach,
     ) -> usize {
         let groups = team.threads();
-        let kept = self.note_leavers(slots, n, bands, team);
+        let kept = self.note_movers(arriving, n, bands, team);
         let (bounds, mover_starts) = self.place_movers(n, bands, groups, kept);
+        self.group_count = bounds.len();
         if kept && groups == 1 {
-            self.finish_in_place(slots, n, bands, &mover_starts, then_each);
+            self.finish_in_place(arriving, n, bands, &mover_starts, then_each);
         } else {
-            self.finish_groups(slots, n, bands, team, (&bounds, &mover_starts), then_each);
-            self.hand_over(slots);
+            self.finish_groups(
+                arriving,
+                n,
+                bands,
+                team,
+                (&bounds, &mover_starts),
+                then_each,
+            );
+            std::mem::swap(arriving, &mut self.laid);
         }
-        self.list_guests(&bounds, bands.count);
         self.starts[bands.count]
     }
 
     /// Takes last step's layout to update if it was of `bands` and `n`
     /// boxes (and says so), else an empty one (every box among the boxes
-    /// without a key); notes the boxes that left their band here, a share
-    /// a thread of `team`, unless the hulls' shares noted them for these
-    /// bands in as many groups.
-    fn note_leavers(&mut self, slots: &Boxes, n: usize, bands: &Bands, team: &Team) -> bool {
+    /// without a key); notes the movers here, a share a thread of `team`,
+    /// unless the hulls' shares noted them for these bands in as many
+    /// groups.
+    fn note_movers(&mut self, arriving: &Boxes, n: usize, bands: &Bands, team: &Team) -> bool {
         let (count, groups) = (bands.count, team.threads());
-        // Noted for these bands in as many groups (the guests that reach
-        // each group's first band are noted with the leavers).
         let noted = self.noted_for.take() == Some((*bands, groups));
-        let kept = self.keeps(bands, n) && slots.len() == n;
+        let kept = self.keeps(bands, n) && arriving.len() == n;
         if !kept {
             self.kept = Some(*bands);
             self.set_edges(bands);
@@ -273,31 +259,22 @@ impl Layout {
             self.starts.push(n);
         }
         if !(kept && noted) {
-            let (check, noted) = self.leaver_check(n, bands, groups, groups);
+            let (check, noted) = self.mover_check(n, bands, groups, groups);
             let check = check.expect("a layout to update");
             let noted = crate::team::shares_mut(noted, groups);
             team.run(&|k| {
                 let share = crate::team::share(n, groups, k);
                 let into = &mut noted[k].lock().expect("a share")[0];
                 into.clear();
-                let r = share.clone();
-                check.note(
-                    share.start,
-                    (
-                        &slots.keys[r.clone()],
-                        &slots.hulls[r.clone()],
-                        &slots.ids[r],
-                    ),
-                    into,
-                );
+                check.note(share.start, arriving.slice(n).at(share), into);
             });
             self.noted_for = None;
         }
         kept
     }
 
-    /// Sets the new layout's starts from the boxes that stayed in each
-    /// band and the movers (sorted by band and key), and each band's
+    /// Sets the new layout's starts from the stayers of each band and the
+    /// movers (sorted by band, and if `kept` by key), and each band's
     /// reach; returns the groups of bands, one per thread, and where each
     /// band's movers start.
     fn place_movers(
@@ -308,7 +285,7 @@ impl Layout {
         kept: bool,
     ) -> (Vec<Range<usize>>, Vec<usize>) {
         let count = bands.count;
-        let mut tops = self.gather_leavers(count);
+        let mut tops = self.gather_movers(count);
         std::mem::swap(&mut self.starts, &mut self.old_starts);
         self.counts.clear();
         self.counts.extend(self.stayed.iter().map(|&s| s as u32));
@@ -327,19 +304,15 @@ impl Layout {
         let bounds = groups_of_bands(by, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
-        if self.movers.len() > 0 {
-            let g = &mut self.groups[0];
-            // Made anew, the bands have no stayers to merge the movers
-            // among: each band sorts them itself, on its group's thread.
-            let by_key = kept;
-            sort_movers(&mut self.movers, by_key, &mut g.by_band, &mut g.spare);
-        }
         let mut mover_starts = Vec::with_capacity(count + 2);
         mover_starts.push(0);
         for b in 0..=count {
             let moved = self.counts[b] as usize - self.stayed[b];
             mover_starts.push(mover_starts[b] + moved);
         }
+        // Made anew, the bands have no stayers to merge the movers among:
+        // each band sorts them itself, on its group's thread.
+        self.groups[0].sort_movers(&mut self.movers, &mover_starts, kept);
         self.reach.clear();
         self.reach.extend(
             tops.iter()
@@ -353,27 +326,21 @@ impl Layout {
     }
 
     /// Each group of bands (`bounds`) copies its bands' stayers and
-    /// newcomers to their new places in the layout's arrays and finishes
+    /// movers to their new places in the layout's arrays and finishes
     /// them there, with their guests, on its member of `team`, then hands
     /// itself to `then_each`.
     fn finish_groups(
         &mut self,
-        slots: &Boxes,
+        arriving: &Boxes,
         n: usize,
         bands: &Bands,
         team: &Team,
         (bounds, mover_starts): (&[Range<usize>], &[usize]),
         then_each: ThenEach,
     ) {
-        self.keys.resize(n + 1, NO_KEY);
-        self.hulls.resize(n + 1, [0.0; 8]);
-        self.ids.resize(n + 1, u32::MAX);
-        self.keys[n] = NO_KEY;
-        self.ids[n] = u32::MAX;
+        self.laid.set_len(n);
         let closed = Closed {
-            keys: &slots.keys[..n],
-            hulls: &slots.hulls[..n],
-            ids: &slots.ids[..n],
+            arrived: arriving.slice(n),
             old_starts: &self.old_starts,
             starts: &self.starts,
             gaps: &self.gaps,
@@ -384,126 +351,97 @@ impl Layout {
             bands,
             carried: &self.noted[..self.noted_shares],
         };
-        let (keys, hulls, ids) = (&mut self.keys, &mut self.hulls, &mut self.ids);
-        let stretches = stretches(closed.starts, keys, hulls, ids, bounds);
+        let stretches = stretches(closed.starts, self.laid.slice_mut(n), bounds);
         let work: Vec<_> = (stretches.into_iter().zip(self.groups.iter_mut()))
             .enumerate()
             .collect();
-        let count = bands.count;
-        run_each(work, team, |(index, (s, g))| {
-            let (range, offset) = (s.bands.start..s.bands.end.min(count), s.offset);
-            let laid_out = finish_group(s, g, &closed);
-            then_each(GroupView::of(
+        run_each(work, team, |(index, (s, group))| {
+            let (offset, starts) = (s.offset, closed.starts);
+            let boxes = finish_group(s, group, &closed);
+            let bands = group.bands.clone();
+            then_each(GroupView {
                 index,
-                range,
+                bands,
+                boxes,
                 offset,
-                laid_out,
-                closed.starts,
-                g,
-            ));
+                starts,
+                group,
+            });
         });
     }
 
     /// [`Layout::lay_out`] of last step's layout on one thread, in place:
     /// each band's stayers closed up at its front (a run at a time between
-    /// the leavers' places), the bands' runs moved to their new starts
+    /// the movers' places), the bands' runs moved to their new starts
     /// (those moving up from the last band down, then those moving down
     /// from the first up, so that no run lands on one not yet moved), each
-    /// band finished by insertion with its newcomers (`mover_starts` of the
+    /// band finished by insertion with its movers (`mover_starts` of the
     /// sorted movers) inserted, and its guests listed; then the one group
     /// handed to `then_each`. Against copying every box into the other
     /// arrays, as the groups do, 100,000 lines (100 frames) ran 1.13x as
-    /// fast on one thread (0.566 s against 0.642, medians of 15
-    /// interleaved rounds; 0.91x and 0.90x against the build with it in
-    /// two sets); `mit`, `koch`, 10,000 and a million lines within noise.
+    /// fast on one thread.
     fn finish_in_place(
         &mut self,
-        slots: &mut Boxes,
+        arriving: &mut Boxes,
         n: usize,
         bands: &Bands,
         mover_starts: &[usize],
         then_each: ThenEach,
     ) {
         let count = bands.count;
-        let (keys, hulls, ids) = (
-            &mut slots.keys[..n],
-            &mut slots.hulls[..n],
-            &mut slots.ids[..n],
-        );
+        let mut boxes = arriving.slice_mut(n);
         let (old, new, stayed) = (&self.old_starts, &self.starts, &self.stayed);
         for b in 0..=count {
             let gaps = &self.gaps[self.gap_starts[b]..self.gap_starts[b + 1]];
-            let arrays = (&mut *keys, &mut *hulls, &mut *ids);
-            close_gaps(arrays, old[b]..old[b + 1], gaps);
+            let mut w = old[b];
+            for run in runs_between(old[b]..old[b + 1], gaps) {
+                if w != run.start {
+                    boxes.copy_within(run.clone(), w);
+                }
+                w += run.len();
+            }
         }
-        let shift = |b: usize, keys: &mut [f32], hulls: &mut [Packed], ids: &mut [u32]| {
-            let run = old[b]..old[b] + stayed[b];
-            keys.copy_within(run.clone(), new[b]);
-            hulls.copy_within(run.clone(), new[b]);
-            ids.copy_within(run, new[b]);
-        };
         for b in (0..=count).rev().filter(|&b| new[b] > old[b]) {
-            shift(b, keys, hulls, ids);
+            boxes.copy_within(old[b]..old[b] + stayed[b], new[b]);
         }
         for b in (0..=count).filter(|&b| new[b] < old[b]) {
-            shift(b, keys, hulls, ids);
+            boxes.copy_within(old[b]..old[b] + stayed[b], new[b]);
         }
-        let movers = &self.movers;
-        let group = &mut self.groups[0];
-        group.guests.clear();
-        group.guest_starts.clear();
-        group.guest_starts.push(0);
+        let (movers, group) = (&self.movers, &mut self.groups[0]);
+        group.start(0..count);
         for b in 0..=count {
-            let out = new[b]..new[b + 1];
-            let moved = mover_starts[b]..mover_starts[b + 1];
-            let (k, h, i) = (
-                &mut keys[out.clone()],
-                &mut hulls[out.clone()],
-                &mut ids[out.clone()],
+            let (mut band, moved) = (
+                boxes.at(new[b]..new[b + 1]),
+                mover_starts[b]..mover_starts[b + 1],
             );
             if b == count {
                 // The boxes without a key: in any order.
-                let all = (&movers.keys[..], &movers.hulls[..], &movers.ids[..]);
-                copy_run((k, h, i), stayed[b], all, moved);
+                band.copy_from(stayed[b], movers.slice(0..movers.len()), moved);
                 break;
             }
-            let s = stayed[b];
-            sort_in_place(
-                &mut k[..s],
-                &mut h[..s],
-                &mut i[..s],
-                &mut group.order,
-                &mut group.spare,
-            );
-            insert_runs((k, h, i), s, movers, moved);
-            let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
-            let next = b + 1 < count;
-            let Group {
-                guests,
-                guest_starts,
-                spare,
-                ..
-            } = &mut *group;
-            end_guests((guests, guest_starts), homes, b, next, bands, spare);
+            sort_nearly_sorted(band.at(0..stayed[b]), &mut group.order, &mut group.spare);
+            insert_runs(band.at(0..band.len()), stayed[b], movers, moved);
+            group.end_guests(band.view(), b, b + 1 < count, bands);
         }
-        let laid_out = (&keys[..], &hulls[..], &ids[..]);
-        then_each(GroupView::of(
-            0,
-            0..count,
-            0,
-            laid_out,
-            &self.starts,
-            &self.groups[0],
-        ));
+        let (starts, group) = (&self.starts, &self.groups[0]);
+        let (boxes, bands) = (boxes.into_view(), group.bands.clone());
+        then_each(GroupView {
+            index: 0,
+            bands,
+            boxes,
+            offset: 0,
+            starts,
+            group,
+        });
     }
 
-    /// Puts together what the shares noted (see [`Layout::leaver_check`]):
+    /// Puts together what the shares noted (see [`Layout::mover_check`]):
     /// the movers and their places in `movers` and `gaps` (ascending),
-    /// where each band's places start in `gap_starts`, and the boxes that
-    /// stayed in each band in `stayed`, for last step's `starts` of
-    /// `count` bands. Returns per band the greatest value across the bands
-    /// that its stayers reach.
-    fn gather_leavers(&mut self, count: usize) -> Vec<f32> {
+    /// where each band's places start in `gap_starts`, and the stayers of
+    /// each band in `stayed`, for last step's `starts` of `count` bands.
+    /// Returns per band the greatest value across the bands that its
+    /// stayers reach.
+    fn gather_movers(&mut self, count: usize) -> Vec<f32> {
         let old = &self.starts;
         let mut tops = vec![f32::NEG_INFINITY; count + 1];
         self.stayed.clear();
@@ -530,35 +468,41 @@ impl Layout {
     }
 }
 
-/// Finds the boxes of band `b` (the entries `band` of the arrays, which
-/// start at place `at`) that left it: pushes each to `into`'s movers with
-/// its new home band and its place to its gaps; with `CARRY`, notes those
-/// that stayed and reach `carry` across as guests of the next group's
-/// first band. Returns the greatest value across the bands that the boxes
-/// that stayed reach.
+/// Finds the boxes of band `b` (the boxes `band` of `boxes`, which start
+/// at place `at`) that left it: pushes each to `into`'s movers with its
+/// new home band and its place to its gaps; with `CARRY`, notes the
+/// stayers that reach `carry` across as guests of the next group's first
+/// band. Returns the greatest value across the bands that the stayers
+/// reach.
 fn close_up<const CARRY: bool>(
-    (keys, hulls, ids): (&[f32], &[Packed], &[u32]),
+    boxes: BoxSlice,
     at: usize,
     band: Range<usize>,
     (b, carry): (usize, f32),
-    edges: &[f32],
-    bands: &Bands,
-    into: &mut Leavers,
+    check: &MoverCheck,
+    into: &mut Noted,
 ) -> f32 {
-    let count = bands.count;
-    let across = bands.across;
+    let BoxSlice { keys, hulls, slots } = boxes;
+    let (bands, across) = (&check.bands, check.bands.across);
     let mut leave = |k: usize, home: usize| {
-        into.movers.push(keys[k], hulls[k], ids[k], home as u32);
+        into.movers.push(keys[k], hulls[k], slots[k], home as u32);
         into.gaps.push(at + k);
     };
-    if b == count {
+    if b == bands.count {
         // The boxes without a key: those that have one now leave.
         for k in band.filter(|&k| keys[k] != NO_KEY) {
             leave(k, bands.of(lo(&hulls[k], across)));
         }
         return f32::NEG_INFINITY;
     }
-    let (low, high) = (edges[b], edges[b + 1]);
+    let (low, high) = (check.edges[b], check.edges[b + 1]);
+    let home = |key: f32, v: f32| {
+        if key == NO_KEY {
+            bands.count
+        } else {
+            bands.of(v)
+        }
+    };
     let (first, band_keys, band_hulls) = (band.start, &keys[band.clone()], &hulls[band]);
     // Eight boxes at a time, in arrays the compiler works on as vectors:
     // which stay, and the greatest value across that those reach; the rare
@@ -568,7 +512,7 @@ fn close_up<const CARRY: bool>(
     // one of its guests.
     let mut carry_one = |k: usize, h: f32| {
         let end = bands.of(h) as u32 + 1;
-        into.carried.push(keys[k], hulls[k], ids[k], end);
+        into.carried.push(keys[k], hulls[k], slots[k], end);
         into.carried_from.push(b as u32);
     };
     let blocks = band_keys.chunks_exact(8).zip(band_hulls.chunks_exact(8));
@@ -589,12 +533,7 @@ fn close_up<const CARRY: bool>(
         }
         if stays != [true; 8] {
             for j in (0..8).filter(|&j| !stays[j]) {
-                let home = if keys8[j] == NO_KEY {
-                    count
-                } else {
-                    bands.of(v[j])
-                };
-                leave(first + c * 8 + j, home);
+                leave(first + c * 8 + j, home(keys8[j], v[j]));
             }
         }
     }
@@ -609,14 +548,13 @@ fn close_up<const CARRY: bool>(
             carry_one(first + k, h);
         }
         if !stays {
-            let home = if key == NO_KEY { count } else { bands.of(v) };
-            leave(first + k, home);
+            leave(first + k, home(key, v));
         }
     }
     top
 }
 
-/// The runs of the entries `band` between its `gaps` (ascending places
+/// The runs of the boxes `band` between its `gaps` (ascending places
 /// within it), in order.
 fn runs_between(band: Range<usize>, gaps: &[usize]) -> impl Iterator<Item = Range<usize>> + '_ {
     let ends = gaps.iter().copied().chain(std::iter::once(band.end));
@@ -624,161 +562,97 @@ fn runs_between(band: Range<usize>, gaps: &[usize]) -> impl Iterator<Item = Rang
     starts.zip(ends).filter(|(s, e)| s < e).map(|(s, e)| s..e)
 }
 
-/// Fills a band's arrays with its boxes that stayed (copied from where
-/// they arrived, a run at a time) and its newcomers `moved` of the sorted
-/// movers, each newcomer before the stayer that `place(keys, key)` gives
-/// in a run, or after the run.
+/// Fills a band's boxes with its stayers (copied from where they arrived,
+/// a run at a time) and its movers `moved` of the sorted movers, each
+/// mover before the stayer that `place(keys, key)` gives in a run, or
+/// after the run.
 fn merge_in(
-    band_arrays: (&mut [f32], &mut [Packed], &mut [u32]),
+    mut out: BoxSliceMut,
     c: &Closed,
     band: usize,
     moved: Range<usize>,
     place: impl Fn(&[f32], f32) -> usize,
 ) {
-    let (keys, hulls, ids) = band_arrays;
-    let m = c.movers;
-    let (stayers, movers) = (
-        (c.keys, c.hulls, c.ids),
-        (&m.keys[..], &m.hulls[..], &m.ids[..]),
-    );
-    let mut at = 0;
-    let mut next = moved.start;
+    let (stayers, movers) = (c.arrived, c.movers.slice(0..c.movers.len()));
+    let (mut at, mut next) = (0, moved.start);
     for mut run in c.stayers(band) {
         while next < moved.end {
-            let split = run.start + place(&c.keys[run.clone()], m.keys[next]);
+            let split = run.start + place(&stayers.keys[run.clone()], movers.keys[next]);
             if split == run.end {
                 break;
             }
-            at = copy_run((keys, hulls, ids), at, stayers, run.start..split);
-            at = copy_run((keys, hulls, ids), at, movers, next..next + 1);
+            at = out.copy_from(at, stayers, run.start..split);
+            at = out.copy_from(at, movers, next..next + 1);
             (next, run.start) = (next + 1, split);
         }
-        at = copy_run((keys, hulls, ids), at, stayers, run);
+        at = out.copy_from(at, stayers, run);
     }
-    at = copy_run((keys, hulls, ids), at, movers, next..moved.end);
-    debug_assert_eq!(at, keys.len());
-}
-
-/// Copies the entries `from` of `src` to `dst` at `at`; returns where they
-/// end there.
-fn copy_run(
-    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
-    at: usize,
-    src: (&[f32], &[Packed], &[u32]),
-    from: Range<usize>,
-) -> usize {
-    let to = at..at + from.len();
-    keys[to.clone()].copy_from_slice(&src.0[from.clone()]);
-    hulls[to.clone()].copy_from_slice(&src.1[from.clone()]);
-    ids[to.clone()].copy_from_slice(&src.2[from]);
-    to.end
+    at = out.copy_from(at, movers, next..moved.end);
+    debug_assert_eq!(at, out.len());
 }
 
 /// Finishes one group's bands in its stretch of the new arrays: each
-/// band's stayers copied in with its newcomers merged in, then sorted;
+/// band's stayers copied in with its movers merged in, then sorted;
 /// then its guests, the first band's from the stayers below noted as
-/// reaching it and the newcomers to the bands below that do.
-/// Returns the stretch's keys, hulls and ids, finished.
-fn finish_group<'a>(
-    s: Stretch<'a>,
-    group: &mut Group,
-    c: &Closed,
-) -> (&'a [f32], &'a [Packed], &'a [u32]) {
+/// reaching it and the movers to the bands below that do. Returns the
+/// stretch, finished.
+fn finish_group<'a>(s: Stretch<'a>, group: &mut Group, c: &Closed) -> BoxSlice<'a> {
     let Stretch {
         bands: range,
         offset,
-        keys,
-        hulls,
-        ids,
+        mut boxes,
     } = s;
     let count = c.bands.count;
-    let Group {
-        guests,
-        guest_starts,
-        order,
-        spare,
-        ..
-    } = group;
+    group.start(range.start..range.end.min(count));
     // The first band's guests: the boxes of the bands below whose reach
     // ends in it or above, stayers and movers alike.
     let b0 = range.start;
     let from = (0..b0).find(|&b| c.reach[b] as usize >= b0).unwrap_or(b0);
-    guests.clear();
-    let across = c.bands.across;
+    let Group {
+        guests,
+        order,
+        spare,
+        ..
+    } = &mut *group;
     // The stayers among them were noted as their hulls were made, by the
     // thread that made them: the bands below, which another thread laid
     // out, are not read again.
     for share in c.carried {
         let noted = &share.carried;
-        let boxes = noted.keys.iter().zip(&noted.hulls).zip(&noted.ids);
-        let ends = noted.ends.iter().zip(&share.carried_from);
-        for (((&key, hull), &id), (&end, &band)) in boxes.zip(ends) {
-            if (band as usize) < b0 && end as usize > b0 {
-                guests.push(key, *hull, id, end);
+        for (k, &band) in share.carried_from.iter().enumerate() {
+            if (band as usize) < b0 && noted.ends[k] as usize > b0 {
+                guests.push_from(noted, k);
             }
         }
     }
     let m = c.movers;
     for k in c.mover_starts[from]..c.mover_starts[b0] {
-        let end = c.bands.of(hi(&m.hulls[k], across)) as u32 + 1;
+        let end = c.bands.of(hi(&m.hulls[k], c.bands.across)) as u32 + 1;
         if end as usize > b0 {
-            guests.push(m.keys[k], m.hulls[k], m.ids[k], end);
+            guests.push(m.keys[k], m.hulls[k], m.slots[k], end);
         }
     }
-    if guests.len() > 0 {
-        guests.sort(0..guests.len(), order, spare);
+    if guests.len() > 1 {
+        guests.sort(order, spare);
     }
-
-    guest_starts.clear();
-    guest_starts.push(0);
-    for band in range.start..range.end {
+    for band in range {
         let out = c.starts[band] - offset..c.starts[band + 1] - offset;
         let moved = c.mover_starts[band]..c.mover_starts[band + 1];
-        let band_arrays = (
-            &mut keys[out.clone()],
-            &mut hulls[out.clone()],
-            &mut ids[out.clone()],
-        );
         if band == count {
             // The boxes without a key: in any order.
-            merge_in(band_arrays, c, band, moved, |keys, _| keys.len());
+            merge_in(boxes.at(out), c, band, moved, |keys, _| keys.len());
             break;
         }
-        // The newcomers merged in as the stayers are copied, each before
+        // The movers merged in as the stayers are copied, each before
         // the first stayer past it (a place found by binary search in the
         // nearly sorted stayers, so possibly a little off); then the band
         // sorted, which puts right what is off.
-        merge_in(band_arrays, c, band, moved, |keys, key| {
+        merge_in(boxes.at(out.clone()), c, band, moved, |keys, key| {
             keys.partition_point(|&k| k <= key)
         });
-        sort_in_place(
-            &mut keys[out.clone()],
-            &mut hulls[out.clone()],
-            &mut ids[out.clone()],
-            order,
-            spare,
-        );
-        let homes = (&keys[out.clone()], &hulls[out.clone()], &ids[out]);
-        let next = band + 1 < range.end.min(count);
-        end_guests((guests, guest_starts), homes, band, next, c.bands, spare);
+        sort_nearly_sorted(boxes.at(out.clone()), &mut group.order, &mut group.spare);
+        let next = band + 1 < group.bands.end;
+        group.end_guests(boxes.view().at(out), band, next, c.bands);
     }
-    (keys, hulls, ids)
-}
-
-/// Closes up the entries `band` of the arrays: the ones between its `gaps`
-/// move to its front in their order, a run at a time.
-fn close_gaps(
-    (keys, hulls, ids): (&mut [f32], &mut [Packed], &mut [u32]),
-    band: Range<usize>,
-    gaps: &[usize],
-) {
-    let mut w = band.start;
-    for run in runs_between(band, gaps) {
-        if w != run.start {
-            keys.copy_within(run.clone(), w);
-            hulls.copy_within(run.clone(), w);
-            ids.copy_within(run.clone(), w);
-        }
-        w += run.len();
-    }
+    boxes.into_view()
 }
