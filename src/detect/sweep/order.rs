@@ -218,35 +218,33 @@ mod tests {
         assert_eq!(b.keys[..n].partition_point(|&k| k != NO_KEY), boxed);
     }
 
+    /// Nearly sorted boxes are sorted by insertion, scrambled ones by
+    /// radix, both by the sweep's sort and by a layout's.
     #[test]
-    fn nearly_sorted_boxes_are_insertion_sorted() {
-        let mut keys: Vec<f32> = (0..1000).map(|i| i as f32).collect();
-        keys.swap(10, 11);
-        keys.swap(500, 503);
-        keys[7] = NO_KEY;
-        let mut b = boxes(&keys);
-        let n = keys.len();
-        assert!(insert(b.slice_mut(n), 1, 1000, false).is_some());
-        let mut b = boxes(&keys);
-        assert_eq!(b.sort(&Team::solo()), 999);
-        check(&b, &keys, 999);
-    }
-
-    #[test]
-    fn scrambled_boxes_fall_back_to_radix() {
-        let mut keys: Vec<f32> = (0..1000u32)
+    fn boxes_are_sorted_by_insertion_or_else_by_radix() {
+        let mut nearly: Vec<f32> = (0..1000).map(|i| i as f32).collect();
+        nearly.swap(10, 11);
+        nearly.swap(500, 503);
+        nearly[7] = NO_KEY;
+        let mut scrambled: Vec<f32> = (0..1000u32)
             .map(|i| ((i * 7919) % 1000) as f32 - 500.0)
             .collect();
-        keys.extend([f32::NEG_INFINITY, -0.0, 0.0, NO_KEY]);
-        let mut b = boxes(&keys);
-        let n = keys.len();
-        assert!(insert(b.slice_mut(n), 1, 8 * n, false).is_none());
-        let mut b = boxes(&keys);
-        assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
-        check(&b, &keys, keys.len() - 1);
-        // Sorting again (now in order) keeps it so.
-        assert_eq!(b.sort(&Team::solo()), keys.len() - 1);
-        check(&b, &keys, keys.len() - 1);
+        scrambled.extend([f32::NEG_INFINITY, -0.0, 0.0, NO_KEY]);
+        for (keys, by_insertion) in [(nearly, true), (scrambled, false)] {
+            let n = keys.len();
+            let mut b = boxes(&keys);
+            let moves = insert(b.slice_mut(n), 1, MOVES_PER_BOX * n, false);
+            assert_eq!(moves.is_some(), by_insertion);
+            let mut b = boxes(&keys);
+            assert_eq!(b.sort(&Team::solo()), n - 1);
+            check(&b, &keys, n - 1);
+            // Sorting again (now in order) keeps it so.
+            assert_eq!(b.sort(&Team::solo()), n - 1);
+            check(&b, &keys, n - 1);
+            let mut b = boxes(&keys);
+            sort_nearly_sorted(b.slice_mut(n), &mut Vec::new(), &mut BoxList::default());
+            check(&b, &keys, n - 1);
+        }
     }
 
     #[test]
@@ -272,24 +270,6 @@ mod tests {
             let mut b = boxes(&keys);
             assert_eq!(b.sort(&team), 2);
             check(&b, &keys, 2);
-        }
-    }
-
-    #[test]
-    fn far_out_of_order_boxes_fall_back_to_radix() {
-        let mut keys: Vec<f32> = (0..500u32).map(|i| ((i * 7919) % 500) as f32).collect();
-        let mut hulls: Vec<Packed> = keys.iter().map(|&k| [k; 8]).collect();
-        let mut slots: Vec<u32> = (0..500).collect();
-        let b = BoxSliceMut {
-            keys: &mut keys,
-            hulls: &mut hulls,
-            slots: &mut slots,
-        };
-        sort_nearly_sorted(b, &mut Vec::new(), &mut BoxList::default());
-        assert!(keys.windows(2).all(|w| w[0] <= w[1]));
-        for k in 0..500 {
-            assert_eq!(hulls[k][0], keys[k]);
-            assert_eq!(keys[k], ((slots[k] * 7919) % 500) as f32);
         }
     }
 }
