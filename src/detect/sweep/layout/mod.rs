@@ -53,10 +53,11 @@ pub(crate) struct Layout {
     /// The least value of each band (`-inf` for the first), then `+inf`,
     /// for the bands in `kept`.
     edges: Vec<f32>,
-    /// The movers of this step, each with its new home band as its end,
-    /// and where they were: ascending, each band's from the start
-    /// `gap_starts` gives.
+    /// The movers of this step, each with its new home band as its end
+    /// (sorted by it, each band's from its `mover_starts` on), and where
+    /// they were: ascending, each band's from its `gap_starts` on.
     movers: BoxList,
+    mover_starts: Vec<usize>,
     gaps: Vec<usize>,
     gap_starts: Vec<usize>,
     /// What shares of the arriving boxes noted as their hulls were made
@@ -246,17 +247,14 @@ fn run_each<W: Send>(work: Vec<W>, team: &Team, each: impl Fn(W) + Sync) {
     });
 }
 
-/// Sets `starts` to where each band's homes start, from the homes counted
-/// in each (`n` in all), and their end.
-fn set_starts(counts: &[u32], starts: &mut Vec<usize>, n: usize) {
+/// Sets `starts` to where each band's boxes start, from the boxes counted
+/// in each, and their end.
+fn set_starts(counts: impl Iterator<Item = u32>, starts: &mut Vec<usize>) {
     starts.clear();
-    let mut total = 0;
-    for &c in counts {
-        starts.push(total);
-        total += c as usize;
+    starts.push(0);
+    for c in counts {
+        starts.push(starts[starts.len() - 1] + c as usize);
     }
-    starts.push(total);
-    debug_assert_eq!(total, n);
 }
 
 impl Group {

@@ -28,36 +28,6 @@ use crate::detect::sweep::order::{sort_nearly_sorted, Boxes};
 use crate::team::Team;
 use std::ops::Range;
 
-/// What every group reads while it finishes its bands.
-struct Closed<'a> {
-    /// Last step's boxes, where they arrived.
-    arrived: BoxSlice<'a>,
-    old_starts: &'a [usize],
-    starts: &'a [usize],
-    /// Where boxes left their band, in order, and where each band's
-    /// start among them.
-    gaps: &'a [usize],
-    gap_starts: &'a [usize],
-    /// Per band, the last band its homes (this step's) reach.
-    reach: &'a [u32],
-    /// The movers, sorted by band and then by key, and where each band's
-    /// start among them (then their end).
-    movers: &'a BoxList,
-    mover_starts: &'a [usize],
-    bands: &'a Bands,
-    /// What the shares noted, with the stayers that reach a group's first
-    /// band ([`Noted`]).
-    carried: &'a [Noted],
-}
-
-impl Closed<'_> {
-    /// The runs of band `b`'s stayers, where they arrived.
-    fn stayers(&self, b: usize) -> impl Iterator<Item = Range<usize>> + '_ {
-        let band = self.old_starts[b]..self.old_starts[b + 1];
-        runs_between(band, &self.gaps[self.gap_starts[b]..self.gap_starts[b + 1]])
-    }
-}
-
 /// What a share of the boxes, as they arrive in last step's layout with
 /// their hulls made anew, holds that left their band: found as the hulls
 /// are made ([`MoverCheck::note`]), while they are at hand.
@@ -224,19 +194,12 @@ impl Layout {
     ) -> usize {
         let groups = team.threads();
         let kept = self.note_movers(arriving, n, bands, team);
-        let (bounds, mover_starts) = self.place_movers(n, bands, groups, kept);
+        let bounds = self.place_movers(n, bands, groups, kept);
         self.group_count = bounds.len();
         if kept && groups == 1 {
-            self.finish_in_place(arriving, n, bands, &mover_starts, then_each);
+            self.finish_in_place(arriving, n, bands, then_each);
         } else {
-            self.finish_groups(
-                arriving,
-                n,
-                bands,
-                team,
-                (&bounds, &mover_starts),
-                then_each,
-            );
+            self.finish_groups(arriving.slice(n), team, &bounds, then_each);
             std::mem::swap(arriving, &mut self.laid);
         }
         self.starts[bands.count]
@@ -275,15 +238,15 @@ impl Layout {
 
     /// Sets the new layout's starts from the stayers of each band and the
     /// movers (sorted by band, and if `kept` by key), and each band's
-    /// reach; returns the groups of bands, one per thread, and where each
-    /// band's movers start.
+    /// reach and where its movers start; returns the groups of bands, one
+    /// per thread.
     fn place_movers(
         &mut self,
         n: usize,
         bands: &Bands,
         groups: usize,
         kept: bool,
-    ) -> (Vec<Range<usize>>, Vec<usize>) {
+    ) -> Vec<Range<usize>> {
         let count = bands.count;
         let mut tops = self.gather_movers(count);
         std::mem::swap(&mut self.starts, &mut self.old_starts);
@@ -296,7 +259,8 @@ impl Layout {
                 *top = top.max(hi(hull, bands.across));
             }
         }
-        set_starts(&self.counts, &mut self.starts, n);
+        set_starts(self.counts.iter().copied(), &mut self.starts);
+        debug_assert_eq!(self.starts[count + 1], n);
         // Groups of bands of about as many boxes, the last also holding the
         // boxes without a key: by last step's starts, for which the guests
         // of each group's first band were noted, or with none, by these.
@@ -304,15 +268,11 @@ impl Layout {
         let bounds = groups_of_bands(by, groups);
         self.groups
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
-        let mut mover_starts = Vec::with_capacity(count + 2);
-        mover_starts.push(0);
-        for b in 0..=count {
-            let moved = self.counts[b] as usize - self.stayed[b];
-            mover_starts.push(mover_starts[b] + moved);
-        }
+        let moved = (0..=count).map(|b| self.counts[b] - self.stayed[b] as u32);
+        set_starts(moved, &mut self.mover_starts);
         // Made anew, the bands have no stayers to merge the movers among:
         // each band sorts them itself, on its group's thread.
-        self.groups[0].sort_movers(&mut self.movers, &mover_starts, kept);
+        self.groups[0].sort_movers(&mut self.movers, &self.mover_starts, kept);
         self.reach.clear();
         self.reach.extend(
             tops.iter()
@@ -322,42 +282,33 @@ impl Layout {
                     false => b as u32,
                 }),
         );
-        (bounds, mover_starts)
+        bounds
     }
 
-    /// Each group of bands (`bounds`) copies its bands' stayers and
-    /// movers to their new places in the layout's arrays and finishes
-    /// them there, with their guests, on its member of `team`, then hands
-    /// itself to `then_each`.
+    /// Each group of bands (`bounds`) copies its bands' stayers (from
+    /// `arrived`) and movers to their new places in the other arrays and
+    /// finishes them there, with their guests, on its member of `team`,
+    /// then hands itself to `then_each`.
     fn finish_groups(
         &mut self,
-        arriving: &Boxes,
-        n: usize,
-        bands: &Bands,
+        arrived: BoxSlice,
         team: &Team,
-        (bounds, mover_starts): (&[Range<usize>], &[usize]),
+        bounds: &[Range<usize>],
         then_each: ThenEach,
     ) {
-        self.laid.set_len(n);
-        let closed = Closed {
-            arrived: arriving.slice(n),
-            old_starts: &self.old_starts,
-            starts: &self.starts,
-            gaps: &self.gaps,
-            gap_starts: &self.gap_starts,
-            reach: &self.reach,
-            movers: &self.movers,
-            mover_starts,
-            bands,
-            carried: &self.noted[..self.noted_shares],
-        };
-        let stretches = stretches(closed.starts, self.laid.slice_mut(n), bounds);
-        let work: Vec<_> = (stretches.into_iter().zip(self.groups.iter_mut()))
+        let (mut groups, mut laid) = (
+            std::mem::take(&mut self.groups),
+            std::mem::take(&mut self.laid),
+        );
+        laid.set_len(arrived.len());
+        let (layout, starts) = (&*self, &self.starts[..]);
+        let stretches = stretches(starts, laid.slice_mut(arrived.len()), bounds);
+        let work: Vec<_> = (stretches.into_iter().zip(groups.iter_mut()))
             .enumerate()
             .collect();
         run_each(work, team, |(index, (s, group))| {
-            let (offset, starts) = (s.offset, closed.starts);
-            let boxes = finish_group(s, group, &closed);
+            let offset = s.offset;
+            let boxes = layout.finish_group(s, group, arrived);
             let bands = group.bands.clone();
             then_each(GroupView {
                 index,
@@ -368,6 +319,7 @@ impl Layout {
                 group,
             });
         });
+        (self.groups, self.laid) = (groups, laid);
     }
 
     /// [`Layout::lay_out`] of last step's layout on one thread, in place:
@@ -385,7 +337,6 @@ impl Layout {
         arriving: &mut Boxes,
         n: usize,
         bands: &Bands,
-        mover_starts: &[usize],
         then_each: ThenEach,
     ) {
         let count = bands.count;
@@ -410,10 +361,8 @@ impl Layout {
         let (movers, group) = (&self.movers, &mut self.groups[0]);
         group.start(0..count);
         for b in 0..=count {
-            let (mut band, moved) = (
-                boxes.at(new[b]..new[b + 1]),
-                mover_starts[b]..mover_starts[b + 1],
-            );
+            let moved = self.mover_starts[b]..self.mover_starts[b + 1];
+            let mut band = boxes.at(new[b]..new[b + 1]);
             if b == count {
                 // The boxes without a key: in any order.
                 band.copy_from(stayed[b], movers.slice(0..movers.len()), moved);
@@ -562,97 +511,112 @@ fn runs_between(band: Range<usize>, gaps: &[usize]) -> impl Iterator<Item = Rang
     starts.zip(ends).filter(|(s, e)| s < e).map(|(s, e)| s..e)
 }
 
-/// Fills a band's boxes with its stayers (copied from where they arrived,
-/// a run at a time) and its movers `moved` of the sorted movers, each
-/// mover before the stayer that `place(keys, key)` gives in a run, or
-/// after the run.
-fn merge_in(
-    mut out: BoxSliceMut,
-    c: &Closed,
-    band: usize,
-    moved: Range<usize>,
-    place: impl Fn(&[f32], f32) -> usize,
-) {
-    let (stayers, movers) = (c.arrived, c.movers.slice(0..c.movers.len()));
-    let (mut at, mut next) = (0, moved.start);
-    for mut run in c.stayers(band) {
-        while next < moved.end {
-            let split = run.start + place(&stayers.keys[run.clone()], movers.keys[next]);
-            if split == run.end {
+impl Layout {
+    /// The runs of band `b`'s stayers, where they arrived.
+    fn stayers(&self, b: usize) -> impl Iterator<Item = Range<usize>> + '_ {
+        let band = self.old_starts[b]..self.old_starts[b + 1];
+        runs_between(band, &self.gaps[self.gap_starts[b]..self.gap_starts[b + 1]])
+    }
+
+    /// Fills band `band`'s boxes `out` with its stayers (copied from
+    /// `arrived`, a run at a time) and its movers, each mover before the
+    /// stayer that `place(keys, key)` gives in a run, or after the run.
+    fn merge_in(
+        &self,
+        mut out: BoxSliceMut,
+        arrived: BoxSlice,
+        band: usize,
+        place: impl Fn(&[f32], f32) -> usize,
+    ) {
+        let movers = self.movers.slice(0..self.movers.len());
+        let moved = self.mover_starts[band]..self.mover_starts[band + 1];
+        let (mut at, mut next) = (0, moved.start);
+        for mut run in self.stayers(band) {
+            while next < moved.end {
+                let split = run.start + place(&arrived.keys[run.clone()], movers.keys[next]);
+                if split == run.end {
+                    break;
+                }
+                at = out.copy_from(at, arrived, run.start..split);
+                at = out.copy_from(at, movers, next..next + 1);
+                (next, run.start) = (next + 1, split);
+            }
+            at = out.copy_from(at, arrived, run);
+        }
+        at = out.copy_from(at, movers, next..moved.end);
+        debug_assert_eq!(at, out.len());
+    }
+
+    /// Finishes one group's bands in its stretch of the other arrays:
+    /// each band's stayers (from `arrived`) copied in with its movers
+    /// merged in, then sorted; then its guests, the first band's from the
+    /// stayers below noted as reaching it and the movers to the bands
+    /// below that do. Returns the stretch, finished.
+    fn finish_group<'a>(
+        &self,
+        s: Stretch<'a>,
+        group: &mut Group,
+        arrived: BoxSlice,
+    ) -> BoxSlice<'a> {
+        let Stretch {
+            bands: range,
+            offset,
+            mut boxes,
+        } = s;
+        let bands = self.kept.as_ref().expect("the bands laid out");
+        let count = bands.count;
+        group.start(range.start..range.end.min(count));
+        // The first band's guests: the boxes of the bands below whose reach
+        // ends in it or above, stayers and movers alike.
+        let b0 = range.start;
+        let from = (0..b0)
+            .find(|&b| self.reach[b] as usize >= b0)
+            .unwrap_or(b0);
+        let Group {
+            guests,
+            order,
+            spare,
+            ..
+        } = &mut *group;
+        // The stayers among them were noted as their hulls were made, by the
+        // thread that made them: the bands below, which another thread laid
+        // out, are not read again.
+        for share in &self.noted[..self.noted_shares] {
+            let noted = &share.carried;
+            for (k, &band) in share.carried_from.iter().enumerate() {
+                if (band as usize) < b0 && noted.ends[k] as usize > b0 {
+                    guests.push_from(noted, k);
+                }
+            }
+        }
+        let m = &self.movers;
+        for k in self.mover_starts[from]..self.mover_starts[b0] {
+            let end = bands.of(hi(&m.hulls[k], bands.across)) as u32 + 1;
+            if end as usize > b0 {
+                guests.push(m.keys[k], m.hulls[k], m.slots[k], end);
+            }
+        }
+        if guests.len() > 1 {
+            guests.sort(order, spare);
+        }
+        for band in range {
+            let out = self.starts[band] - offset..self.starts[band + 1] - offset;
+            if band == count {
+                // The boxes without a key: in any order.
+                self.merge_in(boxes.at(out), arrived, band, |keys, _| keys.len());
                 break;
             }
-            at = out.copy_from(at, stayers, run.start..split);
-            at = out.copy_from(at, movers, next..next + 1);
-            (next, run.start) = (next + 1, split);
+            // The movers merged in as the stayers are copied, each before
+            // the first stayer past it (a place found by binary search in
+            // the nearly sorted stayers, so possibly a little off); then the
+            // band sorted, which puts right what is off.
+            self.merge_in(boxes.at(out.clone()), arrived, band, |keys, key| {
+                keys.partition_point(|&k| k <= key)
+            });
+            sort_nearly_sorted(boxes.at(out.clone()), &mut group.order, &mut group.spare);
+            let next = band + 1 < group.bands.end;
+            group.end_guests(boxes.view().at(out), band, next, bands);
         }
-        at = out.copy_from(at, stayers, run);
+        boxes.into_view()
     }
-    at = out.copy_from(at, movers, next..moved.end);
-    debug_assert_eq!(at, out.len());
-}
-
-/// Finishes one group's bands in its stretch of the new arrays: each
-/// band's stayers copied in with its movers merged in, then sorted;
-/// then its guests, the first band's from the stayers below noted as
-/// reaching it and the movers to the bands below that do. Returns the
-/// stretch, finished.
-fn finish_group<'a>(s: Stretch<'a>, group: &mut Group, c: &Closed) -> BoxSlice<'a> {
-    let Stretch {
-        bands: range,
-        offset,
-        mut boxes,
-    } = s;
-    let count = c.bands.count;
-    group.start(range.start..range.end.min(count));
-    // The first band's guests: the boxes of the bands below whose reach
-    // ends in it or above, stayers and movers alike.
-    let b0 = range.start;
-    let from = (0..b0).find(|&b| c.reach[b] as usize >= b0).unwrap_or(b0);
-    let Group {
-        guests,
-        order,
-        spare,
-        ..
-    } = &mut *group;
-    // The stayers among them were noted as their hulls were made, by the
-    // thread that made them: the bands below, which another thread laid
-    // out, are not read again.
-    for share in c.carried {
-        let noted = &share.carried;
-        for (k, &band) in share.carried_from.iter().enumerate() {
-            if (band as usize) < b0 && noted.ends[k] as usize > b0 {
-                guests.push_from(noted, k);
-            }
-        }
-    }
-    let m = c.movers;
-    for k in c.mover_starts[from]..c.mover_starts[b0] {
-        let end = c.bands.of(hi(&m.hulls[k], c.bands.across)) as u32 + 1;
-        if end as usize > b0 {
-            guests.push(m.keys[k], m.hulls[k], m.slots[k], end);
-        }
-    }
-    if guests.len() > 1 {
-        guests.sort(order, spare);
-    }
-    for band in range {
-        let out = c.starts[band] - offset..c.starts[band + 1] - offset;
-        let moved = c.mover_starts[band]..c.mover_starts[band + 1];
-        if band == count {
-            // The boxes without a key: in any order.
-            merge_in(boxes.at(out), c, band, moved, |keys, _| keys.len());
-            break;
-        }
-        // The movers merged in as the stayers are copied, each before
-        // the first stayer past it (a place found by binary search in the
-        // nearly sorted stayers, so possibly a little off); then the band
-        // sorted, which puts right what is off.
-        merge_in(boxes.at(out.clone()), c, band, moved, |keys, key| {
-            keys.partition_point(|&k| k <= key)
-        });
-        sort_nearly_sorted(boxes.at(out.clone()), &mut group.order, &mut group.spare);
-        let next = band + 1 < group.bands.end;
-        group.end_guests(boxes.view().at(out), band, next, c.bands);
-    }
-    boxes.into_view()
 }
