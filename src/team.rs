@@ -216,6 +216,13 @@ impl std::fmt::Debug for Team {
     }
 }
 
+impl Default for Team {
+    /// A team of one.
+    fn default() -> Team {
+        Team::solo()
+    }
+}
+
 impl Team {
     /// A team of one: jobs run on the caller alone.
     pub fn solo() -> Team {

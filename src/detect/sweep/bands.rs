@@ -24,9 +24,9 @@ pub(crate) struct Bands {
     last: f32,
 }
 
-impl Bands {
+impl Default for Bands {
     /// A single band: a plain sweep.
-    pub(crate) fn one() -> Self {
+    fn default() -> Self {
         Self {
             across: 0,
             count: 1,
@@ -35,7 +35,9 @@ impl Bands {
             last: 0.0,
         }
     }
+}
 
+impl Bands {
     /// `count` bands cut across direction `across`, spread evenly over
     /// `[from, to]`; values beyond fall into the first or last band.
     pub(crate) fn spanning(across: usize, count: usize, from: f32, to: f32) -> Self {
@@ -44,7 +46,7 @@ impl Bands {
         if count == 1 || width.is_nan() || width <= 0.0 || !width.is_finite() {
             return Self {
                 across,
-                ..Self::one()
+                ..Self::default()
             };
         }
         Self {

@@ -63,7 +63,6 @@ use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::{Line, LARGE_SCENE};
 use crate::narrow::Event;
 use crate::team::{self, Team};
-use bands::Bands;
 use boxes::BoxSlice;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
@@ -128,7 +127,7 @@ type Clock = PhaseClock<{ PHASES.len() }>;
 /// The sort-based broad phase: boxes sorted along one direction and
 /// swept, in bands across the other where one direction meets too much
 /// (`docs/DESIGN.md` tells how and why).
-#[derive(Debug)]
+#[derive(Debug, Default)]
 pub struct Sweep {
     plan: Plan,
     /// Steps until the next plan.
@@ -164,24 +163,7 @@ impl Sweep {
     /// [`Detector::set_threads`] gives it a team. (`config` has nothing
     /// the sweep tunes.)
     pub fn new(_config: &DetectorConfig) -> Self {
-        let solo = Arc::new(Team::solo());
-        Self {
-            plan: Plan {
-                along: 0,
-                bands: Bands::one(),
-            },
-            until_plan: 0,
-            sorted: Boxes::default(),
-            layout: Layout::default(),
-            wild: Vec::new(),
-            stats: DetectorStats::default(),
-            clock: None,
-            team: Arc::clone(&solo),
-            solo,
-            chunks: Vec::new(),
-            until_store: 0,
-            dense: false,
-        }
+        Self::default()
     }
 
     fn lap(&mut self, phase: usize) {
@@ -344,14 +326,10 @@ impl Sweep {
             if timing && group.index == 0 {
                 *layout_end.lock().expect("the layout's end") = Some(Instant::now());
             }
-            let mut chunk = found[group.index].lock().expect("a group's findings");
-            let Chunk {
-                events,
-                counts,
-                pairs,
-            } = &mut *chunk;
-            let mut test = Tester::new(stored, dt, events, counts);
-            counts.candidates = scan::sweep_group(&group, along, dense, pairs, &mut test);
+            let chunk = &mut *found[group.index].lock().expect("a group's findings");
+            let mut test = Tester::new(stored, dt, &mut chunk.events, &mut chunk.counts);
+            let candidates = scan::sweep_group(&group, along, dense, &mut chunk.pairs, &mut test);
+            chunk.counts.candidates = candidates;
         };
         let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
@@ -392,16 +370,15 @@ impl Sweep {
             if c >= chunks {
                 break;
             }
-            let mut chunk = found[c].lock().expect("a chunk's findings");
-            let Chunk {
-                events,
-                counts,
-                pairs,
-            } = &mut *chunk;
-            *counts = PairCounts::default();
+            let chunk = &mut *found[c].lock().expect("a chunk's findings");
+            chunk.counts = PairCounts::default();
+            chunk.pairs.clear();
             let range = c * size..((c + 1) * size).min(boxed);
-            let mut test = Tester::new(stored, dt, events, counts);
-            counts.candidates = scan::sweep_sorted(sorted, range, along, dense, pairs, &mut test);
+            let mut test = Tester::new(stored, dt, &mut chunk.events, &mut chunk.counts);
+            let (keys, hulls) = (&sorted.keys[..], &sorted.hulls[..]);
+            let candidates = scan::sweep(keys, hulls, range, along, dense, &mut chunk.pairs);
+            test.test(&chunk.pairs, &sorted.slots, &sorted.slots);
+            chunk.counts.candidates = candidates;
         });
         let mut counts = PairCounts::default();
         join_findings(&mut found[..chunks], events, &mut counts);
@@ -445,12 +422,6 @@ fn join_findings(chunks: &mut [Mutex<Chunk>], events: &mut Vec<Event>, counts: &
         let chunk = chunk.get_mut().expect("a chunk's findings");
         events.append(&mut chunk.events);
         counts.add(&chunk.counts);
-    }
-}
-
-impl Default for Sweep {
-    fn default() -> Self {
-        Self::new(&DetectorConfig::default())
     }
 }
 
@@ -505,7 +476,7 @@ impl Detector for Sweep {
     }
 
     fn set_threads(&mut self, _threads: usize, team: Option<Arc<Team>>) {
-        self.team = team.unwrap_or_else(|| Arc::clone(&self.solo));
+        self.team = team.unwrap_or_default();
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {

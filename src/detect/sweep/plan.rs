@@ -11,7 +11,7 @@ use super::hull::NO_KEY;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
 
 /// How to sweep: the direction, and the bands cut across the other one.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub(crate) struct Plan {
     /// The direction boxes are sorted and swept along (0..4: x, y, u, w).
     pub along: usize,
@@ -223,13 +223,7 @@ pub(crate) fn choose(
 pub(crate) fn choose_from(layout: LayoutCost, spreads: &[Spread], total: usize) -> Plan {
     let directions = spreads.len();
     // Each direction's partner across is among the first `directions`.
-    let mut best = (
-        f64::INFINITY,
-        Plan {
-            along: 0,
-            bands: Bands::one(),
-        },
-    );
+    let mut best = (f64::INFINITY, Plan::default());
     for along in 0..directions {
         let s = &spreads[along];
         let c = &spreads[across(along)];

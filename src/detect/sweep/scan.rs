@@ -5,7 +5,6 @@
 use super::boxes::BoxSlice;
 use super::hull::{hi, overlaps, reach, Packed};
 use super::layout::GroupView;
-use super::order::Boxes;
 use super::Stored;
 use crate::detect::swept::{test_ordered, PairCounts};
 use crate::line::{read_ahead, LARGE_SCENE, READ_AHEAD};
@@ -44,7 +43,7 @@ impl<'a> Tester<'a> {
     /// Tests the noted `pairs` of places, the first of each pair's slot
     /// from `first`, the second's from `second`.
     #[inline(always)]
-    fn test(&mut self, pairs: &[(u32, u32)], first: &[u32], second: &[u32]) {
+    pub(crate) fn test(&mut self, pairs: &[(u32, u32)], first: &[u32], second: &[u32]) {
         for (k, &(i, j)) in pairs.iter().enumerate() {
             if let Some(&(i, j)) = pairs.get(k + READ_AHEAD).filter(|_| self.ahead) {
                 for slot in [first[i as usize], second[j as usize]] {
@@ -159,24 +158,6 @@ fn meet(
         j += 1;
     }
     j
-}
-
-/// With one band: sweeps the boxes `range` of `sorted` (each against the
-/// boxes after it, wherever they lie) along direction `along`, noting the
-/// overlapping pairs in `pairs`, then tests them. Returns the candidates
-/// met.
-pub(crate) fn sweep_sorted(
-    sorted: &Boxes,
-    range: std::ops::Range<usize>,
-    along: usize,
-    dense: bool,
-    pairs: &mut Vec<(u32, u32)>,
-    test: &mut Tester,
-) -> u64 {
-    pairs.clear();
-    let candidates = sweep(&sorted.keys, &sorted.hulls, range, along, dense, pairs);
-    test.test(pairs, &sorted.slots, &sorted.slots);
-    candidates
 }
 
 /// Sweeps the boxes `range` of sorted `keys` and `hulls`, each against the
