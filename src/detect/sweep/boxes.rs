@@ -3,7 +3,9 @@
 //! sort by radix.
 
 use super::hull::Packed;
+use crate::team;
 use std::ops::Range;
+use std::sync::Mutex;
 
 /// Boxes in parallel slices: each box's key, packed hull and id.
 #[derive(Clone, Copy, Debug)]
@@ -86,6 +88,19 @@ impl<'a> BoxSliceMut<'a> {
             },
             rest,
         )
+    }
+
+    /// Splits the boxes into `parts` shares as [`team::share`] gives them,
+    /// each behind its own lock (see [`team::shares_mut`]).
+    pub(crate) fn shares(self, parts: usize) -> Vec<Mutex<Self>> {
+        let n = self.len();
+        let mut rest = self;
+        let mut cut = |k| {
+            let (head, tail) = std::mem::take(&mut rest).split_at(team::share(n, parts, k).len());
+            rest = tail;
+            Mutex::new(head)
+        };
+        (0..parts.max(1)).map(&mut cut).collect()
     }
 
     /// Copies the boxes `src` to `dest` on, as [`slice::copy_within`].

@@ -63,7 +63,6 @@ use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::{Line, LARGE_SCENE};
 use crate::narrow::Event;
 use crate::team::{self, Team};
-use boxes::BoxSlice;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
 use order::Boxes;
@@ -192,27 +191,18 @@ impl Sweep {
         let team = self.team_for(n);
         let threads = team.threads();
         let (check, noted) = (self.layout).mover_check(n, &self.plan.bands, threads, threads);
-        let b = self.sorted.slice_mut(n);
-        let (hulls, keys, noted) = (
-            team::shares_mut(b.hulls, threads),
-            team::shares_mut(b.keys, threads),
-            team::shares_mut(noted, threads),
-        );
-        let slots: &[u32] = b.slots;
+        let shares = self.sorted.slice_mut(n).shares(threads);
+        let noted = team::shares_mut(noted, threads);
         team.run(&|k| {
-            let share = team::share(n, threads, k);
-            let mut hulls = hulls[k].lock().expect("a share");
-            let mut keys = keys[k].lock().expect("a share");
+            let start = team::share(n, threads, k).start;
+            let share = &mut *shares[k].lock().expect("a share");
             let noted = &mut noted[k].lock().expect("a share")[0];
             noted.clear();
-            let blocks = slots[share.clone()]
-                .chunks(NOTE_BLOCK)
-                .zip(hulls.chunks_mut(NOTE_BLOCK));
-            for (j, ((slots, hulls), keys)) in blocks.zip(keys.chunks_mut(NOTE_BLOCK)).enumerate() {
-                hull::make(lines, slots, hulls, keys, along, dt);
+            for at in (0..share.len()).step_by(NOTE_BLOCK) {
+                let block = share.at(at..(at + NOTE_BLOCK).min(share.len()));
+                hull::make(lines, block.slots, block.hulls, block.keys, along, dt);
                 if let Some(check) = &check {
-                    let made = BoxSlice { keys, hulls, slots };
-                    check.note(share.start + j * NOTE_BLOCK, made, noted);
+                    check.note(start + at, block.view(), noted);
                 }
             }
         });

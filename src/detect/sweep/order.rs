@@ -89,25 +89,11 @@ impl Boxes {
     pub(crate) fn sort(&mut self, team: &Team) -> usize {
         let (n, threads) = (self.len(), team.threads());
         let mut budget = MOVES_PER_BOX * n;
-        let b = self.slice_mut(n);
-        let (keys, hulls, slots) = (
-            team::shares_mut(b.keys, threads),
-            team::shares_mut(b.hulls, threads),
-            team::shares_mut(b.slots, threads),
-        );
+        let shares = self.slice_mut(n).shares(threads);
         let sorted = AtomicBool::new(true);
         team.run(&|k| {
-            let (mut keys, mut hulls, mut slots) = (
-                keys[k].lock().expect("a share"),
-                hulls[k].lock().expect("a share"),
-                slots[k].lock().expect("a share"),
-            );
-            let share = BoxSliceMut {
-                keys: &mut keys,
-                hulls: &mut hulls,
-                slots: &mut slots,
-            };
-            if insert(share, 1, budget / threads, false).is_none() {
+            let share = &mut *shares[k].lock().expect("a share");
+            if insert(share.at(0..share.len()), 1, budget / threads, false).is_none() {
                 sorted.store(false, Ordering::Relaxed);
             }
         });
