@@ -23,9 +23,7 @@ use super::bands::Bands;
 use super::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use super::hull::hi;
 use super::order::{sort_nearly_sorted, Boxes};
-use crate::team::Team;
 use std::ops::Range;
-use std::sync::Mutex;
 
 /// The boxes band by band (see the [module docs](self)).
 #[derive(Debug, Default)]
@@ -234,19 +232,6 @@ fn groups_of_bands(starts: &[usize], groups: usize) -> Vec<Range<usize>> {
     bounds
 }
 
-/// Runs `each` on every item of `work` with `team`, item `k` as piece `k`
-/// (there are no more items than members).
-fn run_each<W: Send>(work: Vec<W>, team: &Team, each: impl Fn(W) + Sync) {
-    debug_assert!(work.len() <= team.threads());
-    let work: Vec<Mutex<Option<W>>> = work.into_iter().map(|w| Mutex::new(Some(w))).collect();
-    team.run_pieces(work.len(), &|k| {
-        let taken = work[k].lock().expect("an item").take();
-        if let Some(w) = taken {
-            each(w);
-        }
-    });
-}
-
 /// Sets `starts` to where each band's boxes start, from the boxes counted
 /// in each, and their end.
 fn set_starts(counts: impl Iterator<Item = u32>, starts: &mut Vec<usize>) {
@@ -361,6 +346,7 @@ mod tests {
     use super::*;
     use crate::detect::sweep::hull::{Packed, NO_KEY};
     use crate::team::Team;
+    use std::sync::Mutex;
 
     fn hull(key: f32, lo_y: f32, hi_y: f32) -> Packed {
         let n = f32::NEG_INFINITY;

@@ -18,8 +18,8 @@
 //! ([`Layout::finish_in_place`]).
 
 use super::{
-    groups_of_bands, insert_runs, run_each, set_starts, stretches, Group, GroupView, Layout,
-    Stretch, ThenEach,
+    groups_of_bands, insert_runs, set_starts, stretches, Group, GroupView, Layout, Stretch,
+    ThenEach,
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::boxes::{BoxList, BoxSlice, BoxSliceMut};
@@ -27,6 +27,7 @@ use crate::detect::sweep::hull::{hi, lo, NO_KEY};
 use crate::detect::sweep::order::{sort_nearly_sorted, Boxes};
 use crate::team::Team;
 use std::ops::Range;
+use std::sync::Mutex;
 
 /// What a share of the boxes, as they arrive in last step's layout with
 /// their hulls made anew, holds that left their band: found as the hulls
@@ -142,7 +143,6 @@ impl Layout {
         shares: usize,
         groups: usize,
     ) -> (Option<MoverCheck<'_>>, &mut [Noted]) {
-        let count = bands.count;
         let keeps = self.keeps(bands, n);
         self.noted_for = keeps.then_some((*bands, groups));
         self.noted
@@ -151,18 +151,12 @@ impl Layout {
         self.carry.clear();
         if keeps && groups > 1 {
             // Per band, the least value of the next group's first band.
-            let firsts: Vec<usize> = groups_of_bands(&self.starts, groups)[1..]
-                .iter()
-                .map(|g| g.start)
-                .filter(|&first| first < count)
-                .collect();
-            let edges = &self.edges;
-            self.carry.extend(
-                (0..=count).map(|b| match firsts.iter().find(|&&first| first > b) {
-                    Some(&first) if b < count => edges[first],
-                    _ => f32::INFINITY,
-                }),
-            );
+            let bounds = groups_of_bands(&self.starts, groups);
+            for (g, group) in bounds.iter().enumerate() {
+                let next = bounds.get(g + 1);
+                let carry = next.map_or(f32::INFINITY, |next| self.edges[next.start]);
+                self.carry.extend(group.clone().map(|_| carry));
+            }
         }
         let check = keeps.then_some(MoverCheck {
             starts: &self.starts,
@@ -303,13 +297,15 @@ impl Layout {
         laid.set_len(arrived.len());
         let (layout, starts) = (&*self, &self.starts[..]);
         let stretches = stretches(starts, laid.slice_mut(arrived.len()), bounds);
-        let work: Vec<_> = (stretches.into_iter().zip(groups.iter_mut()))
-            .enumerate()
+        let work: Vec<_> = stretches
+            .into_iter()
+            .zip(groups.iter_mut())
+            .map(Mutex::new)
             .collect();
-        run_each(work, team, |(index, (s, group))| {
-            let offset = s.offset;
-            let boxes = layout.finish_group(s, group, arrived);
-            let bands = group.bands.clone();
+        team.run_pieces(work.len(), &|index| {
+            let (s, group) = &mut *work[index].lock().expect("a group");
+            let (offset, boxes) = (s.offset, layout.finish_group(s, group, arrived));
+            let (bands, group) = (group.bands.clone(), &**group);
             then_each(GroupView {
                 index,
                 bands,
@@ -554,15 +550,11 @@ impl Layout {
     /// below that do. Returns the stretch, finished.
     fn finish_group<'a>(
         &self,
-        s: Stretch<'a>,
+        s: &'a mut Stretch,
         group: &mut Group,
         arrived: BoxSlice,
     ) -> BoxSlice<'a> {
-        let Stretch {
-            bands: range,
-            offset,
-            mut boxes,
-        } = s;
+        let (range, offset, boxes) = (s.bands.clone(), s.offset, &mut s.boxes);
         let bands = self.kept.as_ref().expect("the bands laid out");
         let count = bands.count;
         group.start(range.start..range.end.min(count));
@@ -617,6 +609,7 @@ impl Layout {
             let next = band + 1 < group.bands.end;
             group.end_guests(boxes.view().at(out), band, next, bands);
         }
-        boxes.into_view()
+        let boxes: &'a BoxSliceMut = boxes;
+        boxes.view()
     }
 }
