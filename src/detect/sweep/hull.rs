@@ -94,7 +94,7 @@ fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
 /// least value along direction `along` into `keys[k]` ([`NO_KEY`] for a
 /// line without a hull).
 ///
-/// Lines are taken [`LANES`] at a time ([`make_batch`]), so that each
+/// Lines are taken [`LANES`] at a time ([`portable::make_batch`]), so that each
 /// operation works on four lines at once; the rest one at a time. Compiled
 /// twice, for the baseline and for AVX2 (four `f64` lanes in one register,
 /// the batch written out with its intrinsics: [`avx2`]), and chosen when
@@ -148,76 +148,75 @@ fn make_each<'a>(
     }
 }
 
-/// Lines whose hulls [`make_batch`] makes at once.
+/// Lines whose hulls [`portable::make_batch`] makes at once.
 pub(crate) const LANES: usize = 4;
 
-/// One value for each line of a batch.
+/// The batch as the compiler vectorises it (WebAssembly with SIMD has one
+/// of its own, [`simd128`]).
 #[cfg_attr(
     all(target_arch = "wasm32", target_feature = "simd128"),
     allow(dead_code)
 )]
-type Lanes = [f64; LANES];
-
-/// `f` of each lane.
-#[cfg_attr(
-    all(target_arch = "wasm32", target_feature = "simd128"),
-    allow(dead_code)
-)]
-#[inline(always)]
-fn lanes(f: impl FnMut(usize) -> f64) -> Lanes {
-    std::array::from_fn(f)
-}
-
-/// [`of_line`] of [`LANES`] lines at once, each value a lane: the same
-/// operations on each line in the same order, written lane by lane so
-/// that the compiler turns each into one vector operation. Writes each
-/// line's packed hull and key (least value along `along`, or [`NO_KEY`]).
-/// (WebAssembly with SIMD uses [`simd128`]'s instead.)
-#[cfg_attr(
-    all(target_arch = "wasm32", target_feature = "simd128"),
-    allow(dead_code)
-)]
-#[inline(always)]
-fn make_batch(
-    batch: [&Line; LANES],
-    dt: f64,
-    along: usize,
-    hulls: &mut [Packed],
-    keys: &mut [f32],
-) {
-    let field = |f: fn(&Line) -> f64| lanes(|k| f(batch[k]));
-    let (ax, ay) = (field(|l| l.p1.x), field(|l| l.p1.y));
-    let (bx, by) = (field(|l| l.p2.x), field(|l| l.p2.y));
-    let (vx, vy) = (field(|l| l.v.x), field(|l| l.v.y));
-    let (dx, dy) = (lanes(|k| vx[k] * dt), lanes(|k| vy[k] * dt));
-    // The four directions of each point, as `project` makes them.
-    let project = |x: &Lanes, y: &Lanes| -> [Lanes; DIRECTIONS] {
-        let (x_, y_) = (lanes(|k| x[k] * DIAGONAL_X), lanes(|k| y[k] * DIAGONAL_Y));
-        [*x, *y, lanes(|k| x_[k] + y_[k]), lanes(|k| x_[k] - y_[k])]
+mod portable {
+    use super::{
+        max, min, Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD,
     };
-    let (a, b, d) = (project(&ax, &ay), project(&bx, &by), project(&dx, &dy));
-    // Plain loops: `array::from_fn` over these nested closures is left as
-    // a call, compiled without AVX2 (`koch` hulls took a third longer).
-    let (mut lo, mut hi) = ([[0.0; LANES]; DIRECTIONS], [[0.0; LANES]; DIRECTIONS]);
-    for r in 0..DIRECTIONS {
-        for k in 0..LANES {
-            lo[r][k] = min(a[r][k], b[r][k]) + min(d[r][k], 0.0);
-            hi[r][k] = max(a[r][k], b[r][k]) + max(d[r][k], 0.0);
-        }
+
+    /// One value for each line of a batch.
+    type Lanes = [f64; LANES];
+
+    /// `f` of each lane.
+    #[inline(always)]
+    fn lanes(f: impl FnMut(usize) -> f64) -> Lanes {
+        std::array::from_fn(f)
     }
-    let magnitude = lanes(|k| max(max(-lo[0][k], hi[0][k]), max(-lo[1][k], hi[1][k])));
-    let sum = lanes(|k| ax[k] + ay[k] + bx[k] + by[k] + vx[k] + vy[k]);
-    let pad = lanes(|k| magnitude[k] * PAD + 1e-12);
-    let pad_diagonal = lanes(|k| (DIAGONAL_X + DIAGONAL_Y) * pad[k]);
-    let pads = [pad, pad, pad_diagonal, pad_diagonal];
-    for k in 0..LANES {
-        let hull = &mut hulls[k];
+
+    /// [`of_line`] of [`LANES`] lines at once, each value a lane: the same
+    /// operations on each line in the same order, written lane by lane so
+    /// that the compiler turns each into one vector operation. Writes each
+    /// line's packed hull and key (least value along `along`, or [`NO_KEY`]).
+    /// #[inline(always)]
+    pub(super) fn make_batch(
+        batch: [&Line; LANES],
+        dt: f64,
+        along: usize,
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+    ) {
+        let field = |f: fn(&Line) -> f64| lanes(|k| f(batch[k]));
+        let (ax, ay) = (field(|l| l.p1.x), field(|l| l.p1.y));
+        let (bx, by) = (field(|l| l.p2.x), field(|l| l.p2.y));
+        let (vx, vy) = (field(|l| l.v.x), field(|l| l.v.y));
+        let (dx, dy) = (lanes(|k| vx[k] * dt), lanes(|k| vy[k] * dt));
+        // The four directions of each point, as `project` makes them.
+        let project = |x: &Lanes, y: &Lanes| -> [Lanes; DIRECTIONS] {
+            let (x_, y_) = (lanes(|k| x[k] * DIAGONAL_X), lanes(|k| y[k] * DIAGONAL_Y));
+            [*x, *y, lanes(|k| x_[k] + y_[k]), lanes(|k| x_[k] - y_[k])]
+        };
+        let (a, b, d) = (project(&ax, &ay), project(&bx, &by), project(&dx, &dy));
+        // Plain loops: `array::from_fn` over these nested closures is left as
+        // a call, compiled without AVX2 (`koch` hulls took a third longer).
+        let (mut lo, mut hi) = ([[0.0; LANES]; DIRECTIONS], [[0.0; LANES]; DIRECTIONS]);
         for r in 0..DIRECTIONS {
-            hull[r] = (lo[r][k] - pads[r][k]) as f32;
-            hull[r + DIRECTIONS] = -(hi[r][k] + pads[r][k]) as f32;
+            for k in 0..LANES {
+                lo[r][k] = min(a[r][k], b[r][k]) + min(d[r][k], 0.0);
+                hi[r][k] = max(a[r][k], b[r][k]) + max(d[r][k], 0.0);
+            }
         }
-        let valid = sum[k].is_finite() && magnitude[k] <= LARGEST;
-        keys[k] = if valid { hull[along] } else { NO_KEY };
+        let magnitude = lanes(|k| max(max(-lo[0][k], hi[0][k]), max(-lo[1][k], hi[1][k])));
+        let sum = lanes(|k| ax[k] + ay[k] + bx[k] + by[k] + vx[k] + vy[k]);
+        let pad = lanes(|k| magnitude[k] * PAD + 1e-12);
+        let pad_diagonal = lanes(|k| (DIAGONAL_X + DIAGONAL_Y) * pad[k]);
+        let pads = [pad, pad, pad_diagonal, pad_diagonal];
+        for k in 0..LANES {
+            let hull = &mut hulls[k];
+            for r in 0..DIRECTIONS {
+                hull[r] = (lo[r][k] - pads[r][k]) as f32;
+                hull[r + DIRECTIONS] = -(hi[r][k] + pads[r][k]) as f32;
+            }
+            let valid = sum[k].is_finite() && magnitude[k] <= LARGEST;
+            keys[k] = if valid { hull[along] } else { NO_KEY };
+        }
     }
 }
 
@@ -237,7 +236,7 @@ fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
 /// [`make_each`] with AVX2 written out: four lines' hulls at once, the
 /// same operations in the same order on each, so the same bits.
 ///
-/// Left to the compiler, [`make_batch`] moves each line's values into the
+/// Left to the compiler, [`portable::make_batch`] moves each line's values into the
 /// lanes and each lane's results out to its hull one value at a time
 /// (about 72 instructions a line). Here four lines' coordinates are loaded
 /// as rows and turned into columns with a few shuffles, and the eight
@@ -294,7 +293,7 @@ mod avx2 {
         ]
     }
 
-    /// [`super::make_batch`]: each `_mm256_min_pd(a, b)` is `a < b ? a :
+    /// [`super::portable::make_batch`]: each `_mm256_min_pd(a, b)` is `a < b ? a :
     /// b` as [`super::min`] is, each `_mm256_max_pd(a, b)` `a > b ? a : b`,
     /// and each conversion rounds to nearest as `as f32` does.
     #[inline]
@@ -378,7 +377,7 @@ mod avx2 {
     }
 }
 
-/// [`make_batch`] in WebAssembly's 128-bit vectors: two lines a vector,
+/// [`portable::make_batch`] in WebAssembly's 128-bit vectors: two lines a vector,
 /// the same operations in the same order on each line, so the same bits.
 /// Left to the compiler, the batch is worked value by value (the hulls
 /// took 38% of a step of 10,000 lines in V8, against 15% natively).
@@ -411,7 +410,7 @@ mod simd128 {
         [x, y, f64x2_add(x_, y_), f64x2_sub(x_, y_)]
     }
 
-    /// [`super::make_batch`], two lines at a time.
+    /// [`super::portable::make_batch`], two lines at a time.
     #[inline(always)]
     pub(super) fn make_batch(
         batch: [&Line; LANES],
@@ -469,9 +468,9 @@ mod simd128 {
 }
 
 #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-use self::make_batch as portable_batch;
+use portable::make_batch as portable_batch;
 /// The batch of the platform's vectors where there is one written out,
-/// else [`make_batch`] as the compiler vectorises it.
+/// else [`portable::make_batch`].
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 use simd128::make_batch as portable_batch;
 
