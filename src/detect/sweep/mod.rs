@@ -212,10 +212,8 @@ impl Sweep {
     /// them if the direction changed.
     fn make_plan(&mut self) {
         let n = self.sorted.len();
-        let sample = plan::Sample::of(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
-        let spread = |a| plan::spread(sample.extents(a), sample.boxed);
-        let spreads: Vec<plan::Spread> = (0..hull::DIRECTIONS).map(spread).collect();
-        let plan = plan::choose_from(plan::LAYOUT, &spreads, sample.boxed);
+        let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
+        let plan = plan::choose(plan::LAYOUT, &sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
             for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {

@@ -21,7 +21,7 @@ pub(crate) struct Plan {
 
 /// The direction bands are cut across when sweeping along `a`: the one at
 /// right angles to it (`x` and `y`, `u` and `w`).
-pub(crate) fn across(a: usize) -> usize {
+fn across(a: usize) -> usize {
     [1, 0, 3, 2][a]
 }
 
@@ -29,7 +29,7 @@ pub(crate) fn across(a: usize) -> usize {
 /// pairs it meets), in units of one candidate pair met: about 50
 /// instructions and a mispredicted branch, against 14 instructions a
 /// candidate (callgrind, `koch`).
-pub(crate) const SWEEP_COST: f64 = 5.0;
+const SWEEP_COST: f64 = 5.0;
 
 /// What laying boxes out in bands costs the model, in units of one
 /// candidate pair met.
@@ -55,7 +55,7 @@ pub(crate) const LAYOUT: LayoutCost = LayoutCost {
 /// The work of a sweep that lays out `entries` boxes (in several bands if
 /// `banded`, at `layout` a box) and meets `candidates` pairs, in units of
 /// one candidate.
-pub(crate) fn work(layout: f64, entries: f64, candidates: f64, banded: bool) -> f64 {
+fn work(layout: f64, entries: f64, candidates: f64, banded: bool) -> f64 {
     let per_entry = if banded {
         SWEEP_COST + layout
     } else {
@@ -65,14 +65,14 @@ pub(crate) fn work(layout: f64, entries: f64, candidates: f64, banded: bool) -> 
 }
 
 /// Most boxes the plan looks at; beyond this it samples evenly.
-pub(crate) const SAMPLE: usize = 16 * 1024;
+const SAMPLE: usize = 16 * 1024;
 
 /// The most bands a plan cuts.
 const MAX_BANDS: usize = 1 << 14;
 
 /// What the sample says about one direction.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Spread {
+struct Spread {
     /// Candidate pairs a sweep along it would meet, scaled to all boxes.
     candidates: f64,
     /// Mean extent of a box along it.
@@ -85,7 +85,7 @@ pub(crate) struct Spread {
 
 /// Looks at the sampled boxes' `extents` along one direction (their least
 /// and greatest values, in any order), drawn evenly from `total` boxes.
-pub(crate) fn spread(extents: Vec<(f32, f32)>, total: usize) -> Spread {
+fn spread(extents: Vec<(f32, f32)>, total: usize) -> Spread {
     let n = extents.len().max(1);
     let mut extents = extents;
     radsort::sort_by_key(&mut extents, |e| e.0);
@@ -163,43 +163,15 @@ fn cost(layout: LayoutCost, total: usize, candidates: f64, share: f64, count: us
 }
 
 /// An even sample of at most [`SAMPLE`] of the boxes whose key is real
-/// (`keys[k] != NO_KEY`, hull `hulls[k]`), read where they lie.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Sample<'a> {
-    keys: &'a [f32],
-    hulls: &'a [Packed],
-    /// Every `stride`-th box with a real key is in the sample.
-    stride: usize,
-    /// How many boxes have a real key.
-    pub boxed: usize,
-}
-
-impl<'a> Sample<'a> {
-    /// The sample of the boxes `keys` and `hulls`.
-    pub(crate) fn of(keys: &'a [f32], hulls: &'a [Packed]) -> Self {
-        let boxed = keys.iter().filter(|&&k| k != NO_KEY).count();
-        Self {
-            keys,
-            hulls,
-            stride: boxed.div_ceil(SAMPLE).max(1),
-            boxed,
-        }
-    }
-
-    /// The sampled boxes' least and greatest values along direction `a`,
-    /// for [`spread`].
-    pub(crate) fn extents(&self, a: usize) -> Vec<(f32, f32)> {
-        let mut extents = Vec::with_capacity(self.boxed.div_ceil(self.stride));
-        extents.extend(
-            self.keys
-                .iter()
-                .zip(self.hulls)
-                .filter(|(&k, _)| k != NO_KEY)
-                .step_by(self.stride)
-                .map(|(_, hull)| (lo(hull, a), hi(hull, a))),
-        );
-        extents
-    }
+/// (`keys[k] != NO_KEY`, hull `hulls[k]`), and how many those are.
+pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
+    let boxed = keys.iter().filter(|&&k| k != NO_KEY).count();
+    let hulls = keys.iter().zip(hulls).filter(|(&k, _)| k != NO_KEY);
+    let stride = boxed.div_ceil(SAMPLE).max(1);
+    (
+        hulls.step_by(stride).map(|(_, &hull)| hull).collect(),
+        boxed,
+    )
 }
 
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
@@ -215,13 +187,6 @@ pub(crate) fn choose(
     let directions = directions.min(DIRECTIONS);
     let extents = |a| sample.iter().map(|p| (lo(p, a), hi(p, a))).collect();
     let spreads: Vec<Spread> = (0..directions).map(|a| spread(extents(a), total)).collect();
-    choose_from(layout, &spreads, total)
-}
-
-/// Chooses a plan for `total` boxes from what a sample of them says about
-/// each of the first `spreads.len()` directions (see [`choose`]).
-pub(crate) fn choose_from(layout: LayoutCost, spreads: &[Spread], total: usize) -> Plan {
-    let directions = spreads.len();
     // Each direction's partner across is among the first `directions`.
     let mut best = (f64::INFINITY, Plan::default());
     for along in 0..directions {

@@ -34,12 +34,9 @@ use std::sync::Mutex;
 /// are made ([`MoverCheck::note`]), while they are at hand.
 #[derive(Debug, Default)]
 pub(crate) struct Noted {
-    /// The first band the share touches.
-    first_band: usize,
-    /// Per band from `first_band` on: the share's movers, and the
+    /// Per run of one band's boxes noted: the band, its movers, and the
     /// greatest value across the bands that its stayers reach.
-    left: Vec<usize>,
-    tops: Vec<f32>,
+    runs: Vec<(usize, usize, f32)>,
     /// The movers, each with its new home band as its end, and their
     /// places (ascending).
     movers: BoxList,
@@ -54,29 +51,11 @@ pub(crate) struct Noted {
 impl Noted {
     /// Empties it for a share's boxes.
     pub(crate) fn clear(&mut self) {
-        self.first_band = 0;
-        self.left.clear();
-        self.tops.clear();
+        self.runs.clear();
         self.movers.clear();
         self.gaps.clear();
         self.carried.clear();
         self.carried_from.clear();
-    }
-
-    /// Adds what a run of band `b`'s boxes held: `left` movers, and
-    /// stayers reaching up to `top` across.
-    fn add(&mut self, b: usize, left: usize, top: f32) {
-        if self.left.is_empty() {
-            self.first_band = b;
-        }
-        let at = b - self.first_band;
-        if at >= self.left.len() {
-            // Bands between without a box of the share left nothing.
-            self.left.resize(at + 1, 0);
-            self.tops.resize(at + 1, f32::NEG_INFINITY);
-        }
-        self.left[at] += left;
-        self.tops[at] = self.tops[at].max(top);
     }
 }
 
@@ -117,7 +96,7 @@ impl MoverCheck<'_> {
                 true => close_up::<true>(boxes, at, run, (b, carry), self, into),
                 false => close_up::<false>(boxes, at, run, (b, carry), self, into),
             };
-            into.add(b, into.gaps.len() - before, top);
+            into.runs.push((b, into.gaps.len() - before, top));
             k = next;
         }
     }
@@ -397,8 +376,7 @@ impl Layout {
             self.movers
                 .extend_from(&share.movers, 0..share.movers.len());
             self.gaps.extend_from_slice(&share.gaps);
-            let bands = share.first_band..share.first_band + share.left.len();
-            for ((b, &left), &top) in bands.zip(&share.left).zip(&share.tops) {
+            for &(b, left, top) in &share.runs {
                 self.stayed[b] -= left;
                 tops[b] = tops[b].max(top);
             }
