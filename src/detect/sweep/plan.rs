@@ -52,18 +52,6 @@ pub(crate) const LAYOUT: LayoutCost = LayoutCost {
     per_guest: 20.0,
 };
 
-/// The work of a sweep that lays out `entries` boxes (in several bands if
-/// `banded`, at `layout` a box) and meets `candidates` pairs, in units of
-/// one candidate.
-fn work(layout: f64, entries: f64, candidates: f64, banded: bool) -> f64 {
-    let per_entry = if banded {
-        SWEEP_COST + layout
-    } else {
-        SWEEP_COST
-    };
-    per_entry * entries + candidates
-}
-
 /// Most boxes the plan looks at; beyond this it samples evenly.
 const SAMPLE: usize = 16 * 1024;
 
@@ -150,16 +138,12 @@ fn met_in_sweep(extents: &[(f32, f32)]) -> u64 {
 /// `layout` is the cost of laying one box out in one band.
 fn cost(layout: LayoutCost, total: usize, candidates: f64, share: f64, count: usize) -> f64 {
     if count == 1 {
-        return work(layout.per_box, total as f64, candidates, false);
+        return SWEEP_COST * total as f64 + candidates;
     }
     let copies = 1.0 + count as f64 * share;
     let guests = total as f64 * (copies - 1.0);
-    work(
-        layout.per_box,
-        total as f64 * copies,
-        candidates * copies * copies / count as f64,
-        true,
-    ) + layout.per_guest * guests
+    let sweep = (SWEEP_COST + layout.per_box) * (total as f64 * copies);
+    sweep + candidates * copies * copies / count as f64 + layout.per_guest * guests
 }
 
 /// An even sample of at most [`SAMPLE`] of the boxes whose key is real

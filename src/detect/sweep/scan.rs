@@ -65,8 +65,8 @@ impl<'a> Tester<'a> {
 
 /// Sweeps the bands of one group as its member laid it out
 /// ([`GroupView`]): each band's homes among themselves and against its
-/// guests. Hands every pair of slots whose hulls overlap to `found`, once
-/// each, through `pairs`. Returns the candidates met.
+/// guests. Tests every pair whose hulls overlap with `test`, once each,
+/// through `pairs`. Returns the candidates met.
 pub(crate) fn sweep_group(
     group: &GroupView,
     along: usize,
@@ -100,10 +100,8 @@ pub(crate) fn sweep_group(
 ///
 /// The two sorted lists are walked together, each box scanning the other
 /// list from where the walk stands, so the work is the boxes of both and
-/// the pairs met. (Taking each guest in turn and finding the homes that
-/// reach it by binary search within the band's longest extent cost a
-/// million lines 11 ms a step against 2 this way: a long line makes every
-/// guest's window wide.)
+/// the pairs met (a binary search a guest within the band's longest
+/// extent was slower: a long line makes every guest's window wide).
 fn sweep_across(
     homes: BoxSlice,
     guests: BoxSlice,
@@ -163,9 +161,8 @@ fn meet(
 /// Sweeps the boxes `range` of sorted `keys` and `hulls`, each against the
 /// boxes after it up to the first whose key lies beyond its extent along
 /// direction `along` (a sentinel after the last box, or the end of the
-/// arrays), and
-/// appends to `found` every pair `(i, j)` whose hulls overlap. Returns the
-/// pairs met (the candidates).
+/// arrays), and appends to `found` every pair `(i, j)` whose hulls overlap.
+/// Returns the pairs met (the candidates).
 ///
 /// Compiled for the baseline and for AVX2, chosen when the program
 /// starts. The baseline takes one candidate at a time; with AVX2 a box

@@ -1,21 +1,17 @@
-//! The boxes laid out band by band: each box copied once, into the band
-//! holding its least value across the bands (its *home*), each band sorted;
-//! the boxes that reach up into a band from below (its *guests*) listed
-//! beside it, sorted too.
+//! The boxes laid out band by band: each box once in its home band, each
+//! band sorted, and beside it its guests, sorted too.
 //!
 //! A pair of overlapping boxes is reported in the band holding the larger
-//! of their two least values: there both are homes, or one is a home and
-//! the other a guest. Two guests of a band are never a pair it reports, so
-//! a band is swept as its homes among themselves and its homes against its
-//! guests ([`super::scan`]), and no pair needs a test of which band reports
-//! it.
+//! of their two least values across: there both are homes, or one is a
+//! home and the other a guest. So a band is swept as its homes among
+//! themselves and against its guests ([`super::scan`]), and no pair needs a
+//! test of which band reports it.
 //!
-//! The homes, band by band, are the order next step's hulls are made in,
-//! so boxes arrive nearly in place: [`update`] keeps last step's layout and
-//! moves only the movers. A layout made anew (on the first step, and
-//! whenever the bands change) is the same update of a layout that held
-//! every box among the boxes without a key. This file holds the layout's
-//! arrays and the steps of a band.
+//! The homes, band by band, are the order next step's boxes are made in,
+//! so [`update`] keeps last step's layout and moves only the movers. A
+//! layout made anew (on the first step, and whenever the bands change) is
+//! the same update of a layout that held every box among the boxes without
+//! a key.
 
 mod update;
 

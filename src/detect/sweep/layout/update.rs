@@ -1,21 +1,11 @@
-//! Last step's layout updated ([`Layout::lay_out`]): only the movers are
-//! moved apart and merged in. Kept from step to step, a layout costs about
-//! 65 instructions a box on `koch` (made anew every step, 230).
-//!
-//! The movers are found as the hulls are made, a block at a time while
-//! the block is at hand, by each share of the hull phase
-//! ([`Layout::mover_check`], [`MoverCheck::note`]): a million lines on
-//! two threads kept their layout in 7.7 ms a step instead of 12.1 when the
-//! layout read every box again. With several groups of bands, the boxes
-//! that stay in their band and reach up into the next group's first band
-//! are noted too, so that group's thread need not read the bands below,
-//! which another thread made the hulls of.
-//!
-//! Then each group copies each of its bands to its new place in the other
-//! arrays in one pass (the stayers a run at a time between the movers'
-//! places, the movers merged in) and sorts it there, writing only its
-//! own stretch. On one thread a kept layout is updated in place instead
-//! ([`Layout::finish_in_place`]).
+//! Last step's layout updated ([`Layout::lay_out`]): only the movers move.
+//! The movers are found as the hulls are made, a block at a time while it
+//! is at hand ([`Layout::mover_check`], [`MoverCheck::note`]), with the
+//! stayers that reach up into the next group's first band, so that group's
+//! thread need not read the bands below. Then each group copies each of its
+//! bands to its new place in the other arrays in one pass (the stayers a
+//! run at a time, the movers merged in) and sorts it there; on one thread a
+//! kept layout is updated in place instead ([`Layout::finish_in_place`]).
 
 use super::{
     groups_of_bands, insert_runs, set_starts, stretches, Group, GroupView, Layout, Stretch,
