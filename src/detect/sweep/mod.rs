@@ -477,41 +477,6 @@ mod tests {
     use super::*;
     use crate::test_util::line;
 
-    /// In bands, on a team of one and of two, the layout kept from step
-    /// to step and laid out anew, every step finds the oracle's events.
-    #[test]
-    fn banded_steps_on_any_team_find_the_oracles_events() {
-        use crate::detect::Brute;
-        use crate::generate::{generate, SceneKind};
-        let scene = generate(SceneKind::Uniform, 2200, 5);
-        for threads in [1, 2] {
-            let mut lines = crate::World::with_detector(&scene, super::super::DetectorKind::Brute)
-                .lines()
-                .into_owned();
-            let mut sweep = Sweep::default();
-            sweep.set_threads(threads, Some(Arc::new(Team::new(threads).expect("a team"))));
-            let (mut banded, mut events, mut expected) = (0, Vec::new(), Vec::new());
-            for step in 0..40 {
-                // A new plan and a layout made anew every tenth step.
-                if step % 10 == 0 {
-                    sweep.until_plan = 0;
-                    sweep.layout.forget();
-                }
-                events.clear();
-                sweep.detect(&lines, 0.5, &mut events);
-                banded += usize::from(sweep.plan.bands.count > 1);
-                events.sort_unstable_by_key(Event::order_key);
-                expected.clear();
-                Brute::default().detect(&lines, 0.5, &mut expected);
-                expected.sort_unstable_by_key(Event::order_key);
-                assert_eq!(events, expected, "step {step}, {threads} threads");
-                crate::motion::advance_and_bounce(&mut lines);
-            }
-            assert_eq!(banded, 40, "the scene was not cut into bands");
-            assert!(sweep.stats().events > 0, "no events to compare");
-        }
-    }
-
     /// A scene shared between threads has its lines stored in the sweep's
     /// order at the first step's end and every `STORE_EVERY` steps after;
     /// a small scene on one thread never.
