@@ -16,18 +16,21 @@ pub(crate) struct BoxSlice<'a> {
 }
 
 impl<'a> BoxSlice<'a> {
+    pub(crate) fn new(keys: &'a [f32], hulls: &'a [Packed], slots: &'a [u32]) -> Self {
+        Self { keys, hulls, slots }
+    }
+
     pub(crate) fn len(&self) -> usize {
         self.keys.len()
     }
 
     /// The boxes `r`.
     pub(crate) fn at(self, r: Range<usize>) -> Self {
-        let (keys, hulls) = (&self.keys[r.clone()], &self.hulls[r.clone()]);
-        Self {
-            keys,
-            hulls,
-            slots: &self.slots[r],
-        }
+        Self::new(
+            &self.keys[r.clone()],
+            &self.hulls[r.clone()],
+            &self.slots[r],
+        )
     }
 }
 
@@ -40,6 +43,10 @@ pub(crate) struct BoxSliceMut<'a> {
 }
 
 impl<'a> BoxSliceMut<'a> {
+    pub(crate) fn new(keys: &'a mut [f32], hulls: &'a mut [Packed], slots: &'a mut [u32]) -> Self {
+        Self { keys, hulls, slots }
+    }
+
     pub(crate) fn len(&self) -> usize {
         self.keys.len()
     }
@@ -47,47 +54,20 @@ impl<'a> BoxSliceMut<'a> {
     /// The boxes `r`, borrowed.
     pub(crate) fn at(&mut self, r: Range<usize>) -> BoxSliceMut<'_> {
         let (keys, hulls) = (&mut self.keys[r.clone()], &mut self.hulls[r.clone()]);
-        BoxSliceMut {
-            keys,
-            hulls,
-            slots: &mut self.slots[r],
-        }
+        BoxSliceMut::new(keys, hulls, &mut self.slots[r])
     }
 
     pub(crate) fn view(&self) -> BoxSlice<'_> {
-        BoxSlice {
-            keys: self.keys,
-            hulls: self.hulls,
-            slots: self.slots,
-        }
-    }
-
-    pub(crate) fn into_view(self) -> BoxSlice<'a> {
-        BoxSlice {
-            keys: self.keys,
-            hulls: self.hulls,
-            slots: self.slots,
-        }
+        BoxSlice::new(self.keys, self.hulls, self.slots)
     }
 
     /// The boxes before `mid` and from `mid` on.
     pub(crate) fn split_at(self, mid: usize) -> (Self, Self) {
-        let (k, rest_k) = self.keys.split_at_mut(mid);
-        let (h, rest_h) = self.hulls.split_at_mut(mid);
-        let (i, rest_i) = self.slots.split_at_mut(mid);
-        let rest = Self {
-            keys: rest_k,
-            hulls: rest_h,
-            slots: rest_i,
-        };
-        (
-            Self {
-                keys: k,
-                hulls: h,
-                slots: i,
-            },
-            rest,
-        )
+        let (keys, rest_keys) = self.keys.split_at_mut(mid);
+        let (hulls, rest_hulls) = self.hulls.split_at_mut(mid);
+        let (slots, rest_slots) = self.slots.split_at_mut(mid);
+        let rest = Self::new(rest_keys, rest_hulls, rest_slots);
+        (Self::new(keys, hulls, slots), rest)
     }
 
     /// Splits the boxes into `parts` shares as [`team::share`] gives them,
@@ -193,22 +173,17 @@ impl BoxList {
 
     /// The boxes `r`, without their ends.
     pub(crate) fn slice(&self, r: Range<usize>) -> BoxSlice<'_> {
-        let (keys, hulls) = (&self.keys[r.clone()], &self.hulls[r.clone()]);
-        BoxSlice {
-            keys,
-            hulls,
-            slots: &self.slots[r],
-        }
+        BoxSlice::new(
+            &self.keys[r.clone()],
+            &self.hulls[r.clone()],
+            &self.slots[r],
+        )
     }
 
     /// The boxes `r`, without their ends, to write.
     pub(crate) fn slice_mut(&mut self, r: Range<usize>) -> BoxSliceMut<'_> {
         let (keys, hulls) = (&mut self.keys[r.clone()], &mut self.hulls[r.clone()]);
-        BoxSliceMut {
-            keys,
-            hulls,
-            slots: &mut self.slots[r],
-        }
+        BoxSliceMut::new(keys, hulls, &mut self.slots[r])
     }
 
     /// Sorts the boxes by key, as [`BoxSliceMut::sort_by_radix`] does.

@@ -62,21 +62,13 @@ impl Boxes {
 
     /// The first `n` boxes.
     pub(crate) fn slice(&self, n: usize) -> BoxSlice<'_> {
-        BoxSlice {
-            keys: &self.keys[..n],
-            hulls: &self.hulls[..n],
-            slots: &self.slots[..n],
-        }
+        BoxSlice::new(&self.keys[..n], &self.hulls[..n], &self.slots[..n])
     }
 
     /// The first `n` boxes, to write.
     pub(crate) fn slice_mut(&mut self, n: usize) -> BoxSliceMut<'_> {
-        let (keys, hulls, slots) = (
-            &mut self.keys[..n],
-            &mut self.hulls[..n],
-            &mut self.slots[..n],
-        );
-        BoxSliceMut { keys, hulls, slots }
+        let (keys, hulls) = (&mut self.keys[..n], &mut self.hulls[..n]);
+        BoxSliceMut::new(keys, hulls, &mut self.slots[..n])
     }
 
     /// Sorts the boxes by key (ties in any order: the sweep tests tied
@@ -108,12 +100,9 @@ impl Boxes {
             }
         }
         if !sorted {
-            let (keys, hulls, slots) = (
-                &mut self.keys[..n],
-                &mut self.hulls[..n],
-                &mut self.slots[..n],
-            );
-            BoxSliceMut { keys, hulls, slots }.sort_by_radix(&mut self.keyed, &mut self.spare);
+            let (keys, hulls) = (&mut self.keys[..n], &mut self.hulls[..n]);
+            let boxes = BoxSliceMut::new(keys, hulls, &mut self.slots[..n]);
+            boxes.sort_by_radix(&mut self.keyed, &mut self.spare);
         }
         self.keys[..n].partition_point(|&k| k != NO_KEY)
     }

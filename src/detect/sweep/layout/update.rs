@@ -338,7 +338,7 @@ impl Layout {
             group.end_guests(band.view(), b, b + 1 < count, bands);
         }
         let (starts, group) = (&self.starts, &self.groups[0]);
-        let (boxes, bands) = (boxes.into_view(), group.bands.clone());
+        let (boxes, bands) = (boxes.view(), group.bands.clone());
         then_each(GroupView {
             index: 0,
             bands,
