@@ -146,12 +146,12 @@ impl BoxList {
         self.push(other.keys[k], other.hulls[k], other.slots[k], other.ends[k]);
     }
 
-    /// Appends the boxes `range` of `other`.
-    pub(crate) fn extend_from(&mut self, other: &BoxList, range: Range<usize>) {
-        self.keys.extend_from_slice(&other.keys[range.clone()]);
-        self.hulls.extend_from_slice(&other.hulls[range.clone()]);
-        self.slots.extend_from_slice(&other.slots[range.clone()]);
-        self.ends.extend_from_slice(&other.ends[range]);
+    /// Appends the boxes of `other`.
+    pub(crate) fn extend(&mut self, other: &BoxList) {
+        self.keys.extend_from_slice(&other.keys);
+        self.hulls.extend_from_slice(&other.hulls);
+        self.slots.extend_from_slice(&other.slots);
+        self.ends.extend_from_slice(&other.ends);
     }
 
     /// Makes it `len` boxes long, any new ones zero.

@@ -498,16 +498,10 @@ fn max(a: f64, b: f64) -> f64 {
 /// directions, packed.
 #[inline]
 pub(crate) fn pack(lo: [f64; 4], hi: [f64; 4]) -> Packed {
-    [
-        lo[0] as f32,
-        lo[1] as f32,
-        lo[2] as f32,
-        lo[3] as f32,
-        -hi[0] as f32,
-        -hi[1] as f32,
-        -hi[2] as f32,
-        -hi[3] as f32,
-    ]
+    std::array::from_fn(|k| match k < DIRECTIONS {
+        true => lo[k] as f32,
+        false => -hi[k - DIRECTIONS] as f32,
+    })
 }
 
 /// What a packed box reaches: the upper bounds that another box's lanes

@@ -489,18 +489,14 @@ mod tests {
             })
             .collect();
         let mut events = Vec::new();
-        let shared = DetectorConfig {
-            threads: 2,
-            ..DetectorConfig::default()
-        };
-        let mut sweep = Sweep::new(&shared);
+        let mut sweep = Sweep::default();
         sweep.set_threads(2, Some(Arc::new(Team::new(2).expect("a team"))));
         sweep.detect(&lines, 0.5, &mut events);
         let steps: Vec<u64> = (0..40u64)
             .filter(|_| sweep.storage_order().is_some())
             .collect();
         assert_eq!(steps, [0, STORE_EVERY, 2 * STORE_EVERY]);
-        let mut alone = Sweep::new(&DetectorConfig::default());
+        let mut alone = Sweep::default();
         alone.detect(&lines, 0.5, &mut events);
         assert!((0..40).all(|_| alone.storage_order().is_none()));
     }

@@ -288,7 +288,7 @@ impl Group {
                 _ => break,
             }
         }
-        guests.extend_from(spare, 0..spare.len());
+        guests.extend(spare);
     }
 }
 

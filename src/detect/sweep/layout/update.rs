@@ -363,20 +363,16 @@ impl Layout {
         self.movers.clear();
         self.gaps.clear();
         for share in &self.noted[..self.noted_shares] {
-            self.movers
-                .extend_from(&share.movers, 0..share.movers.len());
+            self.movers.extend(&share.movers);
             self.gaps.extend_from_slice(&share.gaps);
             for &(b, left, top) in &share.runs {
                 self.stayed[b] -= left;
                 tops[b] = tops[b].max(top);
             }
         }
-        self.gap_starts.clear();
-        self.gap_starts.push(0);
-        for b in 0..=count {
-            let left = old[b + 1] - old[b] - self.stayed[b];
-            self.gap_starts.push(self.gap_starts[b] + left);
-        }
+        let stayed = &self.stayed;
+        let left = (0..=count).map(|b| (old[b + 1] - old[b] - stayed[b]) as u32);
+        set_starts(left, &mut self.gap_starts);
         tops
     }
 }
