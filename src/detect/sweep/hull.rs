@@ -133,15 +133,12 @@ fn make_each<'a>(
     let n = hulls.len().min(keys.len());
     let whole = n - n % LANES;
     for start in (0..whole).step_by(LANES) {
-        let lines = std::array::from_fn(|k| line(start + k));
-        let range = start..start + LANES;
-        batch(
-            lines,
-            dt,
-            along,
-            &mut hulls[range.clone()],
-            &mut keys[range],
+        let (lines, range) = (
+            std::array::from_fn(|k| line(start + k)),
+            start..start + LANES,
         );
+        let (hulls, keys) = (&mut hulls[range.clone()], &mut keys[range]);
+        batch(lines, dt, along, hulls, keys);
     }
     for k in whole..n {
         keys[k] = make_one(line(k), dt, along, &mut hulls[k]);

@@ -1,13 +1,9 @@
-//! The boxes in sorted order: by their least value along the sweep
-//! direction, as parallel arrays of keys, packed hulls and slots, kept from
-//! step to step.
-//!
-//! Lines move little in a step, so last step's order is nearly this step's:
-//! hulls are made in last step's order, and an insertion sort in place
-//! finishes in about one pass with a few short moves. When the order has
-//! changed a lot (the first step, a new sweep direction, a scene flying
-//! apart) the insertion sort stops after a budget of moves and a radix
-//! sort does the whole job instead.
+//! The boxes in sorted order: by their key, as parallel arrays kept from
+//! step to step. Lines move little in a step, so boxes made in last step's
+//! order are nearly sorted and an insertion sort in place finishes in about
+//! one pass; when the order has changed a lot (the first step, a new sweep
+//! direction, a scene flying apart) it stops after a budget of moves and a
+//! radix sort does the job instead.
 
 use super::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use super::hull::{Packed, NO_KEY};

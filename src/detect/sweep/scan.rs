@@ -75,7 +75,7 @@ pub(crate) fn sweep_group(
     test: &mut Tester,
 ) -> u64 {
     let mut candidates = 0;
-    for band in group.bands.clone() {
+    for band in group.bands() {
         let (all, homes, guests) = (group.boxes, group.homes(band), group.guests(band));
         let (keys, hulls) = (&all.keys[..homes.end], &all.hulls[..homes.end]);
         pairs.clear();

@@ -72,8 +72,6 @@ pub(crate) struct Layout {
 pub(crate) struct GroupView<'a> {
     /// The group's number, in band order.
     pub index: usize,
-    /// The group's bands (without the boxes that have no key).
-    pub bands: Range<usize>,
     /// The group's stretch of the laid-out boxes: its homes.
     pub boxes: BoxSlice<'a>,
     /// Where the stretch starts among all the boxes, and where each band
@@ -84,6 +82,11 @@ pub(crate) struct GroupView<'a> {
 }
 
 impl GroupView<'_> {
+    /// The group's bands (without the boxes that have no key).
+    pub(crate) fn bands(&self) -> Range<usize> {
+        self.group.bands.clone()
+    }
+
     /// Where the homes of band `band` lie in the stretch.
     pub(crate) fn homes(&self, band: usize) -> Range<usize> {
         self.starts[band] - self.offset..self.starts[band + 1] - self.offset
@@ -138,12 +141,6 @@ impl Layout {
         self.edges.push(f32::NEG_INFINITY);
         self.edges.extend((1..bands.count).map(|b| bands.edge(b)));
         self.edges.push(f32::INFINITY);
-    }
-
-    /// Where the homes of band `band` lie among the laid-out boxes.
-    #[cfg(test)]
-    pub(crate) fn homes(&self, band: usize) -> Range<usize> {
-        self.starts[band]..self.starts[band + 1]
     }
 
     /// The guests of band `band`, sorted by key.
@@ -459,7 +456,7 @@ mod tests {
             assert_eq!(seen, (10..10 + n as u32).collect::<Vec<_>>());
             assert_eq!(b.slots[n], u32::MAX);
             for band in 0..count {
-                let homes = layout.homes(band);
+                let homes = layout.starts[band]..layout.starts[band + 1];
                 assert!(b.keys[homes.clone()].windows(2).all(|w| w[0] <= w[1]));
                 for at in homes {
                     let id = b.slots[at] as usize - 10;
@@ -534,7 +531,8 @@ mod tests {
                 // and guests as the layout ends up.
                 let handed = Mutex::new(Vec::new());
                 let collect = |g: GroupView| {
-                    let per_band: Vec<_> = (g.bands.clone())
+                    let per_band: Vec<_> = g
+                        .bands()
                         .map(|band| {
                             (
                                 band,
@@ -554,7 +552,8 @@ mod tests {
                 let bands_handed: Vec<usize> = handed.iter().map(|h| h.0).collect();
                 assert_eq!(bands_handed, (0..40).collect::<Vec<_>>(), "{groups} groups");
                 for (band, homes, guests) in handed {
-                    assert_eq!(homes, b.slots[layout.homes(band)], "band {band}");
+                    let at = layout.starts[band]..layout.starts[band + 1];
+                    assert_eq!(homes, b.slots[at], "band {band}");
                     assert_eq!(guests, layout.guests(band).slots, "band {band}");
                 }
                 let guests: Vec<u32> = (0..40)

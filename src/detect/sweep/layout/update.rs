@@ -274,10 +274,9 @@ impl Layout {
         team.run_pieces(work.len(), &|index| {
             let (s, group) = &mut *work[index].lock().expect("a group");
             let (offset, boxes) = (s.offset, layout.finish_group(s, group, arrived));
-            let (bands, group) = (group.bands.clone(), &**group);
+            let group = &**group;
             then_each(GroupView {
                 index,
-                bands,
                 boxes,
                 offset,
                 starts,
@@ -338,11 +337,9 @@ impl Layout {
             group.end_guests(band.view(), b, b + 1 < count, bands);
         }
         let (starts, group) = (&self.starts, &self.groups[0]);
-        let (boxes, bands) = (boxes.view(), group.bands.clone());
         then_each(GroupView {
             index: 0,
-            bands,
-            boxes,
+            boxes: boxes.view(),
             offset: 0,
             starts,
             group,
