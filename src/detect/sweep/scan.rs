@@ -108,27 +108,23 @@ fn sweep_across(
     along: usize,
     found: &mut Vec<(u32, u32)>,
 ) -> u64 {
-    let (keys, hulls) = (homes.keys, homes.hulls);
-    let (guest_keys, guest_hulls) = (guests.keys, guests.hulls);
-    let mut candidates = 0;
-    let mut i = 0;
-    for (j, (&guest_key, guest_hull)) in guest_keys.iter().zip(guest_hulls).enumerate() {
+    let (mut candidates, mut i) = (0, 0);
+    for (j, (&guest_key, guest_hull)) in guests.keys.iter().zip(guests.hulls).enumerate() {
         // The homes whose key is at most this guest's: those that reach
         // it meet the guests from it on within their extent.
-        while i < keys.len() && keys[i] <= guest_key {
-            let end = hi(&hulls[i], along).min(f32::MAX);
+        while i < homes.len() && homes.keys[i] <= guest_key {
+            let end = hi(&homes.hulls[i], along).min(f32::MAX);
             if guest_key <= end {
-                let (home, reach_h) = (i as u32, reach(&hulls[i]));
-                let guests = (guest_keys, guest_hulls);
-                let met = meet(guests, j, end, &reach_h, |g| found.push((home, g)));
+                let (home, reach_h) = (i as u32, reach(&homes.hulls[i]));
+                let guest_boxes = (guests.keys, guests.hulls);
+                let met = meet(guest_boxes, j, end, &reach_h, |g| found.push((home, g)));
                 candidates += (met - j) as u64;
             }
             i += 1;
         }
         // The guest meets the homes beyond its key within its extent.
-        let end = hi(guest_hull, along).min(f32::MAX);
-        let reach_j = reach(guest_hull);
-        let met = meet((keys, hulls), i, end, &reach_j, |h| {
+        let (end, reach_j) = (hi(guest_hull, along).min(f32::MAX), reach(guest_hull));
+        let met = meet((homes.keys, homes.hulls), i, end, &reach_j, |h| {
             found.push((h, j as u32))
         });
         candidates += (met - i) as u64;
