@@ -259,13 +259,10 @@ impl Sweep {
             self.lap(LAYOUT);
             (boxed, boxed, self.sweep_chunks(stored, dt, boxed, events))
         };
+        let wild = self.sorted.slots[boxed..n].iter();
         self.wild.clear();
-        self.wild.extend(
-            self.sorted.slots[boxed..n]
-                .iter()
-                .copied()
-                .filter(|&id| !lines[id as usize].is_inert()),
-        );
+        self.wild
+            .extend(wild.filter(|&&slot| !lines[slot as usize].is_inert()));
         test_wild(
             lines,
             |k| stored.id(k),

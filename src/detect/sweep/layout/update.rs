@@ -114,8 +114,8 @@ impl Layout {
     ) -> (Option<MoverCheck<'_>>, &mut [Noted]) {
         let keeps = self.keeps(bands, n);
         self.noted_for = keeps.then_some((*bands, groups));
-        self.noted
-            .resize_with(shares.max(self.noted.len()), Noted::default);
+        let shares_noted = shares.max(self.noted.len());
+        self.noted.resize_with(shares_noted, Noted::default);
         self.noted_shares = shares;
         self.carry.clear();
         if keeps && groups > 1 {
