@@ -9,7 +9,7 @@
 //!    bands, the movers noted as they are made);
 //! 2. [`plan`]: now and then, the direction to sweep along and the bands
 //!    to cut the plane into, chosen on a sample;
-//! 3. with one band, [`order`]: the boxes sorted in place by key (nearly
+//! 3. with one band, [`boxes`]: the boxes sorted in place by key (nearly
 //!    sorted already);
 //! 4. with several, [`bands`] and [`layout`]: the boxes laid out band by
 //!    band, homes and guests, each sorted; a group of bands a thread;
@@ -53,7 +53,6 @@ pub(crate) mod bands;
 mod boxes;
 pub(crate) mod hull;
 pub(crate) mod layout;
-pub(crate) mod order;
 pub(crate) mod plan;
 pub(crate) mod scan;
 
@@ -63,9 +62,9 @@ use super::{Detector, DetectorConfig, DetectorStats};
 use crate::line::{Line, LARGE_SCENE};
 use crate::narrow::Event;
 use crate::team::{self, Team};
+use boxes::Boxes;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
-use order::Boxes;
 use plan::Plan;
 use scan::Tester;
 use std::sync::atomic::{AtomicUsize, Ordering};

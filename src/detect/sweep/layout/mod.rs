@@ -16,9 +16,9 @@
 mod update;
 
 use super::bands::Bands;
+use super::boxes::{sort_nearly_sorted, Boxes};
 use super::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use super::hull::hi;
-use super::order::{sort_nearly_sorted, Boxes};
 use std::ops::Range;
 
 /// The boxes band by band (see the [module docs](self)).

@@ -12,9 +12,9 @@ use super::{
     ThenEach,
 };
 use crate::detect::sweep::bands::Bands;
+use crate::detect::sweep::boxes::{sort_nearly_sorted, Boxes};
 use crate::detect::sweep::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use crate::detect::sweep::hull::{hi, lo, NO_KEY};
-use crate::detect::sweep::order::{sort_nearly_sorted, Boxes};
 use crate::team::Team;
 use std::ops::Range;
 use std::sync::Mutex;
