@@ -74,9 +74,7 @@ pub(crate) struct GroupView<'a> {
     pub index: usize,
     /// The group's stretch of the laid-out boxes: its homes.
     pub boxes: BoxSlice<'a>,
-    /// Where the stretch starts among all the boxes, and where each band
-    /// starts there.
-    offset: usize,
+    /// Where each band starts among all the boxes.
     starts: &'a [usize],
     group: &'a Group,
 }
@@ -89,7 +87,8 @@ impl GroupView<'_> {
 
     /// Where the homes of band `band` lie in the stretch.
     pub(crate) fn homes(&self, band: usize) -> Range<usize> {
-        self.starts[band] - self.offset..self.starts[band + 1] - self.offset
+        let offset = self.starts[self.group.bands.start];
+        self.starts[band] - offset..self.starts[band + 1] - offset
     }
 
     /// The guests of band `band`, sorted by key.
@@ -168,8 +167,6 @@ impl Layout {
 /// One group's stretch of the laid-out boxes: its bands and their boxes.
 struct Stretch<'a> {
     bands: Range<usize>,
-    /// The first entry of the stretch.
-    offset: usize,
     boxes: BoxSliceMut<'a>,
 }
 
@@ -181,15 +178,11 @@ fn stretches<'a>(
     bounds: &[Range<usize>],
 ) -> Vec<Stretch<'a>> {
     let cut = |bands: &Range<usize>| {
-        let offset = starts[bands.start];
-        let (boxes, after) = std::mem::take(&mut rest).split_at(starts[bands.end] - offset);
+        let len = starts[bands.end] - starts[bands.start];
+        let (boxes, after) = std::mem::take(&mut rest).split_at(len);
         rest = after;
         let bands = bands.clone();
-        Stretch {
-            bands,
-            offset,
-            boxes,
-        }
+        Stretch { bands, boxes }
     };
     bounds.iter().map(cut).collect()
 }

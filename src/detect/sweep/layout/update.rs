@@ -273,12 +273,11 @@ impl Layout {
             .collect();
         team.run_pieces(work.len(), &|index| {
             let (s, group) = &mut *work[index].lock().expect("a group");
-            let (offset, boxes) = (s.offset, layout.finish_group(s, group, arrived));
+            let boxes = layout.finish_group(s, group, arrived);
             let group = &**group;
             then_each(GroupView {
                 index,
                 boxes,
-                offset,
                 starts,
                 group,
             });
@@ -340,7 +339,6 @@ impl Layout {
         then_each(GroupView {
             index: 0,
             boxes: boxes.view(),
-            offset: 0,
             starts,
             group,
         });
@@ -515,7 +513,8 @@ impl Layout {
         group: &mut Group,
         arrived: BoxSlice,
     ) -> BoxSlice<'a> {
-        let (range, offset, boxes) = (s.bands.clone(), s.offset, &mut s.boxes);
+        let (range, boxes) = (s.bands.clone(), &mut s.boxes);
+        let offset = self.starts[range.start];
         let bands = self.kept.as_ref().expect("the bands laid out");
         let count = bands.count;
         group.start(range.start..range.end.min(count));
