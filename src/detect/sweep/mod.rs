@@ -311,7 +311,13 @@ impl Sweep {
                 *layout_end.lock().expect("the layout's end") = Some(Instant::now());
             }
             let chunk = &mut *found[group.index].lock().expect("a group's findings");
-            let mut test = Tester::new(stored, dt, &mut chunk.events, &mut chunk.counts);
+            let (events, counts) = (&mut chunk.events, &mut chunk.counts);
+            let mut test = Tester {
+                lines: stored,
+                dt,
+                events,
+                counts,
+            };
             let candidates = scan::sweep_group(&group, along, dense, &mut chunk.pairs, &mut test);
             chunk.counts.candidates = candidates;
         };
@@ -358,7 +364,13 @@ impl Sweep {
             chunk.counts = PairCounts::default();
             chunk.pairs.clear();
             let range = c * size..((c + 1) * size).min(boxed);
-            let mut test = Tester::new(stored, dt, &mut chunk.events, &mut chunk.counts);
+            let (events, counts) = (&mut chunk.events, &mut chunk.counts);
+            let mut test = Tester {
+                lines: stored,
+                dt,
+                events,
+                counts,
+            };
             let (keys, hulls) = (&sorted.keys[..], &sorted.hulls[..]);
             let candidates = scan::sweep(keys, hulls, range, along, dense, &mut chunk.pairs);
             test.test(&chunk.pairs, &sorted.slots, &sorted.slots);
@@ -383,10 +395,7 @@ impl Stored<'_> {
     /// The id of the line in slot `k`.
     #[inline(always)]
     pub(crate) fn id(self, k: u32) -> u32 {
-        match self.ids {
-            Some(ids) => ids[k as usize],
-            None => k,
-        }
+        self.ids.map_or(k, |ids| ids[k as usize])
     }
 }
 
