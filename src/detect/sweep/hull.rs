@@ -149,7 +149,7 @@ fn make_each<'a>(
 pub(crate) const LANES: usize = 4;
 
 /// The batch as the compiler vectorises it (WebAssembly with SIMD has one
-/// of its own, [`simd128`]).
+/// of its own, `simd128`).
 #[cfg_attr(
     all(target_arch = "wasm32", target_feature = "simd128"),
     allow(dead_code)
@@ -168,7 +168,7 @@ mod portable {
         std::array::from_fn(f)
     }
 
-    /// [`of_line`] of [`LANES`] lines at once, each value a lane: the same
+    /// [`super::of_line`] of [`LANES`] lines at once, each value a lane: the same
     /// operations on each line in the same order, written lane by lane so
     /// that the compiler turns each into one vector operation. Writes each
     /// line's packed hull and key (least value along `along`, or [`NO_KEY`]).
