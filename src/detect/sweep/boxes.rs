@@ -222,7 +222,7 @@ fn permute<T: Copy>(v: &mut [T], order: &[(f32, u32)], spare: &mut Vec<T>) {
 /// boxes overtake each other most.)
 pub(crate) const MOVES_PER_BOX: usize = 8;
 
-/// Boxes as parallel arrays, followed by one sentinel entry (key
+/// Boxes as parallel arrays, followed by one sentinel box (key
 /// [`NO_KEY`]) so that a scan always stops.
 #[derive(Debug, Default)]
 pub(crate) struct Boxes {

@@ -249,7 +249,7 @@ impl Sweep {
         self.lap(HULLS);
 
         let n = lines.len();
-        let (boxed, entries, mut counts) = if self.plan.bands.count > 1 {
+        let (boxed, swept, mut counts) = if self.plan.bands.count > 1 {
             self.lay_out_and_sweep(stored, dt, events)
         } else {
             self.layout.forget();
@@ -271,7 +271,7 @@ impl Sweep {
             events,
             &mut counts,
         );
-        self.dense = counts.candidates as f64 > DENSE * entries as f64;
+        self.dense = counts.candidates as f64 > DENSE * swept as f64;
         self.lap(SWEEP);
 
         self.stats.candidate_pairs += counts.candidates;
