@@ -22,25 +22,35 @@ pub(crate) struct Tester<'a> {
 
 impl Tester<'_> {
     /// Tests the noted `pairs` of places, the first of each pair's slot
-    /// from `first`, the second's from `second`.
+    /// from `first`, the second's from `second`. In scenes larger than the
+    /// cache, each pair's lines are read a few pairs ahead of its test (a
+    /// million lines 4% faster).
     #[inline(always)]
     pub(crate) fn test(&mut self, pairs: &[(u32, u32)], first: &[u32], second: &[u32]) {
-        // In scenes larger than the cache, each pair's lines are read a few
-        // pairs ahead of its test (a million lines 4% faster).
-        let ahead = self.lines.lines.len() >= LARGE_SCENE;
-        for (k, &(i, j)) in pairs.iter().enumerate() {
-            if let Some(&(i, j)) = pairs.get(k + READ_AHEAD).filter(|_| ahead) {
-                for slot in [first[i as usize], second[j as usize]] {
-                    read_ahead(&self.lines.lines[slot as usize]);
-                }
-            }
-            let (a, b) = (first[i as usize], second[j as usize]);
-            let stored = self.lines;
-            let swap = stored.id(a) >= stored.id(b);
-            let (a, b) = if swap { (b, a) } else { (a, b) };
-            let (line_a, line_b) = (&stored.lines[a as usize], &stored.lines[b as usize]);
-            test_ordered(line_a, line_b, (a, b), self.dt, self.events, self.counts);
+        let slots = |&(i, j): &(u32, u32)| (first[i as usize], second[j as usize]);
+        if self.lines.lines.len() < LARGE_SCENE {
+            return pairs
+                .iter()
+                .map(slots)
+                .for_each(|(a, b)| self.test_pair(a, b));
         }
+        for (k, pair) in pairs.iter().enumerate() {
+            if let Some((a, b)) = pairs.get(k + READ_AHEAD).map(slots) {
+                read_ahead(&self.lines.lines[a as usize]);
+                read_ahead(&self.lines.lines[b as usize]);
+            }
+            let (a, b) = slots(pair);
+            self.test_pair(a, b);
+        }
+    }
+
+    #[inline(always)]
+    fn test_pair(&mut self, a: u32, b: u32) {
+        let stored = self.lines;
+        let swap = stored.id(a) >= stored.id(b);
+        let (a, b) = if swap { (b, a) } else { (a, b) };
+        let (line_a, line_b) = (&stored.lines[a as usize], &stored.lines[b as usize]);
+        test_ordered(line_a, line_b, (a, b), self.dt, self.events, self.counts);
     }
 }
 
