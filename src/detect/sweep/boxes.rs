@@ -31,11 +31,8 @@ impl<'a> BoxSlice<'a> {
 
     /// The boxes `r`.
     pub(crate) fn at(self, r: Range<usize>) -> Self {
-        Self::new(
-            &self.keys[r.clone()],
-            &self.hulls[r.clone()],
-            &self.slots[r],
-        )
+        let (keys, hulls) = (&self.keys[r.clone()], &self.hulls[r.clone()]);
+        Self::new(keys, hulls, &self.slots[r])
     }
 }
 
@@ -178,11 +175,8 @@ impl BoxList {
 
     /// The boxes `r`, without their ends.
     pub(crate) fn slice(&self, r: Range<usize>) -> BoxSlice<'_> {
-        BoxSlice::new(
-            &self.keys[r.clone()],
-            &self.hulls[r.clone()],
-            &self.slots[r],
-        )
+        let (keys, hulls) = (&self.keys[r.clone()], &self.hulls[r.clone()]);
+        BoxSlice::new(keys, hulls, &self.slots[r])
     }
 
     /// The boxes `r`, without their ends, to write.

@@ -258,19 +258,13 @@ impl Sweep {
             self.lap(LAYOUT);
             (boxed, boxed, self.sweep_chunks(stored, dt, boxed, events))
         };
-        let wild = self.sorted.slots[boxed..n].iter();
+        let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
         self.wild.clear();
         self.wild
-            .extend(wild.filter(|&&slot| !lines[slot as usize].is_inert()));
-        test_wild(
-            lines,
-            |k| stored.id(k),
-            &self.wild,
-            self.sorted.slots[..boxed].iter().copied(),
-            dt,
-            events,
-            &mut counts,
-        );
+            .extend(wild.iter().filter(|&&s| !lines[s as usize].is_inert()));
+        let boxed_slots = boxed_slots.iter().copied();
+        let id = |slot| stored.id(slot);
+        test_wild(lines, id, &self.wild, boxed_slots, dt, events, &mut counts);
         self.dense = counts.candidates as f64 > DENSE * swept as f64;
         self.lap(SWEEP);
 
