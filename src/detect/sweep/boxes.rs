@@ -12,7 +12,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 
-/// Boxes in parallel slices: each box's key, packed hull and id.
+/// Boxes in parallel slices: each box's key, packed hull and slot.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxSlice<'a> {
     pub keys: &'a [f32],
@@ -135,10 +135,10 @@ impl BoxList {
     }
 
     #[inline]
-    pub(crate) fn push(&mut self, key: f32, hull: Packed, id: u32, end: u32) {
+    pub(crate) fn push(&mut self, key: f32, hull: Packed, slot: u32, end: u32) {
         self.keys.push(key);
         self.hulls.push(hull);
-        self.slots.push(id);
+        self.slots.push(slot);
         self.ends.push(end);
     }
 
@@ -197,7 +197,7 @@ impl BoxList {
 
 /// Each key with its place, sorted by key in `f32`'s total order (equal
 /// keys in their order).
-pub(crate) fn radix_order(keys: &[f32], order: &mut Vec<(f32, u32)>) {
+fn radix_order(keys: &[f32], order: &mut Vec<(f32, u32)>) {
     order.clear();
     order.extend(keys.iter().zip(0u32..).map(|(&key, at)| (key, at)));
     radsort::sort_by_key(order, |k| k.0);
@@ -224,7 +224,7 @@ pub(crate) struct Boxes {
     pub keys: Vec<f32>,
     /// Packed hull (meaningless where the key is [`NO_KEY`]).
     pub hulls: Vec<Packed>,
-    /// Line id.
+    /// The line's slot.
     pub slots: Vec<u32>,
     /// Keys and places, and spare arrays, for the radix sort.
     keyed: Vec<(f32, u32)>,
@@ -338,7 +338,7 @@ pub(crate) fn insert(
             }
             continue;
         }
-        let (hull, id) = (hulls[i], slots[i]);
+        let (hull, slot) = (hulls[i], slots[i]);
         let mut j = i;
         while j > 0 && keys[j - 1] > key {
             keys[j] = keys[j - 1];
@@ -348,7 +348,7 @@ pub(crate) fn insert(
         }
         keys[j] = key;
         hulls[j] = hull;
-        slots[j] = id;
+        slots[j] = slot;
         let moved = i - j;
         if moved > budget {
             return None;
@@ -379,7 +379,7 @@ mod tests {
         assert_eq!(b.keys[n], NO_KEY);
         assert_eq!(b.slots[n], u32::MAX);
         for k in 0..n {
-            // Each box kept its hull and id together.
+            // Each box kept its hull and slot together.
             assert_eq!(b.keys[k], keys[b.slots[k] as usize]);
             assert!(b.hulls[k][0] == b.keys[k] || b.keys[k] == NO_KEY);
         }

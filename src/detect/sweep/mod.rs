@@ -34,14 +34,14 @@
 //! - *plan*: the direction and the bands, chosen on a sample from the
 //!   *spread* of each direction;
 //! - *band*: a stretch across; a box's *home* band holds its least value
-//!   across, and it is a *guest* in each band above that its box reaches;
+//!   across, and it is a *guest* in each band above that it reaches;
 //!   its *end* is the band after the last it reaches;
 //! - *layout*: the boxes band by band, homes then guests, each sorted;
 //!   *kept* (last step's, updated) or laid out *anew*;
 //! - *mover*: a box whose home band changed since the last step; a
 //!   *stayer* kept its band;
-//! - *reach*: the upper bounds a box's lanes are compared with
-//!   ([`hull::reach`]);
+//! - *reach*: the upper bounds another box's lanes are compared with
+//!   ([`hull::reach`]); as a verb, a box reaches the bands it spans;
 //! - *group*: the consecutive bands one thread lays out and sweeps;
 //! - *share*: the boxes `team::share` gives a thread in a phase;
 //! - *chunk*: what one piece of the sweep finds (events, counts, pairs):

@@ -37,7 +37,7 @@ pub(crate) struct Layout {
     /// Per band (and the boxes without a key), its homes, then the
     /// furthest band they reach.
     counts: Vec<u32>,
-    reach: Vec<u32>,
+    last_band: Vec<u32>,
     /// The bands the boxes are laid out in, while the arriving boxes are
     /// in that layout's order (so that [`Layout::lay_out`] can update it).
     kept: Option<Bands>,

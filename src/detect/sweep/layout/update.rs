@@ -200,9 +200,9 @@ impl Layout {
     }
 
     /// Sets the new layout's starts from the stayers of each band and the
-    /// movers (sorted by band, and if `kept` by key), and each band's
-    /// reach and where its movers start; returns the groups of bands, one
-    /// per thread.
+    /// movers (sorted by band, and if `kept` by key), the last band each
+    /// band's homes reach and where its movers start; returns the groups of
+    /// bands, one per thread.
     fn place_movers(
         &mut self,
         n: usize,
@@ -236,15 +236,16 @@ impl Layout {
         // Made anew, the bands have no stayers to merge the movers among:
         // each band sorts them itself, on its group's thread.
         self.groups[0].sort_movers(&mut self.movers, &self.mover_starts, kept);
-        self.reach.clear();
-        self.reach.extend(
-            tops.iter()
-                .enumerate()
-                .map(|(b, &top)| match top > f32::NEG_INFINITY {
-                    true => bands.of(top).max(b) as u32,
-                    false => b as u32,
-                }),
-        );
+        self.last_band.clear();
+        self.last_band
+            .extend(
+                tops.iter()
+                    .enumerate()
+                    .map(|(b, &top)| match top > f32::NEG_INFINITY {
+                        true => bands.of(top).max(b) as u32,
+                        false => b as u32,
+                    }),
+            );
         bounds
     }
 
@@ -522,7 +523,7 @@ impl Layout {
         // ends in it or above, stayers and movers alike.
         let b0 = range.start;
         let from = (0..b0)
-            .find(|&b| self.reach[b] as usize >= b0)
+            .find(|&b| self.last_band[b] as usize >= b0)
             .unwrap_or(b0);
         let Group {
             guests,
