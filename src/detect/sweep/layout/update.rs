@@ -260,6 +260,7 @@ impl Layout {
         bounds: &[Range<usize>],
         then_each: ThenEach,
     ) {
+        // Taken out while the groups write them and read the rest.
         let (mut groups, mut laid) = (
             std::mem::take(&mut self.groups),
             std::mem::take(&mut self.laid),
