@@ -172,7 +172,7 @@ mod portable {
     /// operations on each line in the same order, written lane by lane so
     /// that the compiler turns each into one vector operation. Writes each
     /// line's packed hull and key (least value along `along`, or [`NO_KEY`]).
-    /// #[inline(always)]
+    #[inline(always)]
     pub(super) fn make_batch(
         batch: [&Line; LANES],
         dt: f64,
