@@ -12,12 +12,12 @@ use crate::render::embedded;
 use crate::render::live::{Outcome, Pace, Scenes};
 use crate::render::{window, Frames, Recorder, Size, Target};
 use crate::report::{self, DrawStats, Stats};
-use crate::run::{Checkpoints, Run};
+use crate::run::{Checkpoints, Run, RunError};
 use crate::stop::Signal;
 use crate::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::Write;
 use std::path::PathBuf;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 /// Where a run is shown.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -162,6 +162,10 @@ pub enum JobError {
     /// Writing the results failed.
     #[error("cannot write the results: {0}")]
     Output(#[from] std::io::Error),
+    /// Files the run was to write could not be written (each message
+    /// names its file); the results were printed all the same.
+    #[error("{}", .0.join("; "))]
+    Files(Vec<String>),
 }
 
 impl From<String> for JobError {
@@ -234,6 +238,9 @@ struct Finished {
     drawn: Option<DrawStats>,
     /// The input's name when it changed during the run (cycled scenes).
     input_name: Option<String>,
+    /// Why a picture or a checkpoint could not be written, when that
+    /// ended the run early.
+    failure: Option<String>,
 }
 
 impl Job {
@@ -246,8 +253,13 @@ impl Job {
         progress: Option<&mut dyn Progress>,
     ) -> Result<Option<Signal>, JobError> {
         self.check()?;
-        if self.screen.is_some() {
-            window::check_display()?;
+        // The display and the window are checked before anything is
+        // printed, so that a run that cannot be shown prints only why.
+        match self.screen {
+            Some(Screen::Window { .. }) => window::check_display()?,
+            Some(Screen::Root) => embedded::check(embedded::Target::Root)?,
+            Some(Screen::WindowId(id)) => embedded::check(embedded::Target::Id(id))?,
+            None => {}
         }
         let mut started = self.start()?;
         let first_step = started.world.steps();
@@ -258,7 +270,7 @@ impl Job {
             out.write_all(report::header(self.frames, &started.input_name).as_bytes())?;
             out.flush()?;
         }
-        let finished = match self.screen {
+        let mut finished = match self.screen {
             Some(screen) => self.on_screen(screen, started.world, started.seed)?,
             None => self.off_screen(started.world, started.steps, started.digest, progress)?,
         };
@@ -270,7 +282,10 @@ impl Job {
             out.write_all(report::header(self.frames, name).as_bytes())?;
         }
         let stopped = crate::stop::requested();
-        self.write_files(&finished.world, started.digest)?;
+        // The results are printed whatever the files did: a file that could
+        // not be written is reported after them, and the counts are kept.
+        let failure = finished.failure.take();
+        let written = self.write_files(&finished.world, started.digest, failure);
         if let Some(signal) = stopped {
             let of = match self.frames {
                 Some(_) => format!(" of {}", started.steps),
@@ -289,6 +304,7 @@ impl Job {
         let text = self.results(&finished, stopped.is_some(), verified);
         out.write_all(text.as_bytes())?;
         out.flush()?;
+        written?;
         Ok(stopped)
     }
 
@@ -337,6 +353,33 @@ impl Job {
             return usage(
                 "--lines, --kind and --seed choose a generated scene; they cannot go with INPUT",
             );
+        }
+        self.check_clashes()
+    }
+
+    /// Refuses a file written over a file the run reads, or written twice:
+    /// each output is compared by identity with INPUT, `--resume` and the
+    /// other outputs (a checkpoint written over the one it resumes from is
+    /// meant: the run carries it on).
+    fn check_clashes(&self) -> Result<(), JobError> {
+        let outputs = named(&[
+            ("--state-out", &self.state_out),
+            ("--checkpoint", &self.checkpoint),
+            ("--render", &self.render),
+        ]);
+        let inputs = named(&[("INPUT", &self.input), ("--resume", &self.resume)]);
+        for (k, output) in outputs.iter().enumerate() {
+            for input in &inputs {
+                let resumed = output.flag == "--checkpoint" && input.flag == "--resume";
+                if output.identity == input.identity && !resumed {
+                    return Err(output.clash(input));
+                }
+            }
+            for other in &outputs[k + 1..] {
+                if output.identity == other.identity {
+                    return Err(other.clash(output));
+                }
+            }
         }
         Ok(())
     }
@@ -474,20 +517,29 @@ impl Job {
             progress: Some(&mut each),
             stop: None,
         };
+        let started = Instant::now();
         let ran = run.run(&mut world, to_run);
         progress.end(ran.as_ref().is_ok_and(|r| !r.stopped));
-        let ran = ran.map_err(|e| e.to_string())?;
+        let (elapsed, drawn, failure) = match ran {
+            Ok(ran) => (ran.elapsed, ran.pictures, None),
+            // The steps run before a file failed are counted all the same
+            // (their time with the writing's).
+            Err(e @ (RunError::Picture(_) | RunError::Checkpoint(_))) => {
+                (started.elapsed(), None, Some(e.to_string()))
+            }
+            Err(e @ RunError::Mismatch(_)) => return Err(e.to_string().into()),
+        };
         Ok(Finished {
             world,
-            elapsed: ran.elapsed,
-            drawn: ran.pictures,
+            elapsed,
+            drawn,
             input_name: None,
+            failure,
         })
     }
 
     /// Runs the steps on screen, until they end or the window closes.
     fn on_screen(&self, screen: Screen, world: World, seed: u64) -> Result<Finished, JobError> {
-        let steps = (self.frames).map(|f| f.saturating_add(1).saturating_sub(world.steps()));
         let scenes = if self.cycles() {
             let (detector, kinds, timing, config) =
                 (self.detector, self.kind, self.stats, self.config);
@@ -505,9 +557,11 @@ impl Job {
                 cycle: self.cycle.unwrap_or(DEFAULT_CYCLE),
             }
         } else {
+            // FRAMES + 1 steps from the scene's start, as off screen: a
+            // resumed world has run the checkpoint's share already.
             Scenes::One {
                 world: Box::new(world),
-                steps,
+                until: self.frames.map(|f| f + 1),
             }
         };
         let pace = self.pace.unwrap_or(Pace::PerFrame);
@@ -545,23 +599,36 @@ impl Job {
             elapsed: outcome.scene_elapsed,
             drawn: Some(drawn),
             input_name: self.cycles().then_some(name),
+            failure: None,
         })
     }
 
-    /// Writes the last checkpoint and the final state, if asked.
-    fn write_files(&self, world: &World, digest: u64) -> Result<(), JobError> {
+    /// Writes the last checkpoint and the final state, if asked: each one
+    /// whatever became of the other. The errors, one a line, after
+    /// `failure` (what ended the run early, if anything did).
+    fn write_files(
+        &self,
+        world: &World,
+        digest: u64,
+        failure: Option<String>,
+    ) -> Result<(), JobError> {
+        let mut errors: Vec<String> = failure.into_iter().collect();
         if let Some(path) = &self.checkpoint {
             let checkpoints = Checkpoints {
                 path,
                 every: None,
                 digest,
             };
-            checkpoints.save(world).map_err(|e| e.to_string())?;
+            errors.extend(checkpoints.save(world).err().map(|e| e.to_string()));
         }
         if let Some(path) = &self.state_out {
-            output::write_with(path, |out| world.write_state(out)).map_err(|e| e.to_string())?;
+            let written = output::write_with(path, |out| world.write_state(out));
+            errors.extend(written.err().map(|e| e.to_string()));
         }
-        Ok(())
+        match errors.is_empty() {
+            true => Ok(()),
+            false => Err(JobError::Files(errors)),
+        }
     }
 
     /// The results: the original program's block (and the statistics), or
@@ -600,6 +667,44 @@ impl Job {
         }
         format!("{value}\n")
     }
+}
+
+/// A file a run reads or writes, named by a flag.
+struct NamedFile<'a> {
+    flag: &'static str,
+    path: &'a std::path::Path,
+    identity: output::FileIdentity,
+}
+
+impl NamedFile<'_> {
+    /// The error for this output written over `other`.
+    fn clash(&self, other: &NamedFile) -> JobError {
+        let (a, b) = (self.path.display(), other.path.display());
+        let same = match self.path == other.path {
+            true => format!("`{a}`"),
+            false => format!("`{a}` and `{b}`"),
+        };
+        JobError::Usage(format!(
+            "{} and {} name the same file ({same}): the run would write over it; \
+             give {} another file",
+            self.flag, other.flag, self.flag
+        ))
+    }
+}
+
+/// The regular files among `files` (flag and path, if given).
+fn named<'a>(files: &[(&'static str, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>> {
+    (files.iter())
+        .filter_map(|&(flag, path)| {
+            let path = path.as_deref()?;
+            let identity = output::identity(path)?;
+            Some(NamedFile {
+                flag,
+                path,
+                identity,
+            })
+        })
+        .collect()
 }
 
 /// The arrangement of the `k`-th generated scene (from 0): `kind`, or each

@@ -111,6 +111,34 @@ fn kind(path: &Path) -> Kind {
     }
 }
 
+/// Which file a path names, so that two names of one file (`./a` and
+/// `a`, a link and its target, two hard links) compare equal.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum FileIdentity {
+    /// A file that exists: its device and inode.
+    Inode(u64, u64),
+    /// A file not made yet (or a system without inodes): its folder with
+    /// links followed, and its name.
+    Path(PathBuf),
+}
+
+/// The file `path` names as a regular file, if it does: `None` for
+/// standard output, devices, FIFOs and sockets, which any number of
+/// outputs may share.
+pub(crate) fn identity(path: &Path) -> Option<FileIdentity> {
+    let Kind::Whole(target) = kind(path) else {
+        return None;
+    };
+    #[cfg(unix)]
+    if let Ok(m) = std::fs::metadata(&target) {
+        use std::os::unix::fs::MetadataExt;
+        return Some(FileIdentity::Inode(m.dev(), m.ino()));
+    }
+    let folder = folder(&target);
+    let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
+    Some(FileIdentity::Path(folder.join(target.file_name()?)))
+}
+
 /// The temporary files that exist now, removed by [`remove_temporaries`].
 static TEMPORARIES: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 

@@ -66,15 +66,16 @@ pub struct Options {
     pub pace: Pace,
 }
 
-/// Runs `scenes` drawn into the window `target` until the run ends, the
-/// window goes away or a signal stops it. Fails with a message when there
-/// is no display, no such window, or a window whose pixels are not 24-bit
-/// true colour.
-pub fn run(
-    target: Target,
-    scenes: Scenes,
-    options: Options,
-) -> Result<(Outcome, DrawStats), String> {
+/// A connection to the display and the window to draw in, checked.
+struct Opened {
+    conn: x11rb::rust_connection::RustConnection,
+    window: u32,
+    geometry: x11rb::protocol::xproto::GetGeometryReply,
+}
+
+/// Connects to the display and checks the window `target` names: that it
+/// exists and that its pixels are 24-bit true colour.
+fn open(target: Target) -> Result<Opened, String> {
     super::window::check_display()?;
     let (conn, screen_number) =
         x11rb::connect(None).map_err(|e| format!("cannot reach the X display: {e}"))?;
@@ -115,6 +116,36 @@ pub fn run(
             "cannot draw in a window of depth {depth} that is not 24-bit true colour"
         )));
     }
+    Ok(Opened {
+        conn,
+        window,
+        geometry,
+    })
+}
+
+/// Checks, before a run starts, that it can draw into the window `target`
+/// names: the display answers, the window exists and takes 24-bit true
+/// colour.
+pub fn check(target: Target) -> Result<(), String> {
+    open(target).map(drop)
+}
+
+/// Runs `scenes` drawn into the window `target` until the run ends, the
+/// window goes away or a signal stops it. Fails with a message when there
+/// is no display, no such window, or a window whose pixels are not 24-bit
+/// true colour.
+pub fn run(
+    target: Target,
+    scenes: Scenes,
+    options: Options,
+) -> Result<(Outcome, DrawStats), String> {
+    let Opened {
+        conn,
+        window,
+        geometry,
+    } = open(target)?;
+    let failed = |e: &dyn std::fmt::Display| format!("window 0x{window:x}: {e}");
+    let depth = geometry.depth;
     let msb_first = conn.setup().image_byte_order == ImageOrder::MSB_FIRST;
     conn.change_window_attributes(
         window,

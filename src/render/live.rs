@@ -15,12 +15,14 @@ use std::time::{Duration, Instant};
 
 /// Where the scenes of a live run come from.
 pub enum Scenes {
-    /// One world, run for `steps` steps, or until stopped if `None`.
+    /// One world, run until its step count reaches `until`, or until
+    /// stopped if `None`.
     One {
         /// The world (boxed: a world is large beside the other variant).
         world: Box<World>,
-        /// Steps to run.
-        steps: Option<u64>,
+        /// The step the run ends at, counted from the world's start (a
+        /// resumed world has run some of them already).
+        until: Option<u64>,
     },
     /// Generated scenes without end: `first`, then `next(k)` for the
     /// `k`-th (from 1); a new one starts after `cycle`, or as soon as the
@@ -254,7 +256,7 @@ impl Simulation {
 fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
     let start = Instant::now();
     let (mut world, steps, mut next, cycle) = match scenes {
-        Scenes::One { world, steps } => (*world, steps, None, None),
+        Scenes::One { world, until } => (*world, until, None, None),
         Scenes::Generated { first, next, cycle } => (*first, None, Some(next), Some(cycle)),
     };
     let mut scene = 0;
@@ -262,6 +264,10 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
     let mut last_check = Instant::now();
     let (mut window_start, mut window_steps) = (Instant::now(), 0u64);
     let mut rate = 0.0;
+    // Whether the last pass of the loop was paused: the rate is measured
+    // over running steps only, so that `+` after a pause doubles the pace
+    // the run had, not the few single steps taken while paused.
+    let mut was_paused = false;
     let publish = |world: &World, scene, rate, force: bool| {
         if force || shared.taken.swap(false, Ordering::AcqRel) {
             let c = world.counters();
@@ -311,6 +317,10 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             }
         }
         let paused = shared.paused.load(Ordering::Relaxed);
+        if was_paused && !paused {
+            (window_start, window_steps) = (Instant::now(), 0);
+        }
+        was_paused = paused;
         if paused && shared.steps_requested.load(Ordering::Relaxed) == 0 {
             std::thread::sleep(Duration::from_millis(5));
             continue;
@@ -335,8 +345,8 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
         };
         let mut step_start = Instant::now();
         let mut after_step = |world: &World, _: Duration| {
-            window_steps += 1;
-            if window_start.elapsed() >= Duration::from_millis(250) {
+            window_steps += u64::from(!paused);
+            if !paused && window_start.elapsed() >= Duration::from_millis(250) {
                 rate = window_steps as f64 / window_start.elapsed().as_secs_f64();
                 (window_start, window_steps) = (Instant::now(), 0);
             }
@@ -430,7 +440,7 @@ mod tests {
         let run = Simulation::start(
             Scenes::One {
                 world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
-                steps: Some(steps),
+                until: Some(steps),
             },
             Pace::Max,
         );
@@ -456,6 +466,58 @@ mod tests {
         let outcome = finished_run(25).finish().unwrap();
         assert_eq!(outcome.world.steps(), 25);
         assert_eq!(outcome.scenes, 1);
+    }
+
+    /// A resumed world has run some of its steps: the run ends at the
+    /// same step as the whole run would, not that many steps later.
+    #[test]
+    fn a_resumed_world_ends_at_the_runs_last_step() {
+        let mut resumed = world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))]);
+        resumed.run(10);
+        let run = Simulation::start(
+            Scenes::One {
+                world: Box::new(resumed),
+                until: Some(25),
+            },
+            Pace::Max,
+        );
+        while !run.shared.finished.load(Ordering::Acquire) {
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        assert_eq!(run.finish().unwrap().world.steps(), 25);
+    }
+
+    /// Single steps taken while paused leave the measured rate as it was
+    /// running, so that `+` after a pause doubles that pace.
+    #[test]
+    fn steps_while_paused_keep_the_running_rate() {
+        let run = Simulation::start(
+            Scenes::One {
+                world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0))])),
+                until: None,
+            },
+            Pace::Max,
+        );
+        let latest_rate = |run: &Simulation| loop {
+            run.shared.want_news();
+            std::thread::sleep(Duration::from_millis(20));
+            if let Some(s) = run.shared.take() {
+                return s.rate;
+            }
+        };
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while latest_rate(&run) < 1000.0 {
+            assert!(Instant::now() < deadline, "the rate was never measured");
+        }
+        run.shared.paused.store(true, Ordering::Relaxed);
+        std::thread::sleep(Duration::from_millis(300));
+        for _ in 0..3 {
+            run.shared.steps_requested.fetch_add(1, Ordering::Relaxed);
+            std::thread::sleep(Duration::from_millis(300));
+        }
+        let rate = latest_rate(&run);
+        assert!(rate >= 1000.0, "a paused run's rate fell to {rate} steps/s");
+        run.finish().unwrap();
     }
 
     #[test]
@@ -496,7 +558,7 @@ mod tests {
         let run = Simulation::start(
             Scenes::One {
                 world: Box::new(world(vec![line((0.6, 0.6), (0.7, 0.7), (0.001, 0.0))])),
-                steps: None,
+                until: None,
             },
             Pace::PerFrame,
         );

@@ -21,7 +21,9 @@ use winit::dpi::{LogicalSize, PhysicalPosition};
 use winit::event::{ElementState, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
+use winit::raw_window_handle::{HasWindowHandle, RawWindowHandle};
 use winit::window::{Fullscreen, Window, WindowId};
+use x11rb::protocol::xproto::ConnectionExt as _;
 
 /// What a key does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -76,7 +78,13 @@ pub struct Options {
 /// display to open a window on.
 pub fn check_display() -> Result<(), String> {
     let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
-    if set("DISPLAY") || set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
+    if set("DISPLAY") {
+        // A connection made and dropped: a display that does not answer is
+        // reported before the run prints anything.
+        x11rb::connect(None)
+            .map(drop)
+            .map_err(|_| unreachable_display())
+    } else if set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
         Ok(())
     } else {
         Err("cannot open a window: no display (DISPLAY is not set); \
@@ -115,6 +123,7 @@ pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), Str
         clock: FrameClock::default(),
         next_frame: Instant::now(),
         error: None,
+        x11: None,
     };
     let looped = event_loop.run_app(&mut app);
     let (error, stats) = (app.error.take(), app.clock.stats());
@@ -142,12 +151,41 @@ struct App<'a> {
     clock: FrameClock,
     next_frame: Instant,
     error: Option<String>,
+    /// The window on the X server, asked for its size over a connection of
+    /// our own: the windowing library's own question panics once another
+    /// client has destroyed the window, where this one answers that it is
+    /// gone.
+    x11: Option<(x11rb::rust_connection::RustConnection, u32)>,
 }
 
 impl App<'_> {
+    /// Ends the run with an error, unless the window is gone: then it
+    /// ends as a closed window does.
     fn fail(&mut self, event_loop: &ActiveEventLoop, message: String) {
-        self.error = Some(message);
+        if self.size().is_some() {
+            self.error = Some(message);
+        }
+        self.closed(event_loop);
+    }
+
+    /// Ends the run as when the window is closed: the results of the
+    /// steps run so far.
+    fn closed(&mut self, event_loop: &ActiveEventLoop) {
+        self.surface = None;
+        self.window = None;
         event_loop.exit();
+    }
+
+    /// The window's size in pixels, or `None` once it is gone.
+    fn size(&self) -> Option<winit::dpi::PhysicalSize<u32>> {
+        let window = self.window.as_ref()?;
+        match &self.x11 {
+            Some((conn, id)) => {
+                let geometry = conn.get_geometry(*id).ok()?.reply().ok()?;
+                Some((u32::from(geometry.width), u32::from(geometry.height)).into())
+            }
+            None => Some(window.inner_size()),
+        }
     }
 
     /// Takes the latest state, if there is a new one.
@@ -171,13 +209,16 @@ impl App<'_> {
     fn redraw(&mut self, event_loop: &ActiveEventLoop) {
         let started = Instant::now();
         self.take_snapshot();
-        let (Some(window), Some(surface), Some(state)) =
-            (&self.window, &mut self.surface, &self.state)
-        else {
+        let Some(window) = &self.window else {
             return;
         };
         window.set_title(&self.title);
-        let size = window.inner_size();
+        let Some(size) = self.size() else {
+            return self.closed(event_loop);
+        };
+        let (Some(surface), Some(state)) = (&mut self.surface, &self.state) else {
+            return;
+        };
         let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
             return;
         };
@@ -282,12 +323,20 @@ impl ApplicationHandler for App<'_> {
             Ok(surface) => self.surface = Some(surface),
             Err(e) => return self.fail(event_loop, format!("cannot draw in the window: {e}")),
         }
+        // Where the window is an X window, its size is asked over a
+        // connection of our own (see `App::x11`).
+        let id = match window.window_handle().map(|h| h.as_raw()) {
+            Ok(RawWindowHandle::Xlib(h)) => u32::try_from(h.window).ok(),
+            Ok(RawWindowHandle::Xcb(h)) => Some(h.window.get()),
+            _ => None,
+        };
+        self.x11 = id.and_then(|id| Some((x11rb::connect(None).ok()?.0, id)));
         self.window = Some(window);
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
         match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::CloseRequested | WindowEvent::Destroyed => self.closed(event_loop),
             WindowEvent::RedrawRequested => self.redraw(event_loop),
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 if let Some(action) = action_for(&event.logical_key) {

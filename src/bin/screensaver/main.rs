@@ -20,6 +20,8 @@ use std::time::Duration;
 enum Failure {
     /// Something went wrong: the message says what.
     Error(String),
+    /// Several things went wrong, each message on its own line.
+    Errors(Vec<String>),
     /// Standard output was closed (`| head`): a normal end.
     ClosedPipe,
     /// The command line does not make sense: reported as clap reports
@@ -33,6 +35,7 @@ impl From<JobError> for Failure {
             JobError::Usage(message) => Failure::Usage(ErrorKind::ArgumentConflict, message),
             JobError::Output(e) => stdout_failure(e, "the results"),
             JobError::Failed(message) => Failure::Error(message),
+            JobError::Files(messages) => Failure::Errors(messages),
         }
     }
 }
@@ -65,6 +68,12 @@ fn main() -> ExitCode {
         Ok(Some(signal)) => ExitCode::from(signal.exit_status()),
         Err(Failure::Error(message)) => {
             eprintln!("screensaver: error: {message}");
+            ExitCode::FAILURE
+        }
+        Err(Failure::Errors(messages)) => {
+            for message in messages {
+                eprintln!("screensaver: error: {message}");
+            }
             ExitCode::FAILURE
         }
         Err(Failure::Usage(kind, message)) => Cli::command().error(kind, message).exit(),
