@@ -422,6 +422,17 @@ pub(crate) fn write_scene(
     writeln!(out, "{count}")?;
     let mut written = 0;
     for l in lines {
+        // Streams of millions of lines stop on a signal (where signals are
+        // caught), so that an interrupted file is removed, not finished.
+        #[cfg(feature = "signals")]
+        if written % 4096 == 0 {
+            if let Some(signal) = crate::stop::requested() {
+                return Err(std::io::Error::other(format!(
+                    "stopped by {}",
+                    signal.name()
+                )));
+            }
+        }
         writeln!(
             out,
             "({}, {}), ({}, {}), {}, {}, {}",

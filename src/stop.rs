@@ -30,6 +30,23 @@ impl Signal {
         128 + self.number() as u8
     }
 
+    /// The signal that has asked the program to stop, if one has (since
+    /// [`Signal::catch`]).
+    pub fn requested() -> Option<Signal> {
+        requested()
+    }
+
+    /// Ends the process by this signal itself, its default action
+    /// restored: a parent (a shell, a screen-saver daemon) sees a death by
+    /// the signal, as if it had never been caught, and a shell reports
+    /// [`Signal::exit_status`]. For the end of a run the signal stopped,
+    /// once its results are out.
+    pub fn end_process(self) -> ! {
+        // Failing that, the status a shell would report.
+        let _ = signal_hook::low_level::emulate_default_handler(self.number());
+        std::process::exit(i32::from(self.exit_status()))
+    }
+
     fn number(self) -> i32 {
         match self {
             Signal::Interrupt => signal_hook::consts::SIGINT,
@@ -89,7 +106,7 @@ fn install() -> std::io::Result<()> {
                     .is_err()
                 {
                     crate::output::remove_temporaries();
-                    std::process::exit(i32::from(Signal::from_number(number).exit_status()));
+                    Signal::from_number(number).end_process();
                 }
             }
         })?;

@@ -2,6 +2,8 @@
 //! new user runs into: signals stop a run cleanly, files are whole or
 //! absent, checkpoints resume, and messages say what is wrong.
 
+mod common;
+
 use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Output, Stdio};
@@ -82,7 +84,7 @@ fn sigint_stops_at_the_end_of_a_step_with_the_results_and_a_checkpoint() {
     wait_for(&checkpoint);
     signal(&child, "INT");
     let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(130), "{}", text(&out.stderr));
+    common::assert_ended_by(out.status, "INT", &text(&out.stderr));
     let stdout = text(&out.stdout);
     assert!(
         stdout.contains("---- RESULTS ----") && stdout.contains("---- END RESULTS ----"),
@@ -122,7 +124,7 @@ fn sigterm_stops_a_json_run_marked_interrupted() {
     wait_for(&checkpoint);
     signal(&child, "TERM");
     let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(143), "{}", text(&out.stderr));
+    common::assert_ended_by(out.status, "TERM", &text(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["interrupted"], true);
     let saved = screensaver::checkpoint::Checkpoint::load(&checkpoint).unwrap();
@@ -156,7 +158,7 @@ fn a_second_sigint_ends_at_once_leaving_no_partial_file() {
     std::thread::sleep(Duration::from_millis(50));
     signal(&child, "INT");
     let out = child.wait_with_output().unwrap();
-    assert_eq!(out.status.code(), Some(130));
+    common::assert_ended_by(out.status, "INT", &text(&out.stderr));
     assert!(
         !text(&out.stdout).contains("RESULTS"),
         "the run did not end at once"
@@ -459,4 +461,60 @@ fn messages_say_what_is_wrong_in_plain_words() {
     .unwrap();
     let err = text(&screensaver(&["10", one.to_str().unwrap()]).stderr);
     assert!(err.contains("declares 1 line but"), "{err}");
+}
+
+#[test]
+fn one_sigint_stops_gen_at_once_leaving_no_file() {
+    let dir = folder("gen");
+    let scene = dir.join("big.in");
+    // Fifty million lines take half a minute and more to write.
+    let child = spawn(&["gen", "--lines", "50000000", "-o", scene.to_str().unwrap()]);
+    // Until the temporary file beside it has grown, the run has not got
+    // going.
+    let start = Instant::now();
+    while !std::fs::read_dir(&dir)
+        .unwrap()
+        .any(|e| e.unwrap().metadata().is_ok_and(|m| m.len() > 1 << 20))
+    {
+        assert!(
+            start.elapsed() < Duration::from_secs(60),
+            "gen wrote nothing"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let signalled = Instant::now();
+    signal(&child, "INT");
+    let out = child.wait_with_output().unwrap();
+    let stderr = text(&out.stderr);
+    common::assert_ended_by(out.status, "INT", &stderr);
+    assert!(
+        signalled.elapsed() < Duration::from_secs(5),
+        "gen went on for {:?} after SIGINT",
+        signalled.elapsed()
+    );
+    assert!(stderr.contains("gen stopped by SIGINT"), "{stderr}");
+    assert!(names_in(&dir).is_empty(), "left: {:?}", names_in(&dir));
+}
+
+/// A shell sees 143 for a run SIGTERM stopped: the status the program's
+/// death by the signal makes, as for any program that does not catch it.
+#[cfg(unix)]
+#[test]
+fn a_shell_sees_the_signals_status() {
+    let dir = folder("shell");
+    let checkpoint = dir.join("c");
+    let script = format!(
+        "'{}' 100000000 --checkpoint '{}' --checkpoint-every 20 >/dev/null 2>&1 & \
+         while [ ! -e '{}' ]; do sleep 0.02; done; kill -TERM $!; wait $!; echo status $?",
+        env!("CARGO_BIN_EXE_screensaver"),
+        checkpoint.display(),
+        checkpoint.display()
+    );
+    let out = Command::new("sh").args(["-c", &script]).output().unwrap();
+    assert_eq!(
+        text(&out.stdout).trim(),
+        "status 143",
+        "{}",
+        text(&out.stderr)
+    );
 }

@@ -167,3 +167,25 @@ pub fn check_scene_with(
     let world = World::with_config(&load_scene(&dir, scene), kind, config).expect("a thread pool");
     check_world(&dir, scene, world, max_steps, &label);
 }
+
+/// Asserts that a process ended by the signal `name` (`INT` or `TERM`)
+/// itself, as a parent sees it: a death by that signal (which a shell
+/// reports as 130 or 143), not an exit with a status.
+pub fn assert_ended_by(status: std::process::ExitStatus, name: &str, context: &str) {
+    #[cfg(unix)]
+    {
+        use std::os::unix::process::ExitStatusExt;
+        let number = match name {
+            "INT" => 2,
+            "TERM" => 15,
+            _ => panic!("no signal {name}"),
+        };
+        assert_eq!(
+            (status.signal(), status.code()),
+            (Some(number), None),
+            "ended by SIG{name}? {status:?}: {context}"
+        );
+    }
+    #[cfg(not(unix))]
+    assert!(!status.success(), "{status:?}: {context}");
+}

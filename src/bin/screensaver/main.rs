@@ -60,12 +60,16 @@ fn main() -> ExitCode {
         eprintln!("screensaver: warning: cannot catch SIGINT and SIGTERM: {e}");
     }
     let outcome = match &cli.command {
-        Some(Command::Gen(args)) => gen(args).map(|()| None),
+        Some(Command::Gen(args)) => gen(args),
         None => run(&cli),
     };
     match outcome {
         Ok(None) | Err(Failure::ClosedPipe) => ExitCode::SUCCESS,
-        Ok(Some(signal)) => ExitCode::from(signal.exit_status()),
+        Ok(Some(signal)) => {
+            use std::io::Write;
+            let _ = std::io::stdout().flush();
+            signal.end_process()
+        }
         Err(Failure::Error(message)) => {
             eprintln!("screensaver: error: {message}");
             ExitCode::FAILURE
@@ -81,13 +85,23 @@ fn main() -> ExitCode {
 }
 
 /// `screensaver gen`: streams the scene out, so that even huge scenes are
-/// never held in memory.
-fn gen(args: &GenArgs) -> Result<(), Failure> {
+/// never held in memory. A signal stops it at once, leaving no file.
+fn gen(args: &GenArgs) -> Result<Option<Signal>, Failure> {
     let (kind, lines, seed) = (args.kind, args.lines, args.seed);
-    match &args.output {
+    let written = match &args.output {
         Some(path) => (kind.save(lines, seed, path)).map_err(|e| Failure::Error(e.to_string())),
         None => (kind.write(lines, seed, &mut std::io::stdout().lock()))
             .map_err(|e| stdout_failure(e, "the scene")),
+    };
+    match Signal::requested() {
+        Some(signal) => {
+            let what = args.output.as_ref().map_or("the scene".into(), |p| {
+                format!("{}: nothing written", p.display())
+            });
+            eprintln!("screensaver: gen stopped by {}: {what}", signal.name());
+            Ok(Some(signal))
+        }
+        None => written.map(|()| None),
     }
 }
 
