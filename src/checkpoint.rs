@@ -380,14 +380,7 @@ impl Checkpoint {
                         ))
                     }
                     Some(w) if w != hash.0 => {
-                        return Err(fail(
-                            line,
-                            format!(
-                                "the checksum {w:016x} does not match the content \
-                                 ({:016x}): the checkpoint was edited or damaged",
-                                hash.0
-                            ),
-                        ))
+                        return Err(changed(text, origin, line, w, hash.0));
                     }
                     Some(_) => {}
                 }
@@ -445,6 +438,47 @@ impl Checkpoint {
             lines,
             colors,
         })
+    }
+}
+
+/// The error for a checkpoint whose content does not match the checksum
+/// `written` on line `sum_line` (`found` is the content's): located at the
+/// first row that is not spelt as the program writes rows (such a row was
+/// edited), else at the checksum, saying that where the change is cannot
+/// be told.
+fn changed(text: &[u8], origin: &str, sum_line: usize, written: u64, found: u64) -> ParseError {
+    let intro = "the file was changed after it was written";
+    let sums = format!("the checksum on line {sum_line} ({written:016x}) does not match the content ({found:016x})");
+    // Rows from line 6, each read back and spelt anew.
+    let rows = text.split(|&b| b == b'\n').enumerate().skip(5);
+    let unusual = rows
+        .take_while(|(k, _)| k + 1 < sum_line)
+        .enumerate()
+        .find_map(|(id, (k, row))| {
+            let row = row.strip_suffix(b"\r").unwrap_or(row);
+            let (line, color) = parse_row(row, id).ok()?;
+            let mut spelt = String::new();
+            push_row(&mut spelt, id, &line);
+            write!(spelt, " {}", color.code()).expect("writing to a String");
+            (spelt.as_bytes() != row).then_some(k + 1)
+        });
+    let (line, problem) = match unusual {
+        Some(line) => (
+            line,
+            format!("{intro}: this row is not as the program writes it, and {sums}"),
+        ),
+        None => (
+            sum_line,
+            format!(
+                "{intro}: {sums}; the checksum covers every line above it, and the change \
+                 keeps the program's own spelling, so where it is cannot be told"
+            ),
+        ),
+    };
+    ParseError {
+        origin: origin.to_string(),
+        line,
+        problem,
     }
 }
 
@@ -615,7 +649,10 @@ mod tests {
                 text.replace("\n1 ", "\n2 "),
                 "c:7: expected the row of line 1, found id `2`",
             ),
-            (text.replace("2 lines", "3 lines"), "c:8: the checksum"),
+            (
+                text.replace("2 lines", "3 lines"),
+                "c:8: the file was changed after it was written",
+            ),
             (
                 text.replace("2 lines", "1 line"),
                 "c:7: the checkpoint declares 1 line but has more rows",
@@ -644,7 +681,8 @@ mod tests {
             );
         }
         // Edits that keep the syntax: the steps, a counter, one bit of a
-        // coordinate, a colour. Each is refused at the checksum's line.
+        // coordinate, a colour. Each is refused at the checksum's line, as
+        // a change whose place cannot be told.
         let edits = [
             text.replace("# steps: 1200", "# steps: 1201"),
             text.replace("collisions: 17", "collisions: 18"),
@@ -657,7 +695,23 @@ mod tests {
                 .unwrap_err()
                 .to_string();
             assert!(
-                err.starts_with("c:8: the checksum") && err.contains("edited or damaged"),
+                err.starts_with("c:8: the file was changed after it was written: the checksum")
+                    && err.contains("cannot be told"),
+                "{err}"
+            );
+        }
+        // A row spelt otherwise than the program spells it is named.
+        for (edited, line) in [
+            (text.replace(" 0.55 ", " 0.550 "), 6),
+            (text.replace("3e+16 0", "3e16 0"), 7),
+        ] {
+            let err = Checkpoint::parse(edited.as_bytes(), "c")
+                .unwrap_err()
+                .to_string();
+            assert!(
+                err.starts_with(&format!(
+                    "c:{line}: the file was changed after it was written: this row"
+                )),
                 "{err}"
             );
         }

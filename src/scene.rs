@@ -40,9 +40,21 @@ pub struct Scene {
 /// What is wrong with a scene text.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum ParseErrorKind {
-    /// The text holds nothing but whitespace.
+    /// The text holds nothing at all.
     #[error("the file is empty; expected the number of lines first")]
     Empty,
+    /// The text holds nothing but blank lines (spaces, tabs, newlines).
+    #[error("the file has only blank lines; expected the number of lines first")]
+    Blank,
+    /// A row goes on after its colour.
+    #[error("row {row}: an extra field after the colour, `{found}` (a row is `(x1, y1), (x2, y2), vx, vy, colour`)")]
+    ExtraField {
+        /// 1-based row number.
+        row: u64,
+        /// What follows the colour on its text line: `, ` and the next
+        /// token, or `,` alone.
+        found: String,
+    },
     /// The first token is not a non-negative integer.
     #[error("expected the number of lines (a non-negative integer), found `{found}`")]
     BadCount {
@@ -279,6 +291,31 @@ impl<'a> Parser<'a> {
         Ok(Vec2::new(px, py))
     }
 
+    /// Refuses a field after a row's colour: a `,` after it on the same
+    /// text line.
+    fn row_end(&mut self) -> Result<(), ParseError> {
+        let save = (self.lexer.pos, self.lexer.line);
+        match self.lexer.next() {
+            Some((Token::Comma, line)) if line == save.1 => {
+                let found = match self.lexer.next() {
+                    Some((token, next)) if next == line => {
+                        format!(", {}", token.to_string().trim_matches('`'))
+                    }
+                    _ => ",".to_string(),
+                };
+                let kind = ParseErrorKind::ExtraField {
+                    row: self.row,
+                    found,
+                };
+                Err(self.error(line, kind))
+            }
+            _ => {
+                (self.lexer.pos, self.lexer.line) = save;
+                Ok(())
+            }
+        }
+    }
+
     fn row(&mut self) -> Result<SceneLine, ParseError> {
         let p1 = self.point("`(` opening the first point", "x1", "y1")?;
         self.punct(Token::Comma, "`,` after the first point")?;
@@ -289,6 +326,7 @@ impl<'a> Parser<'a> {
         let vy = self.number("vy", "the velocity vy")?;
         self.punct(Token::Comma, "`,` after vy")?;
         let color = self.color()?;
+        self.row_end()?;
         Ok(SceneLine {
             p1,
             p2,
@@ -335,13 +373,17 @@ impl Scene {
     /// Parses a scene text. `origin` names the text in error messages
     /// (usually the file's path).
     pub fn parse(text: &[u8], origin: &str) -> Result<Self, ParseError> {
+        // A UTF-8 byte-order mark, which some editors put first, says only
+        // how the text is encoded.
+        let text = text.strip_prefix(b"\xef\xbb\xbf").unwrap_or(text);
         let mut parser = Parser {
             lexer: Lexer::new(text),
             origin,
             row: 0,
         };
         let declared = match parser.lexer.next() {
-            None => return Err(parser.error(parser.lexer.eof_line(), ParseErrorKind::Empty)),
+            None if text.is_empty() => return Err(parser.error(1, ParseErrorKind::Empty)),
+            None => return Err(parser.error(1, ParseErrorKind::Blank)),
             Some((Token::Word(word), line)) => std::str::from_utf8(word)
                 .ok()
                 .and_then(|s| s.parse::<u64>().ok())
@@ -512,7 +554,36 @@ mod tests {
                 "the file is empty; expected the number of lines first".into()
             )
         );
-        assert_eq!(err("\n\n  \n").0, 3);
+        assert_eq!(
+            err("\n\n  \n"),
+            (
+                1,
+                "the file has only blank lines; expected the number of lines first".into()
+            )
+        );
+    }
+
+    #[test]
+    fn a_field_after_the_colour_is_named() {
+        let (line, msg) = err("1\n(1, 2), (3, 4), 0.1, 0.2, 0, 7\n");
+        assert_eq!(line, 2);
+        assert!(
+            msg.starts_with("row 1: an extra field after the colour, `, 7`"),
+            "{msg}"
+        );
+        let (line, msg) = err("2\n(1, 2), (3, 4), 0, 0, 0,\n(1, 2), (3, 4), 0, 0, 0\n");
+        assert_eq!(line, 2);
+        assert!(
+            msg.starts_with("row 1: an extra field after the colour, `,`"),
+            "{msg}"
+        );
+    }
+
+    #[test]
+    fn a_byte_order_mark_is_passed_over() {
+        let scene = Scene::parse(b"\xef\xbb\xbf1\n(1, 2), (3, 4), 0, 0, 1\n", "bom.in").unwrap();
+        assert_eq!(scene.lines.len(), 1);
+        assert_eq!(scene, parse("1\n(1, 2), (3, 4), 0, 0, 1\n").unwrap());
     }
 
     #[test]
