@@ -231,8 +231,22 @@ struct Started {
     seed: u64,
 }
 
+/// What the results say of the run beside its world.
+struct Ran {
+    /// A signal stopped it.
+    stopped: bool,
+    /// The step it started from (a checkpoint's, when resumed).
+    first_step: u64,
+    /// Steps checked against all pairs.
+    verified: u64,
+    /// The first generated scene's seed.
+    seed: u64,
+}
+
 /// How the steps went, on screen or off.
 struct Finished {
+    /// Scenes shown (1 unless generated scenes were cycled).
+    scenes: u64,
     world: World,
     elapsed: Duration,
     drawn: Option<DrawStats>,
@@ -295,13 +309,25 @@ impl Job {
             eprintln!("screensaver: stopped by {name} after step {step}{of}");
         }
         let verified = finished.world.steps() - first_step;
+        if let Some(path) = &self.resume {
+            eprintln!(
+                "screensaver: resumed from {} at step {first_step}",
+                path.display()
+            );
+        }
         if self.verify && finished.world.mismatch().is_none() {
             eprintln!(
                 "screensaver: {}",
                 verified_message(&finished.world, verified)
             );
         }
-        let text = self.results(&finished, stopped.is_some(), verified);
+        let ran = Ran {
+            stopped: stopped.is_some(),
+            first_step,
+            verified,
+            seed: started.seed,
+        };
+        let text = self.results(&finished, &ran);
         out.write_all(text.as_bytes())?;
         out.flush()?;
         written?;
@@ -530,6 +556,7 @@ impl Job {
             Err(e @ RunError::Mismatch(_)) => return Err(e.to_string().into()),
         };
         Ok(Finished {
+            scenes: 1,
             world,
             elapsed,
             drawn,
@@ -595,6 +622,7 @@ impl Job {
         let lines = self.lines.unwrap_or(DEFAULT_LINES);
         let name = report::generated_input(self.kind_of(last), lines, seed.wrapping_add(last));
         Ok(Finished {
+            scenes: outcome.scenes,
             world: outcome.world,
             elapsed: outcome.scene_elapsed,
             drawn: Some(drawn),
@@ -633,7 +661,8 @@ impl Job {
 
     /// The results: the original program's block (and the statistics), or
     /// one JSON object.
-    fn results(&self, finished: &Finished, stopped: bool, verified: u64) -> String {
+    fn results(&self, finished: &Finished, ran: &Ran) -> String {
+        let (stopped, verified) = (ran.stopped, ran.verified);
         let world = &finished.world;
         let stats = || Stats::of(world, self.detector, &self.config, finished.drawn);
         let counts = world.counters();
@@ -657,6 +686,27 @@ impl Job {
             "line_wall_collisions": counts.wall,
             "line_line_collisions": counts.line,
         });
+        // The scene shown last, so that it can be run again: a generated
+        // one by kind, lines and seed (an endless run's seeds come from
+        // the clock); and the checkpoint a resumed run went on from.
+        value["generated"] = match self.input {
+            Some(_) => serde_json::Value::Null,
+            None => {
+                let last = finished.scenes - 1;
+                serde_json::json!({
+                    "kind": self.kind_of(last).name(),
+                    "lines": self.lines.unwrap_or(DEFAULT_LINES),
+                    "seed": ran.seed.wrapping_add(last),
+                })
+            }
+        };
+        value["resumed_from"] = match &self.resume {
+            Some(path) => serde_json::json!({
+                "checkpoint": path.display().to_string(),
+                "step": ran.first_step,
+            }),
+            None => serde_json::Value::Null,
+        };
         if self.verify {
             value["verified_steps"] = serde_json::json!(verified);
             value["sliver_events"] = serde_json::json!(world.slivers().0);

@@ -45,10 +45,16 @@ impl OutputError {
 /// The system's reason, with the folder named when it is missing, or when
 /// it exists but refuses new files (as `/proc` does, with "not found").
 fn describe(path: &Path, e: &std::io::Error) -> String {
+    let target = resolve(path);
+    if e.kind() == std::io::ErrorKind::PermissionDenied && !target.exists() {
+        return format!(
+            "this user may not make files in the folder {} (permission denied)",
+            folder(&target).display()
+        );
+    }
     if e.kind() != std::io::ErrorKind::NotFound {
         return e.to_string();
     }
-    let target = resolve(path);
     let folder = folder(&target);
     if folder.is_dir() {
         format!(
@@ -189,6 +195,9 @@ impl OutputFile {
     /// Starts writing the file `path` names.
     pub fn create(path: &Path) -> Result<OutputFile, OutputError> {
         let fail = |source| OutputError::new(path, source);
+        if path.is_dir() {
+            return Err(fail(std::io::Error::other("it is a folder")));
+        }
         let (sink, target) = match kind(path) {
             Kind::Stdout => (Sink::Stdout(std::io::stdout()), path.to_path_buf()),
             Kind::Direct => {
@@ -210,7 +219,10 @@ impl OutputFile {
                     builder.permissions(std::fs::Permissions::from_mode(0o666));
                 }
                 let mut list = temporaries();
-                let temp = builder.tempfile_in(folder(&target)).map_err(fail)?;
+                // The system's reason alone: the temporary file's name,
+                // which tempfile adds, means nothing to the user.
+                let temp = (builder.tempfile_in(folder(&target)))
+                    .map_err(|e| fail(std::io::Error::from(e.kind())))?;
                 list.push(temp.path().to_path_buf());
                 (Sink::Temporary(temp), target)
             }
@@ -307,12 +319,6 @@ pub fn write_with(
 /// FIFO is not opened: that would wait for a reader). Nothing is left
 /// behind.
 pub fn check_writable(path: &Path) -> Result<(), OutputError> {
-    if path.is_dir() {
-        return Err(OutputError::new(
-            path,
-            std::io::Error::other("it is a folder"),
-        ));
-    }
     if is_fifo(path) {
         return Ok(());
     }

@@ -70,7 +70,8 @@ impl DrawStats {
 pub struct Stats {
     kind: DetectorKind,
     config: DetectorConfig,
-    tuning: String,
+    /// How the detector is working, in a few words (the sweep's plan).
+    plan: String,
     lines: usize,
     steps: u64,
     threads: usize,
@@ -90,18 +91,10 @@ impl Stats {
         config: &DetectorConfig,
         drawn: Option<DrawStats>,
     ) -> Stats {
-        let tuning = match kind {
-            DetectorKind::Quadtree => format!(
-                " (leaf size {}, max depth {})",
-                config.leaf_size, config.max_depth
-            ),
-            DetectorKind::Sweep => format!(" ({})", world.detector().describe()),
-            DetectorKind::Brute => String::new(),
-        };
         Stats {
             kind,
             config: *config,
-            tuning,
+            plan: world.detector().describe(),
             lines: world.lines().len(),
             steps: world.steps(),
             threads: world.threads(),
@@ -127,24 +120,35 @@ impl Stats {
                 d.as_secs_f64() * 1e6 / steps
             )
         };
+        let tuning = match self.kind {
+            DetectorKind::Quadtree => format!(
+                " (leaf size {}, max depth {})",
+                self.config.leaf_size, self.config.max_depth
+            ),
+            _ if !self.plan.is_empty() => format!(" ({})", self.plan),
+            _ => String::new(),
+        };
         let mut out = format!(
-            "---- STATS ----\ndetector: {}{}\nlines: {}, steps: {}, threads: {}\n",
+            "---- STATS ----\ndetector: {}{tuning}\nlines: {}, steps: {}, threads: {}\n",
             self.kind.name(),
-            self.tuning,
             self.lines,
             self.steps,
             self.threads
         );
         out += &format!("{:<18}{:>16}{:>16}\n", "", "total", "per step");
-        for (name, n) in [
+        let tree = self.kind == DetectorKind::Quadtree;
+        let counts = [
             ("candidate pairs", s.candidate_pairs),
             ("exact tests", s.exact_tests),
             ("events", s.events),
-            ("tree nodes", s.nodes),
-        ] {
+        ];
+        let nodes = tree.then_some(("tree nodes", s.nodes));
+        for (name, n) in counts.into_iter().chain(nodes) {
             out += &format!("{name:<18}{n:>16}{:>16.1}\n", per_step(n));
         }
-        out += &format!("tree depth (max)  {:>16}\n", s.max_depth);
+        if tree {
+            out += &format!("tree depth (max)  {:>16}\n", s.max_depth);
+        }
         out += "time per phase:\n";
         out += &phase("detect", t.detect);
         // The detector's own phases, within detect.
@@ -192,14 +196,10 @@ impl Stats {
         let (s, t, config) = (&self.work, &self.times, &self.config);
         let mut value = serde_json::json!({
             "detector": self.kind.name(),
-            "leaf_size": config.leaf_size,
-            "max_depth": config.max_depth,
             "threads": config.threads,
             "candidate_pairs": s.candidate_pairs,
             "exact_tests": s.exact_tests,
             "events": s.events,
-            "tree_nodes": s.nodes,
-            "tree_depth": s.max_depth,
             "seconds": {
                 "detect": t.detect.as_secs_f64(),
                 "detect_phases": self
@@ -211,6 +211,17 @@ impl Stats {
                 "move_and_walls": t.advance.as_secs_f64(),
             },
         });
+        // The quadtree's tuning and its tree; the sweep's plan.
+        match self.kind {
+            DetectorKind::Quadtree => {
+                value["leaf_size"] = serde_json::json!(config.leaf_size);
+                value["max_depth"] = serde_json::json!(config.max_depth);
+                value["tree_nodes"] = serde_json::json!(s.nodes);
+                value["tree_depth"] = serde_json::json!(s.max_depth);
+            }
+            _ if !self.plan.is_empty() => value["plan"] = serde_json::json!(self.plan),
+            _ => {}
+        }
         if let Some(h) = self.hand_offs {
             value["team"] = serde_json::json!({
                 "hand_offs": h.jobs,

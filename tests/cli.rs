@@ -193,6 +193,21 @@ fn graphics_without_a_display_is_a_clear_error() {
         "{stderr}"
     );
     assert!(!stderr.contains("panicked"));
+    // A display that does not answer: said before anything is printed.
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["-g", "5"])
+        .env("DISPLAY", ":42")
+        .env_remove("WAYLAND_DISPLAY")
+        .env_remove("WAYLAND_SOCKET")
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(out.stdout.is_empty(), "{}", text(&out.stdout));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("cannot connect to the X display `:42`"),
+        "{stderr}"
+    );
 }
 
 #[test]
@@ -516,4 +531,238 @@ fn every_option_the_xscreensaver_settings_offer_is_accepted() {
         assert_eq!(out.status.code(), Some(1), "{set}: {err}");
         assert!(err.contains("no display"), "{set}: {err}");
     }
+}
+
+/// Refused with status 2, the message saying `expected`.
+fn assert_usage_error(args: &[&str], expected: &str) {
+    let out = screensaver(args);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    assert!(out.stdout.is_empty(), "{args:?}");
+    assert!(stderr.contains(expected), "{args:?}: {stderr}");
+}
+
+#[test]
+fn a_flag_that_cannot_apply_is_refused_with_why() {
+    assert_usage_error(
+        &["10", "--hud"],
+        "--hud shows the heads-up display on screen",
+    );
+    assert_usage_error(&["10", "--speed", "100"], "--speed sets the pace");
+    assert_usage_error(&["10", "--fps", "30"], "--fps sets the frames a second");
+    assert_usage_error(
+        &["10", "--leaf-size", "8"],
+        "--leaf-size and --max-depth tune the quadtree; this run uses the sweep detector",
+    );
+    assert_usage_error(
+        &["10", "--max-depth", "4", "--detector", "brute"],
+        "this run uses the brute detector",
+    );
+    // Where they apply, they are taken.
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-fps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let gif = dir.join("a.gif");
+    for args in [
+        vec![
+            "3",
+            "--detector",
+            "quadtree",
+            "--leaf-size",
+            "8",
+            "--max-depth",
+            "4",
+        ],
+        vec![
+            "3",
+            "--lines",
+            "20",
+            "--render",
+            gif.to_str().unwrap(),
+            "--fps",
+            "10",
+        ],
+    ] {
+        let out = screensaver(&args);
+        assert!(out.status.success(), "{args:?}: {}", text(&out.stderr));
+    }
+}
+
+#[test]
+fn numbers_out_of_range_get_plain_messages() {
+    assert_usage_error(
+        &["18446744073709551616", "x.in"],
+        "`18446744073709551616` frames are more than a run can count (at most 18446744073709551614)",
+    );
+    assert_usage_error(
+        &["18446744073709551615"],
+        "frames are more than a run can count",
+    );
+    assert_usage_error(
+        &["10", "--seed", "-1"],
+        "`-1` is not a seed: give a whole number from 0",
+    );
+    assert_usage_error(
+        &["gen", "--lines", "-1"],
+        "`-1` is not a number of lines: give a whole number from 0 to 100000000",
+    );
+    assert_usage_error(&["gen", "--lines", "5", "--seed", "x"], "`x` is not a seed");
+    assert_usage_error(
+        &["-g", "--cycle", "1e9"],
+        "is not a number of seconds from 0.1 to 86400",
+    );
+    assert_usage_error(
+        &["-g", "--cycle", "0.05"],
+        "is not a number of seconds from 0.1 to 86400",
+    );
+    // A folder named as gen's output: said as a run says it.
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-dir-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = screensaver(&["gen", "--lines", "5", "-o", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        text(&out.stderr).contains("cannot write: it is a folder"),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn conflicts_show_the_usage_as_the_readme_writes_it() {
+    let out = screensaver(&["-g", "--hold", "10", "--render", "a.png"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = text(&out.stderr);
+    assert!(
+        stderr.contains("Usage: screensaver [OPTIONS] <FRAMES> [INPUT]")
+            && stderr.contains("screensaver [-g | --fullscreen | --root | --window-id ID] [OPTIONS] [FRAMES] [INPUT]"),
+        "{stderr}"
+    );
+    let readme =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).unwrap();
+    assert!(readme.contains("screensaver [OPTIONS] <FRAMES> [INPUT]"));
+}
+
+#[test]
+fn json_says_which_scene_ran_and_what_it_resumed() {
+    let out = screensaver(&[
+        "3", "--lines", "100", "--seed", "5", "--kind", "ring", "--json",
+    ]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["input"], serde_json::Value::Null);
+    assert_eq!(v["generated"]["kind"], "ring");
+    assert_eq!(v["generated"]["lines"], 100);
+    assert_eq!(v["generated"]["seed"], 5);
+    assert_eq!(v["resumed_from"], serde_json::Value::Null);
+    let out = screensaver(&["3", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["generated"]["kind"], "uniform");
+    assert_eq!(v["generated"]["seed"], 6172);
+    let path = temp_file("two-resume.in", TWO_LINES);
+    let checkpoint = path.with_extension("ckpt");
+    let (scene, ckpt) = (path.to_str().unwrap(), checkpoint.to_str().unwrap());
+    assert!(screensaver(&["2", scene, "--checkpoint", ckpt])
+        .status
+        .success());
+    let out = screensaver(&["5", scene, "--resume", ckpt, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["generated"], serde_json::Value::Null);
+    assert_eq!(v["resumed_from"]["checkpoint"], ckpt);
+    assert_eq!(v["resumed_from"]["step"], 3);
+    assert_eq!(v["steps_run"], 6);
+    let out = screensaver(&["5", scene, "--resume", ckpt]);
+    assert!(
+        text(&out.stderr).contains(&format!("resumed from {ckpt} at step 3")),
+        "{}",
+        text(&out.stderr)
+    );
+}
+
+#[test]
+fn gen_writes_the_scene_a_run_makes_by_default() {
+    let dir = std::env::temp_dir().join(format!("screensaver-cli-gen-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let scene = dir.join("g.in");
+    let out = screensaver(&["gen", "--lines", "1000", "-o", scene.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let counts = |out: Output| {
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        (
+            v["line_wall_collisions"].clone(),
+            v["line_line_collisions"].clone(),
+        )
+    };
+    let from_file = counts(screensaver(&["20", scene.to_str().unwrap(), "--json"]));
+    let built_in = counts(screensaver(&["20", "--json"]));
+    assert_eq!(from_file, built_in);
+}
+
+#[test]
+fn scene_errors_name_extra_fields_and_blank_files_and_pass_over_a_bom() {
+    let path = temp_file("extra.in", "1\n(1, 2), (3, 4), 0.1, 0.2, 0, 7\n");
+    let out = screensaver(&["3", path.to_str().unwrap()]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr.contains("extra.in:2: row 1: an extra field after the colour, `, 7`"),
+        "{stderr}"
+    );
+    let path = temp_file("blank.in", "\n\n");
+    let stderr = text(&screensaver(&["3", path.to_str().unwrap()]).stderr);
+    assert!(
+        stderr.contains("blank.in:1: the file has only blank lines"),
+        "{stderr}"
+    );
+    let path = temp_file("bom.in", &format!("\u{feff}{TWO_LINES}"));
+    let out = screensaver(&["3", path.to_str().unwrap()]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("1 Line-Line Collisions"));
+}
+
+#[test]
+fn an_edited_checkpoint_says_it_was_changed() {
+    let path = temp_file("edit.in", TWO_LINES);
+    let checkpoint = path.with_extension("ckpt");
+    let (scene, ckpt) = (path.to_str().unwrap(), checkpoint.to_str().unwrap());
+    assert!(screensaver(&["2", scene, "--checkpoint", ckpt])
+        .status
+        .success());
+    let text_of = std::fs::read_to_string(&checkpoint).unwrap();
+    // A coordinate on line 6 spelt with a trailing zero: that row is named.
+    let row: Vec<&str> = text_of.lines().nth(5).unwrap().split(' ').collect();
+    let edited = text_of.replacen(row[1], &format!("{}0", row[1]), 1);
+    std::fs::write(&checkpoint, edited).unwrap();
+    let out = screensaver(&["5", scene, "--resume", ckpt]);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        stderr.contains(&format!(
+            "{ckpt}:6: the file was changed after it was written"
+        )),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn stats_show_only_what_the_detector_has() {
+    let out = screensaver(&["3", "--stats"]);
+    let stdout = text(&out.stdout);
+    assert!(
+        !stdout.contains("tree nodes") && !stdout.contains("tree depth"),
+        "{stdout}"
+    );
+    // The plan in words a user knows: x, y or a diagonal, spelt out.
+    let plan = (stdout.lines())
+        .find_map(|l| l.strip_prefix("detector: sweep (along "))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    let directions = ["x,", "y,", "the diagonal x+y,", "the diagonal x-y,"];
+    assert!(directions.iter().any(|d| plan.starts_with(d)), "{plan}");
+    let out = screensaver(&["3", "--stats", "--detector", "quadtree"]);
+    assert!(text(&out.stdout).contains("tree nodes"));
+    let out = screensaver(&["3", "--stats", "--json", "--detector", "brute"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    for key in ["leaf_size", "max_depth", "tree_nodes", "tree_depth"] {
+        assert!(v["stats"].get(key).is_none(), "{key} in {}", v["stats"]);
+    }
+    let out = screensaver(&["3", "--stats", "--json", "--detector", "quadtree"]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["stats"]["leaf_size"], 16);
 }

@@ -234,6 +234,22 @@ fn a_bad_window_id_is_refused_plainly() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(1), "{stderr}");
     assert!(stderr.contains("there is no window 0x7fffff0"), "{stderr}");
+    // With FRAMES, whose runs print a header first: nothing is printed
+    // before the window is found missing.
+    let scene = still_scene();
+    let out = start(
+        &x.display,
+        &["--window-id", "0x7fffff0", "5", scene.to_str().unwrap()],
+        &[],
+    )
+    .wait_with_output()
+    .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    assert!(
+        out.stdout.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
     let out = start(
         &x.display,
         &["-g", "5"],

@@ -86,3 +86,29 @@ fn sigterm_closes_the_window_with_the_results() {
     assert!(stdout.contains("---- END RESULTS ----"), "{stdout}");
     assert!(stderr.contains("stopped by SIGTERM"), "{stderr}");
 }
+
+/// A window test that cannot run says so in the ordinary test output, not
+/// only with `--nocapture`: here a test of this file is run again with no
+/// X server or tools on its PATH.
+#[test]
+fn a_skipped_window_test_says_so() {
+    let out = Command::new(std::env::current_exe().expect("this test's binary"))
+        .args([
+            "--exact",
+            "the_window_closes_after_the_frames_and_prints_the_results",
+        ])
+        .env("PATH", "/nonexistent")
+        .env_remove("SCREENSAVER_REQUIRE_DISPLAY")
+        .output()
+        .expect("running this test binary again");
+    let shown = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(out.status.success(), "{shown}");
+    assert!(
+        shown.contains("window test: skipped: Xvfb, xwd not found"),
+        "{shown}"
+    );
+}

@@ -23,10 +23,10 @@ pub fn reference_dir(test: &str) -> Option<PathBuf> {
             dir.display()
         );
     } else {
-        eprintln!(
+        say_skipped(&format!(
             "{test}: skipped: no reference data at {} (set SCREENSAVER_REFERENCE)",
             dir.display()
-        );
+        ));
         None
     }
 }
@@ -188,4 +188,12 @@ pub fn assert_ended_by(status: std::process::ExitStatus, name: &str, context: &s
     }
     #[cfg(not(unix))]
     assert!(!status.success(), "{status:?}: {context}");
+}
+
+/// Says that a test skipped, where `cargo test` shows it: straight to
+/// standard error, past the test harness's capture (which shows what a
+/// test prints only when it fails), so that a skip never reads as a pass.
+pub fn say_skipped(message: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr(), "{message}");
 }

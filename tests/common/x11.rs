@@ -30,10 +30,10 @@ pub fn tools_found(programs: &[&str]) -> bool {
          (apt-get install xvfb x11-apps x11-utils)",
         missing.join(", ")
     );
-    eprintln!(
+    super::say_skipped(&format!(
         "window test: skipped: {} not found (apt-get install xvfb x11-apps x11-utils)",
         missing.join(", ")
-    );
+    ));
     false
 }
 

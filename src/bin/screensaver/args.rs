@@ -1,7 +1,7 @@
 //! The command line's arguments, as clap reads them.
 
 use clap::{Args, Parser, Subcommand};
-use screensaver::generate::SceneKind;
+use screensaver::generate::{SceneKind, DEFAULT_SEED};
 use screensaver::job::Screen;
 use screensaver::render::{Pace, Size};
 use screensaver::{DetectorConfig, DetectorKind};
@@ -24,6 +24,9 @@ use std::path::PathBuf;
     version,
     about,
     long_about,
+    override_usage = "screensaver [OPTIONS] <FRAMES> [INPUT]\n       \
+        screensaver [-g | --fullscreen | --root | --window-id ID] [OPTIONS] [FRAMES] [INPUT]\n       \
+        screensaver gen --lines N [--seed S] [--kind K] [-o FILE]",
     args_conflicts_with_subcommands = true,
     subcommand_negates_reqs = true,
     allow_negative_numbers = true
@@ -47,7 +50,7 @@ pub(crate) struct Cli {
     pub(crate) extra: Vec<String>,
 
     /// Without INPUT: lines in the generated scene.
-    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=100_000_000))]
+    #[arg(long, value_name = "N", value_parser = line_count)]
     pub(crate) lines: Option<usize>,
 
     /// Without INPUT: the generated scene's arrangement (uniform,
@@ -58,11 +61,11 @@ pub(crate) struct Cli {
 
     /// Without INPUT: the seed of the generated scene (endless runs: of the
     /// first, each next one adding 1; by default taken from the clock).
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", value_parser = parse_seed)]
     pub(crate) seed: Option<u64>,
 
     /// Endless runs on screen without INPUT: seconds each generated scene
-    /// is shown [default: 60].
+    /// is shown, from 0.1 to 86400 (a day) [default: 60].
     #[arg(long, value_name = "SECONDS", value_parser = parse_seconds)]
     pub(crate) cycle: Option<f64>,
 
@@ -181,17 +184,20 @@ pub(crate) struct Cli {
 pub(crate) enum Command {
     /// Write a generated scene (the same arguments always give the same
     /// scene), with the density and speeds of the course scenes at any size.
+    #[command(allow_negative_numbers = true)]
     Gen(GenArgs),
 }
 
 #[derive(Debug, Args)]
 pub(crate) struct GenArgs {
     /// Number of lines (up to 100,000,000).
-    #[arg(long, value_name = "N", value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(0..=100_000_000))]
+    #[arg(long, value_name = "N", value_parser = line_count)]
     pub(crate) lines: usize,
 
-    /// Seed of the random generator.
-    #[arg(long, value_name = "S", default_value_t = 1)]
+    /// Seed of the random generator (the runs' default, so that a scene
+    /// written with the defaults is the one `screensaver` runs without
+    /// INPUT).
+    #[arg(long, value_name = "S", default_value_t = DEFAULT_SEED, value_parser = parse_seed)]
     pub(crate) seed: u64,
 
     /// Arrangement: uniform, clustered, ring or grid.
@@ -208,24 +214,72 @@ fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
     s.parse()
 }
 
-/// A frame count: a whole number, written out.
+/// Most frames a run may ask for: FRAMES + 1 steps must be counted.
+pub(crate) const MOST_FRAMES: u64 = u64::MAX - 1;
+
+/// Most lines a generated scene may have.
+const MOST_LINES: u64 = 100_000_000;
+
+/// A frame count: a whole number, written out, up to [`MOST_FRAMES`].
 pub(crate) fn parse_frames(s: &str) -> Result<u64, String> {
-    s.parse::<u64>().map_err(|_| {
-        let hint = match s.parse::<f64>() {
-            Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < 1e19 => {
-                format!("; write it out, as {}", x as u64)
-            }
-            _ => String::new(),
-        };
-        format!("`{s}` is not a whole number of frames{hint}")
-    })
+    match s.parse::<u64>() {
+        Ok(n) if n <= MOST_FRAMES => Ok(n),
+        _ if is_whole(s) && !s.starts_with('-') => Err(format!(
+            "`{s}` frames are more than a run can count (at most {MOST_FRAMES})"
+        )),
+        _ => {
+            let hint = match s.parse::<f64>() {
+                Ok(x) if x >= 0.0 && x.fract() == 0.0 && x < 1e19 => {
+                    format!("; write it out, as {}", x as u64)
+                }
+                _ => String::new(),
+            };
+            Err(format!("`{s}` is not a whole number of frames{hint}"))
+        }
+    }
 }
 
-/// A positive number of seconds.
+/// Whether `s` is written as a whole number (an optional sign, then
+/// digits), whatever its size.
+fn is_whole(s: &str) -> bool {
+    let digits = s.strip_prefix(['-', '+']).unwrap_or(s);
+    !digits.is_empty() && digits.bytes().all(|b| b.is_ascii_digit())
+}
+
+/// A whole number from 0 to `most`, named `what` in the message.
+fn whole_up_to(s: &str, most: u64, what: &str) -> Result<u64, String> {
+    match s.parse::<u64>() {
+        Ok(n) if n <= most => Ok(n),
+        _ => Err(format!(
+            "`{s}` is not {what}: give a whole number from 0 to {most}"
+        )),
+    }
+}
+
+/// A generated scene's line count, 0 to [`MOST_LINES`].
+fn line_count(s: &str) -> Result<usize, String> {
+    let n = whole_up_to(s, MOST_LINES, "a number of lines")?;
+    usize::try_from(n).map_err(|_| format!("{n} lines are more than this machine can hold"))
+}
+
+/// A generator's seed: any 64-bit whole number from 0.
+fn parse_seed(s: &str) -> Result<u64, String> {
+    whole_up_to(s, u64::MAX, "a seed")
+}
+
+/// Most seconds a generated scene is shown: a day.
+const MOST_CYCLE: f64 = 86_400.0;
+
+/// Fewest seconds a generated scene is shown.
+const LEAST_CYCLE: f64 = 0.1;
+
+/// A number of seconds from [`LEAST_CYCLE`] to [`MOST_CYCLE`].
 fn parse_seconds(s: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(x) if x > 0.0 && x <= 1e9 => Ok(x),
-        _ => Err(format!("`{s}` is not a number of seconds above 0")),
+        Ok(x) if (LEAST_CYCLE..=MOST_CYCLE).contains(&x) => Ok(x),
+        _ => Err(format!(
+            "`{s}` is not a number of seconds from {LEAST_CYCLE} to {MOST_CYCLE}"
+        )),
     }
 }
 

@@ -8,9 +8,10 @@ mod progress;
 
 use args::{parse_frames, Cli, Command, GenArgs};
 use clap::error::ErrorKind;
-use clap::{CommandFactory, Parser};
+use clap::parser::ValueSource;
+use clap::{ArgMatches, CommandFactory, FromArgMatches};
 use screensaver::job::{Job, JobError, Screen};
-use screensaver::{DetectorConfig, Signal};
+use screensaver::{DetectorConfig, DetectorKind, Signal};
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -55,13 +56,14 @@ fn with_xscreensaver_spellings(
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse_from(with_xscreensaver_spellings(std::env::args_os()));
+    let matches = Cli::command().get_matches_from(with_xscreensaver_spellings(std::env::args_os()));
+    let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Err(e) = Signal::catch() {
         eprintln!("screensaver: warning: cannot catch SIGINT and SIGTERM: {e}");
     }
     let outcome = match &cli.command {
         Some(Command::Gen(args)) => gen(args),
-        None => run(&cli),
+        None => run(&cli, &matches),
     };
     match outcome {
         Ok(None) | Err(Failure::ClosedPipe) => ExitCode::SUCCESS,
@@ -163,10 +165,45 @@ fn positionals(cli: &Cli, live: bool) -> Result<(Option<u64>, Option<PathBuf>), 
     }
 }
 
+/// Refuses a flag given for something this run does not have: a flag
+/// that cannot apply is a mistake worth saying, not one to pass over.
+fn check_flags_apply(
+    cli: &Cli,
+    matches: &ArgMatches,
+    screen: Option<Screen>,
+) -> Result<(), Failure> {
+    let given = |id: &str| matches.value_source(id) == Some(ValueSource::CommandLine);
+    let refuse = |message: &str| Err(Failure::Usage(ErrorKind::ArgumentConflict, message.into()));
+    if screen.is_none() && given("hud") {
+        return refuse(
+            "--hud shows the heads-up display on screen (-g, --fullscreen, --root, \
+             --window-id, XScreenSaver); this run has no screen",
+        );
+    }
+    let gif = (cli.render.as_ref())
+        .and_then(|p| p.extension())
+        .is_some_and(|e| e.eq_ignore_ascii_case("gif"));
+    if screen.is_none() && !gif && given("fps") {
+        return refuse(
+            "--fps sets the frames a second of a run on screen and of a GIF \
+             (--render FILE.gif); this run has neither",
+        );
+    }
+    if cli.detector != DetectorKind::Quadtree && (given("leaf_size") || given("max_depth")) {
+        return refuse(&format!(
+            "--leaf-size and --max-depth tune the quadtree; this run uses the {} detector \
+             (add --detector quadtree)",
+            cli.detector
+        ));
+    }
+    Ok(())
+}
+
 /// Runs the scene the command line names; returns the signal that
 /// stopped it early, if one did.
-fn run(cli: &Cli) -> Result<Option<Signal>, Failure> {
+fn run(cli: &Cli, matches: &ArgMatches) -> Result<Option<Signal>, Failure> {
     let screen = screen(cli)?;
+    check_flags_apply(cli, matches, screen)?;
     let (frames, input) = positionals(cli, screen.is_some())?;
     let job = Job {
         frames,

@@ -450,7 +450,8 @@ impl Detector for Sweep {
     /// The direction swept along (`x`, `y`, `u` or `w`) and the number of
     /// bands, as they stand.
     fn describe(&self) -> String {
-        let name = ["x", "y", "u", "w"];
+        // `u` and `w` are the diagonals.
+        let name = ["x", "y", "the diagonal x+y", "the diagonal x-y"];
         let (along, bands) = (name[self.plan.along], self.plan.bands);
         match bands.count {
             1 => format!("along {along}, one band"),
