@@ -112,3 +112,83 @@ fn a_skipped_window_test_says_so() {
         "{shown}"
     );
 }
+
+/// The program's own top-level windows on the display: the children of
+/// the root window whose title starts with `screensaver`.
+fn our_windows(conn: &x11rb::rust_connection::RustConnection, root: u32) -> Vec<u32> {
+    use x11rb::protocol::xproto::{AtomEnum, ConnectionExt};
+    let children = conn.query_tree(root).unwrap().reply().unwrap().children;
+    (children.into_iter())
+        .filter(|&w| {
+            let name = conn.get_property(false, w, AtomEnum::WM_NAME, AtomEnum::STRING, 0, 64);
+            name.ok()
+                .and_then(|c| c.reply().ok())
+                .is_some_and(|p| p.value.starts_with(b"screensaver"))
+        })
+        .collect()
+}
+
+/// Another client destroys the window (as `xdotool windowclose` does): the
+/// run ends as when the window is closed, with its results and status 0.
+#[test]
+fn a_window_destroyed_by_another_client_ends_the_run_with_its_results() {
+    use x11rb::connection::Connection;
+    use x11rb::protocol::xproto::ConnectionExt;
+    let Some(x) = Xvfb::start() else { return };
+    let scene = scene();
+    let child = screensaver(&x.display, &["-g", "100000000"], &scene);
+    let (conn, screen) = x11rb::connect(Some(&x.display)).expect("connecting to the X server");
+    let root = conn.setup().roots[screen].root;
+    let start = Instant::now();
+    let window = loop {
+        if let Some(&w) = our_windows(&conn, root).first() {
+            break w;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(20),
+            "no window appeared"
+        );
+        std::thread::sleep(Duration::from_millis(100));
+    };
+    // Let it draw for a while first.
+    std::thread::sleep(Duration::from_millis(500));
+    conn.destroy_window(window).unwrap();
+    conn.flush().unwrap();
+    let out = child.wait_with_output().expect("waiting for screensaver");
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{:?}: {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(stdout.contains("---- END RESULTS ----"), "{stdout}");
+}
+
+/// A run resumed on screen ends where the whole run would: at FRAMES + 1
+/// steps from the scene's start, not that many after the checkpoint.
+#[test]
+fn a_resumed_run_on_screen_ends_at_the_runs_last_step() {
+    let Some(x) = Xvfb::start() else { return };
+    let scene = scene();
+    let checkpoint = scene.with_extension("ckpt");
+    let ckpt = checkpoint.to_str().unwrap();
+    let saved = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["10", scene.to_str().unwrap(), "--checkpoint", ckpt])
+        .output()
+        .unwrap();
+    assert!(saved.status.success());
+    // From the checkpoint's step 11 to 31 and 16.
+    for (frames, last) in [("30", 31), ("15", 16)] {
+        let args = ["-g", frames, "--speed", "max", "--json", "--resume", ckpt];
+        let out = screensaver(&x.display, &args, &scene)
+            .wait_with_output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["steps_run"], last, "{v}");
+    }
+}
