@@ -7,5 +7,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/browser-deps.sh
 scripts/web.sh >/dev/null
+echo "web-bench.sh: building the native binary the page is compared with (cargo build --release)" >&2
 cargo build --release --quiet
-node scripts/web-bench.mjs web/dist target/release/screensaver "${1:-5}"
+# Where cargo puts it ($CARGO_TARGET_DIR is honoured).
+target="$(cargo metadata --format-version 1 --no-deps | sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p')"
+node scripts/web-bench.mjs web/dist "$target/release/screensaver" "${1:-5}"

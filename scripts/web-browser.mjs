@@ -1,7 +1,8 @@
 // The page in a headless browser, for scripts/web-test.mjs and
 // scripts/web-bench.mjs: a server on 127.0.0.1 for the built page (and the
-// reference's files under /reference/), Debian's Chromium driven through
-// chromedriver (WebDriver over HTTP, no client library).
+// reference's files under /reference/, a test's own under /scratch/),
+// Debian's Chromium driven through chromedriver (WebDriver over HTTP, no
+// client library).
 import { spawn } from "node:child_process";
 import { createServer } from "node:http";
 import { readFileSync, existsSync } from "node:fs";
@@ -10,14 +11,19 @@ import { join, extname } from "node:path";
 const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css", ".wasm": "application/wasm" };
 export const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
 
-// Serves `dist` at / and `reference` (if given) at /reference/.
-async function serve(dist, reference) {
+// Serves `dist` at /, and `reference` and `scratch` (if given) at
+// /reference/ and /scratch/; adds the path of each request it cannot
+// answer to `missing`.
+async function serve(dist, reference, scratch, missing) {
   const server = createServer((request, response) => {
     const path = decodeURIComponent(new URL(request.url, "http://x").pathname);
     const file = path.startsWith("/reference/") && reference
       ? join(reference, path.slice("/reference/".length))
-      : join(dist, path === "/" ? "index.html" : path);
+      : path.startsWith("/scratch/") && scratch
+        ? join(scratch, path.slice("/scratch/".length))
+        : join(dist, path === "/" ? "index.html" : path);
     if (path.includes("..") || !existsSync(file)) {
+      missing.push(path);
       response.writeHead(404).end("not found");
       return;
     }
@@ -29,9 +35,10 @@ async function serve(dist, reference) {
 }
 
 // Starts the server and a browser of `width` x `height`; gives the calls
-// the scripts use.
-export async function startBrowser({ dist, reference, width = 1180, height = 800 }) {
-  const server = await serve(dist, reference);
+// the scripts use, and `missing`: the paths the server answered 404.
+export async function startBrowser({ dist, reference, scratch, width = 1180, height = 800 }) {
+  const missing = [];
+  const server = await serve(dist, reference, scratch, missing);
   const page = `http://127.0.0.1:${server.address().port}/`;
   const port = 20000 + (process.pid % 20000);
   const driver = spawn("chromedriver", [`--port=${port}`], { stdio: "ignore" });
@@ -71,6 +78,7 @@ export async function startBrowser({ dist, reference, width = 1180, height = 800
   const session = (path) => `/session/${sessionId}${path}`;
   const run = (script, ...args) => call("POST", session("/execute/sync"), { script, args });
   return {
+    missing,
     call,
     session,
     run,

@@ -3,10 +3,11 @@
 // 127.0.0.1 by this script, with ../shared/reference/inputs (or
 // $SCREENSAVER_REFERENCE/inputs) served beside it under /reference/.
 // Prints one line a check and `N passed, M failed`; exits 1 on a failure.
+// WEB_TEST_ONLY=REGEX runs only the checks whose names it matches.
 //
 //   node scripts/web-test.mjs DIST_DIR NATIVE_BINARY
 import { execFileSync } from "node:child_process";
-import { readFileSync, existsSync, mkdtempSync, writeFileSync } from "node:fs";
+import { readFileSync, existsSync, mkdtempSync, mkdirSync, writeFileSync, rmSync } from "node:fs";
 import { join, dirname, resolve } from "node:path";
 import { tmpdir } from "node:os";
 import { fileURLToPath } from "node:url";
@@ -25,7 +26,13 @@ if (!existsSync(join(reference, "inputs"))) {
   process.exit(2);
 }
 
-const browser = await startBrowser({ dist, reference });
+// Files the tests write, served under /scratch/ (and named so from here,
+// so that the native binary, run here, names them as the page does).
+const scratchRoot = mkdtempSync(join(tmpdir(), "screensaver-web-"));
+const scratch = join(scratchRoot, "scratch");
+mkdirSync(scratch);
+
+const browser = await startBrowser({ dist, reference, scratch });
 const { call, session, run, open, textOf, until } = browser;
 
 // ---- screenshots ---------------------------------------------------------
@@ -71,18 +78,20 @@ function decodePng(png) {
 }
 
 // Counts the screenshot's pixels by colour: black, red lines, gray lines
-// and near-white (the HUD's text) inside `box` ([x0, y0, x1, y1]).
+// and near-white (the HUD's text) inside `box` ([x0, y0, x1, y1]), and
+// `tinted`: any trace of red, a red line's even under a dark veil.
 // With WEB_TEST_SHOTS set, each screenshot is also saved there as NAME.png.
 async function colours(name, box) {
   const png = await browser.screenshot();
   if (process.env.WEB_TEST_SHOTS) writeFileSync(join(process.env.WEB_TEST_SHOTS, `${name}.png`), png);
   const { width, height, pixels } = decodePng(png);
   const [x0, y0, x1, y1] = box ?? [0, 0, width, height];
-  const counts = { black: 0, red: 0, gray: 0, white: 0, all: 0 };
+  const counts = { black: 0, red: 0, gray: 0, white: 0, tinted: 0, all: 0 };
   for (let y = y0; y < Math.min(y1, height); y++) {
     for (let x = x0; x < Math.min(x1, width); x++) {
       const [r, g, b] = pixels.subarray((y * width + x) * 4, (y * width + x) * 4 + 3);
       counts.all += 1;
+      if (r > g + 20 && r > b + 20) counts.tinted += 1;
       if (r < 8 && g < 8 && b < 8) counts.black += 1;
       else if (r > 60 && r > g + 50 && r > b + 50) counts.red += 1;
       else if (r > 230 && g > 230 && b > 230) counts.white += 1;
@@ -96,7 +105,10 @@ async function colours(name, box) {
 
 let passed = 0;
 let failed = 0;
+// WEB_TEST_ONLY (a regular expression): only the checks it finds in their names.
+const only = process.env.WEB_TEST_ONLY ? new RegExp(process.env.WEB_TEST_ONLY) : null;
 async function check(name, body) {
+  if (only && !only.test(name)) return;
   const started = Date.now();
   try {
     const detail = await body();
@@ -111,6 +123,31 @@ async function check(name, body) {
 const withoutTime = (text) => text.split("\n").filter((l) => !l.startsWith("Elapsed execution time")).join("\n");
 const results = () => until("#results", () => textOf("results"));
 const stepOf = () => run("return Number(document.body.dataset.step ?? -1);");
+// The scene chooser's choice as shown (a file on show: its name).
+const chosen = () => run("const k = document.getElementById('kind'); return k.options[k.selectedIndex].text;");
+// The link's target (null: none) and its text.
+const link = () => run("const a = document.getElementById('link'); return [a.getAttribute('href'), a.textContent];");
+// Opens a file from disk through the "Open .in" button.
+async function openFromDisk(path) {
+  const input = await call("POST", session("/element"), { using: "css selector", value: "#file" });
+  await call("POST", session(`/element/${Object.values(input)[0]}/value`), { text: path });
+}
+// The native binary's error for a scene file, as the page shows it:
+// `path` relative to scratchRoot, as the page's URL names it.
+function nativeError(path) {
+  try {
+    execFileSync(native, ["10", path], { cwd: scratchRoot, encoding: "utf8", stdio: "pipe" });
+  } catch (e) {
+    return e.stderr.trim().replace(/^screensaver: error: /, "");
+  }
+  throw new Error(`the native binary ran ${path}`);
+}
+// Two scenes with a mistake in the last row: a colour of 7, a missing comma.
+const BAD = {
+  "bad-colour.in": "2\n(300.0, 300.0), (344.0, 344.0), -0.26, -0.26, 0\n(302.0, 300.0), (320.0, 342.0), -0.26, -0.26, 7\n",
+  "bad-comma.in": "2\n(300.0, 300.0), (344.0, 344.0), -0.26, -0.26, 0\n(302.0, 300.0) (320.0, 342.0), -0.26, -0.26, 1\n",
+};
+for (const [name, text] of Object.entries(BAD)) writeFileSync(join(scratch, name), text);
 
 await check("a generated scene gives the native binary's text", async () => {
   const args = ["--lines", "2000", "--kind", "uniform", "--seed", "7", "300"];
@@ -180,9 +217,7 @@ await check("a bad .in file shows the command line's message and the page keeps 
   }
   if (!want.startsWith("bad.in:3:")) throw new Error(`the native binary said: ${want}`);
   await open("");
-  const input = await call("POST", session("/element"), { using: "css selector", value: "#file" });
-  const id = Object.values(input)[0];
-  await call("POST", session(`/element/${id}/value`), { text: bad });
+  await openFromDisk(bad);
   const got = await until("#error", () => textOf("error"));
   if (got !== want) throw new Error(`page: ${got}\nnative: ${want}`);
   const before = await stepOf();
@@ -205,8 +240,8 @@ await check("a .in file dropped on the page runs, and its run ends with the resu
   const rows = readFileSync(join(reference, "expected", "beaver.counts.csv"), "utf8").trim().split("\n");
   const [, wall, line] = rows.find((r) => r.startsWith("21,")).split(",").map(Number);
   if (!got.includes(`${wall} Line-Wall Collisions\n${line} Line-Line Collisions`)) throw new Error(got);
-  const chosen = await run("const k = document.getElementById('kind'); return k.options[k.selectedIndex].text;");
-  if (chosen !== "beaver.in") throw new Error(`the scene chooser shows ${chosen}`);
+  const shown = await chosen();
+  if (shown !== "beaver.in") throw new Error(`the scene chooser shows ${shown}`);
   return `beaver.in, 20 frames: ${wall}, ${line}`;
 });
 
@@ -246,6 +281,122 @@ await check("the window's keys: Space pauses, Right arrow steps, - sets a pace, 
   return `paused at step ${paused}, one step on, ${slower.split("\n").at(-1)}`;
 });
 
+await check("a broken scene given by URL shows its located error, over the built-in scene named as what runs", async () => {
+  const seen = [];
+  for (const name of Object.keys(BAD)) {
+    const want = nativeError(`scratch/${name}`);
+    if (!want.startsWith(`scratch/${name}:3: row 2:`)) throw new Error(`the native binary said: ${want}`);
+    await open(`?scene=scratch/${name}&frames=5&speed=max`);
+    // The run's end first: the error must still be there after it.
+    const got = await results();
+    const error = await textOf("error");
+    if (error === null || error.split("\n")[0] !== want) throw new Error(`page's error: ${error}\nnative: ${want}`);
+    if (!error.includes("The built-in scene is on show instead.")) throw new Error(`page's error: ${error}`);
+    if (got.includes(name) || !got.includes("Input file path is: (none: built-in")) throw new Error(`results:\n${got}`);
+    const [href] = await link();
+    if (href?.includes("scene=")) throw new Error(`the link names the file that did not run: ${href}`);
+    const overlap = await run(`
+      const [e, r] = ["error", "results"].map((id) => document.getElementById(id).getBoundingClientRect());
+      return e.left < r.right && r.left < e.right && e.top < r.bottom && r.top < e.bottom;`);
+    if (overlap) throw new Error("the error and the results block cover each other");
+    seen.push(want);
+  }
+  return seen.join("; ");
+});
+
+await check("the link follows what is on show: a file from disk has none, a URL scene and a form's scene reproduce", async () => {
+  const wait = 30;
+  // The issue's steps: a broken scene by URL, then a good file from disk.
+  await open("?scene=scratch/bad-colour.in");
+  await until("steps", async () => (await stepOf()) > 2, wait);
+  await openFromDisk(join(reference, "inputs", "box.in"));
+  await until("box.in on show", async () => (await chosen()) === "box.in", wait);
+  const [fromDisk, word] = await link();
+  if (fromDisk !== null || !word.includes("no link")) throw new Error(`file from disk: link ${fromDisk}, "${word}"`);
+  // A scene by URL, then a generated one from the form: each link names it.
+  await open("?scene=reference/inputs/koch.in&speed=max");
+  await until("koch on show", async () => (await chosen()) === "reference/inputs/koch.in", wait);
+  const [byUrl] = await link();
+  if (new URLSearchParams(byUrl).get("scene") !== "reference/inputs/koch.in") throw new Error(`URL scene: link ${byUrl}`);
+  await run(`
+    for (const [id, value] of [["kind", "ring"], ["lines", "300"], ["seed", "9"], ["cycle", "0"]]) {
+      document.getElementById(id).value = value;
+    }
+    document.querySelector("[data-action=run]").click();`);
+  await until("the ring on show", async () => (await chosen()) === "ring", wait);
+  const [generated] = await link();
+  const p = new URLSearchParams(generated);
+  if (p.get("scene") !== null || p.get("kind") !== "ring" || p.get("lines") !== "300" || p.get("seed") !== "9"
+    || p.get("speed") !== "max") {
+    throw new Error(`generated scene: link ${generated}`);
+  }
+  // Followed, the link shows the same scene.
+  await open(generated);
+  await until("the link's scene", async () => (await chosen()) === "ring", wait);
+  const form = await run("return ['lines', 'seed'].map((id) => document.getElementById(id).value).join(' ');");
+  if (form !== "300 9") throw new Error(`the link's scene has lines and seed ${form}`);
+  return `from disk: "${word}"; ${byUrl}; ${generated}`;
+});
+
+await check("the form refuses what is out of range and says so, and the run on show goes on", async () => {
+  const wait = 30;
+  const fill = (values) => run(`
+    for (const [id, value] of arguments[0]) document.getElementById(id).value = value;
+    document.querySelector("[data-action=run]").click();`, values);
+  await open("");
+  await until("steps", async () => (await stepOf()) > 2, wait);
+  const [onShow] = await link();
+  const said = [];
+  for (const [values, want] of [
+    [[["kind", "uniform"], ["lines", "-5"], ["seed", "1"], ["cycle", "0"]],
+      ["lines -5: expected a whole number from 1 to 1000000"]],
+    [[["lines", "5000000"]], ["lines 5000000: expected a whole number from 1 to 1000000"]],
+    [[["lines", "2.5"], ["seed", "-1"], ["cycle", "-3"]],
+      ["lines 2.5: expected a whole number", "seed -1: expected a whole number below 2^64",
+        "cycle -3: expected a number from 0 to"]],
+  ]) {
+    const step = await stepOf();
+    await fill(values);
+    const error = await until("the form's error", () => textOf("error"), wait);
+    for (const w of want) if (!error.includes(w)) throw new Error(`page's error: ${error}\nexpected: ${w}`);
+    // The world on show is the same: its link, and its steps go on from where they were.
+    const [now] = await link();
+    if (now !== onShow || (await stepOf()) < step) throw new Error(`a new run started: link ${now}`);
+    said.push(error.replaceAll("\n", "; "));
+    await run("document.getElementById('error').hidden = true;");
+  }
+  const before = await stepOf();
+  await until("more steps", async () => (await stepOf()) > before + 5, wait);
+  // A good form runs its scene and clears the message.
+  await fill([["lines", "300"], ["seed", "9"], ["cycle", "0"]]);
+  await until("the uniform scene", async () => (await chosen()) === "uniform", wait);
+  if ((await textOf("error")) !== null) throw new Error(`an error after a good form: ${await textOf("error")}`);
+  return said.join(" | ");
+});
+
+// Over every load so far: the browser asks for a missing favicon once.
+await check("no page load has asked for anything the server lacks (the favicon is inline)", async () => {
+  await open("?frames=3");
+  await results();
+  await sleep(2000); // the browser asks for a favicon after the page has loaded
+  if (browser.missing.length) throw new Error(`404 for ${browser.missing.join(", ")}`);
+  return "no 404";
+});
+
+await check("the results block is opaque over the lines", async () => {
+  await open("?lines=20000&kind=uniform&seed=7&frames=3&speed=max");
+  await results();
+  await sleep(300); // the last picture drawn
+  const [x0, y0, x1, y1] = await run(`
+    const r = document.getElementById("results").getBoundingClientRect();
+    return [r.left, r.top, r.right, r.bottom].map(Math.round);`);
+  const inside = await colours("results", [x0 + 2, y0 + 2, x1 - 2, y1 - 2]);
+  const below = await colours("results-below", [x0, y1 + 2, x1, y1 + 100]);
+  if (below.tinted < 100) throw new Error(`the check needs lines under the block: ${JSON.stringify(below)}`);
+  if (inside.tinted > 0) throw new Error(`a red line shows through the block: ${JSON.stringify(inside)}`);
+  return `${inside.all} pixels inside, none red; ${below.tinted} red below`;
+});
+
 await check("a bad URL parameter is named on the page, and the page runs the built-in scene", async () => {
   await open("?kind=spiral");
   const got = await until("#error", () => textOf("error"));
@@ -255,5 +406,6 @@ await check("a bad URL parameter is named on the page, and the page runs the bui
 });
 
 await browser.close();
+rmSync(scratchRoot, { recursive: true, force: true });
 console.log(`${passed} passed, ${failed} failed`);
 process.exit(failed === 0 ? 0 : 1);

@@ -12,6 +12,7 @@ const RED = "rgb(170, 20, 20)";
 const GRAY = "rgb(150, 150, 150)";
 const DETECTORS = ["sweep", "quadtree", "brute"]; // in the module's numbering
 const MAX_LINES = 1_000_000;
+const MAX_CYCLE = 1e9; // seconds
 const STEP_BUDGET_MS = 14; // time for steps in one picture at `max` speed
 const DEATH_CHECK_MS = 500;
 const MAX_RATE = 2 ** 20; // faster than this is `max`
@@ -24,7 +25,9 @@ let ss; // this thread's instance of the module: kind names, drawing
 let kinds; // the generated scenes' kinds, in the module's order
 const worker = new Worker(new URL("worker.js", import.meta.url), { type: "module" });
 const state = {
-  scene: null, // { type: "built-in" } | { type: "generated", kind, kindGiven, lines, seed } | { type: "file", name, bytes }
+  // { type: "built-in" } | { type: "generated", kind, kindGiven, lines, seed }
+  // | { type: "file", name, bytes, url } (url: where it was fetched from; none for a file from disk)
+  scene: null,
   world: 0, // counts the worlds started, so that answers about an old one are dropped
   starting: false,
   busy: false, // a request for steps is with the worker
@@ -64,9 +67,14 @@ function ask(request) {
   return new Promise((answer) => waiting.set(id, answer));
 }
 
-// Starts a world from a scene; on failure shows the error and keeps the
-// world there was.
-async function startWorld(scene) {
+// Starts a world from a scene and, once it runs, applies `settings` (the
+// state that goes with the scene: cycle, firstGenerated, sceneIndex), so
+// that the form and the link describe the world on show. On failure shows
+// the error, keeps the world there was, and gives the error's text (null
+// when the world started). A start does not clear an error on show: the
+// one who asked for it does, so that a cycle's next scene leaves a bad URL
+// parameter's message in place.
+async function startWorld(scene, settings = {}) {
   state.starting = true;
   const forWorker = scene.type === "generated" ? { ...scene, kindIndex: kinds.indexOf(scene.kind) } : scene;
   const detector = DETECTORS.indexOf(state.detector);
@@ -74,17 +82,18 @@ async function startWorld(scene) {
   state.starting = false;
   if (answer.error !== undefined) {
     showError(answer.error);
-    return false;
+    return answer.error;
   }
-  showError(null);
   state.world += 1;
+  Object.assign(state, settings);
   Object.assign(state, { scene, lines: answer.lines, seconds: 0, ended: false, owed: 0, latest: null, busy: false });
   state.sceneStarted = performance.now();
   state.stepTimes = [];
   $("results").hidden = true;
   syncForm();
+  syncLink();
   requestSteps(0, true); // the first picture: the world as it starts
-  return true;
+  return null;
 }
 
 // ---- running -------------------------------------------------------------
@@ -342,28 +351,45 @@ function onKey(event) {
   act(action);
 }
 
-function runFromForm() {
+// A form field's value as a number from lo to hi, or null after adding
+// to `problems` why it is not one (as for the URL's parameters).
+function fromField(id, lo, hi, problems, whole = true) {
+  const input = $(id);
+  // A number field gives "" for text that is no number.
+  const shown = input.validity.badInput ? "(not a number)" : input.value === "" ? "(empty)" : input.value;
+  return numberIn(`${id} ${shown}`, input.value, lo, hi, problems, whole);
+}
+
+// Runs what the form asks for, or, when a field is out of its range, says
+// which and why and leaves the run on show alone.
+async function runFromForm() {
   const kind = $("kind").value;
-  state.cycle = Math.max(0, Number($("cycle").value) || 0);
-  state.sceneIndex = 0;
+  const problems = [];
+  let scene;
+  let cycle = 0; // a cycle shows generated scenes; the built-in scene and a file run alone
   if (kind === "built-in" || kind === "file") {
     // The built-in scene, or the file on show run again from its start.
-    state.firstGenerated = null;
-    const scene = kind === "file" && state.scene.type === "file" ? state.scene : { type: "built-in" };
-    startWorld(scene).then(syncLink);
+    scene = kind === "file" && state.scene.type === "file" ? state.scene : { type: "built-in" };
   } else {
-    const lines = Math.min(MAX_LINES, Math.max(1, Math.floor(Number($("lines").value) || 1000)));
-    const scene = { type: "generated", kind, kindGiven: true, lines, seed: parseSeed($("seed").value) ?? 1n };
-    state.firstGenerated = scene;
-    startWorld(scene).then(syncLink);
+    const lines = fromField("lines", 1, MAX_LINES, problems);
+    const seedText = $("seed").value;
+    const seed = parseSeed(seedText);
+    if (seed === null) problems.push(`seed ${seedText === "" ? "(empty)" : seedText}: expected a whole number below 2^64`);
+    cycle = fromField("cycle", 0, MAX_CYCLE, problems, false);
+    scene = { type: "generated", kind, kindGiven: true, lines, seed };
   }
+  if (problems.length) {
+    showError(problems.join("\n"));
+    return;
+  }
+  const generated = scene.type === "generated" ? scene : null;
+  if ((await startWorld(scene, { cycle, firstGenerated: generated, sceneIndex: 0 })) === null) showError(null);
 }
 
 async function openFile(file) {
   const bytes = new Uint8Array(await file.arrayBuffer());
-  state.firstGenerated = null;
-  state.sceneIndex = 0;
-  if (await startWorld({ type: "file", name: file.name, bytes })) syncLink();
+  const settings = { cycle: 0, firstGenerated: null, sceneIndex: 0 };
+  if ((await startWorld({ type: "file", name: file.name, bytes }, settings)) === null) showError(null);
 }
 
 function syncForm() {
@@ -381,24 +407,45 @@ function syncForm() {
   $("cycle").value = state.cycle;
 }
 
-// The link that reproduces what is on show.
+// The link that reproduces what is on show, or, for a file from disk,
+// which no URL can name, a plain word that there is none.
 function syncLink() {
-  const p = new URLSearchParams();
+  const link = $("link");
   const scene = state.firstGenerated ?? state.scene;
+  if (scene?.type === "file" && scene.url === undefined) {
+    link.removeAttribute("href");
+    link.textContent = "no link: a file from disk";
+    link.title = "A file opened from disk cannot be linked: serve it and give its URL as ?scene=URL";
+    return;
+  }
+  link.textContent = "link";
+  link.title = "A link that reproduces this run";
+  const p = new URLSearchParams();
   if (scene?.type === "generated") {
     p.set("lines", scene.lines);
     if (scene.kindGiven) p.set("kind", scene.kind);
     p.set("seed", scene.seed.toString());
-  } else if (scene?.type === "file" && state.sceneUrl) {
-    p.set("scene", state.sceneUrl);
+  } else if (scene?.type === "file") {
+    p.set("scene", scene.url);
   }
   if (state.frames !== null) p.set("frames", state.frames);
   if (state.pace.kind !== "frame") p.set("speed", state.pace.kind === "max" ? "max" : state.pace.rate);
   if (state.hud) p.set("hud", "1");
-  if (state.cycle) p.set("cycle", state.cycle);
+  if (state.cycle && state.firstGenerated) p.set("cycle", state.cycle); // only generated scenes cycle
   if (state.detector !== "sweep") p.set("detector", state.detector);
   const query = p.toString();
-  $("link").href = query ? `?${query}` : location.pathname;
+  link.href = query ? `?${query}` : location.pathname;
+}
+
+// `value` as a number from lo to hi (a whole one unless `whole` is false),
+// or null after adding to `problems` a line that names it by `label`.
+function numberIn(label, value, lo, hi, problems, whole = true) {
+  const n = Number(value);
+  if (!(whole ? /^\d+$/ : /^\d+(\.\d+)?$/).test(value.trim()) || n < lo || n > hi) {
+    problems.push(`${label}: expected a ${whole ? "whole " : ""}number from ${lo} to ${hi}`);
+    return null;
+  }
+  return n;
 }
 
 function parseSeed(s) {
@@ -414,27 +461,20 @@ function parseSeed(s) {
 async function fromUrl() {
   const p = new URLSearchParams(location.search);
   const problems = [];
-  const number = (name, lo, hi) => {
+  const number = (name, lo, hi, whole = true) => {
     const v = p.get(name);
-    if (v === null) return null;
-    const n = Number(v);
-    if (!/^\d+(\.\d+)?$/.test(v.trim()) || n < lo || n > hi) {
-      problems.push(`${name}=${v}: expected a number from ${lo} to ${hi}`);
-      return null;
-    }
-    return n;
+    return v === null ? null : numberIn(`${name}=${v}`, v, lo, hi, problems, whole);
   };
-  const frames = number("frames", 0, Number.MAX_SAFE_INTEGER - 1);
-  state.frames = frames === null ? null : Math.floor(frames);
+  state.frames = number("frames", 0, Number.MAX_SAFE_INTEGER - 1);
   const speed = p.get("speed");
   if (speed === "max") state.pace = { kind: "max" };
   else if (speed === "frame" || speed === null) state.pace = { kind: "frame" };
   else {
     const rate = number("speed", 1, MAX_RATE);
-    if (rate !== null) state.pace = { kind: "rate", rate: Math.floor(rate) };
+    if (rate !== null) state.pace = { kind: "rate", rate };
   }
   state.hud = ["1", "true", "yes", ""].includes(p.get("hud"));
-  state.cycle = number("cycle", 0, 1e9) ?? 0;
+  state.cycle = number("cycle", 0, MAX_CYCLE, false) ?? 0;
   const detector = p.get("detector") ?? "sweep";
   if (DETECTORS.includes(detector)) state.detector = detector;
   else problems.push(`detector=${detector}: expected one of ${DETECTORS.join(", ")}`);
@@ -451,23 +491,23 @@ async function fromUrl() {
 
   const sceneUrl = p.get("scene");
   let scene = { type: "built-in" };
+  let sceneRead = true;
   if (sceneUrl !== null) {
     try {
       const response = await fetch(sceneUrl);
       if (!response.ok) throw new Error(`HTTP ${response.status}`);
-      scene = { type: "file", name: sceneUrl, bytes: new Uint8Array(await response.arrayBuffer()) };
-      state.sceneUrl = sceneUrl;
+      scene = { type: "file", name: sceneUrl, url: sceneUrl, bytes: new Uint8Array(await response.arrayBuffer()) };
     } catch (e) {
       problems.push(`${sceneUrl}: cannot be read (${e.message})`);
+      sceneRead = false;
     }
   } else if (kind !== null || lines !== null || seed !== null || state.cycle) {
     // As the command line: a generated scene, its kind uniform (a cycle:
     // each in turn) unless given, 1000 lines, seed 6172 unless given.
-    scene = { type: "generated", kind: kind ?? kinds[0], kindGiven: kind !== null, lines: Math.floor(lines ?? 1000),
+    scene = { type: "generated", kind: kind ?? kinds[0], kindGiven: kind !== null, lines: lines ?? 1000,
       seed: seed ?? 6172n };
-    state.firstGenerated = scene;
   }
-  return { scene, problems };
+  return { scene, problems, sceneRead };
 }
 
 // ---- start ---------------------------------------------------------------
@@ -477,11 +517,19 @@ async function main() {
   ss.ss_kinds();
   kinds = text(ss).split(",");
   for (const kind of kinds) $("kind").add(new Option(kind, kind));
-  const { scene, problems } = await fromUrl();
-  if (!(await startWorld(scene))) await startWorld({ type: "built-in" });
+  const { scene, problems, sceneRead } = await fromUrl();
+  const settings = { firstGenerated: scene.type === "generated" ? scene : null, sceneIndex: 0 };
+  const error = await startWorld(scene, settings);
+  if (error !== null) {
+    // The scene the URL names does not run: its error (located, as "Open
+    // .in" shows it) stays on show over the built-in scene, which the link
+    // and the results name as what runs.
+    problems.unshift(error);
+    await startWorld({ type: "built-in" }, { firstGenerated: null });
+  }
+  if (error !== null || !sceneRead) problems.push("The built-in scene is on show instead.");
   if (problems.length) showError(problems.join("\n"));
   $("hud").hidden = !state.hud;
-  syncLink();
 
   document.addEventListener("keydown", onKey);
   $("controls").addEventListener("click", (e) => {
