@@ -281,6 +281,27 @@ await check("the window's keys: Space pauses, Right arrow steps, - sets a pace, 
   return `paused at step ${paused}, one step on, ${slower.split("\n").at(-1)}`;
 });
 
+await check("+ after single steps in a pause doubles the running pace, not the paused one", async () => {
+  const key = (k) => run("document.dispatchEvent(new KeyboardEvent('keydown', { key: arguments[0] }));", k);
+  await open("?hud=1");
+  await until("steps", async () => (await stepOf()) > 60, 20);
+  await key(" ");
+  // Longer than the rate's window, so that only the pause's steps are in it.
+  await sleep(1200);
+  for (let k = 0; k < 2; k++) {
+    await key("ArrowRight");
+    await sleep(600);
+  }
+  await key("+");
+  const pace = await until("a pace in the HUD", async () => {
+    const m = /pace: (\d+) steps\/s max/.exec((await textOf("hud")) ?? "");
+    return m ? Number(m[1]) : null;
+  }, 10);
+  // One step a picture runs tens of steps a second; doubled, more still.
+  if (pace < 20) throw new Error(`+ after a pause set ${pace} steps/s`);
+  return `${pace} steps/s`;
+});
+
 await check("a broken scene given by URL shows its located error, over the built-in scene named as what runs", async () => {
   const seen = [];
   for (const name of Object.keys(BAD)) {

@@ -34,7 +34,7 @@ impl Checkpoints<'_> {
     /// Writes the world's checkpoint, whole or not at all.
     pub fn save(&self, world: &World) -> Result<(), RunError> {
         output::write_with(self.path, |out| world.write_checkpoint(out, self.digest))
-            .map_err(|e| RunError::Checkpoint(e.to_string()))
+            .map_err(RunError::Checkpoint)
     }
 }
 
@@ -87,14 +87,15 @@ pub struct Ran {
 }
 
 /// Why a run could not go on.
-#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[derive(Debug, thiserror::Error)]
 pub enum RunError {
     /// A picture could not be written.
-    #[error("{0}")]
-    Picture(String),
+    #[cfg(feature = "render")]
+    #[error(transparent)]
+    Picture(#[from] crate::render::RenderError),
     /// A checkpoint could not be written.
-    #[error("{0}")]
-    Checkpoint(String),
+    #[error(transparent)]
+    Checkpoint(crate::output::OutputError),
     /// A step's events differed from the all-pairs detector's.
     #[error("--verify: {0}")]
     Mismatch(String),
@@ -137,9 +138,7 @@ impl Run<'_> {
         #[cfg(feature = "render")]
         if let Some(recorder) = &mut recorder {
             let started = Instant::now();
-            recorder
-                .start(world)
-                .map_err(|e| RunError::Picture(e.to_string()))?;
+            recorder.start(world)?;
             drawing += started.elapsed();
         }
         let mut failed = None;
@@ -158,7 +157,7 @@ impl Run<'_> {
                 let written = recorder.after_step(world);
                 drawing += started.elapsed();
                 if let Err(e) = written {
-                    failed = Some(RunError::Picture(e.to_string()));
+                    failed = Some(RunError::Picture(e));
                     return ControlFlow::Break(false);
                 }
             }
@@ -193,9 +192,7 @@ impl Run<'_> {
         let pictures = match recorder {
             Some(recorder) => {
                 let started = Instant::now();
-                let frames = recorder
-                    .finish(world)
-                    .map_err(|e| RunError::Picture(e.to_string()))?;
+                let frames = recorder.finish(world)?;
                 drawing += started.elapsed();
                 Some(DrawStats {
                     frames,

@@ -46,7 +46,8 @@ const state = {
   sceneIndex: 0, // the k-th scene of a cycle
   sceneStarted: 0,
   lastDeathCheck: 0,
-  stepTimes: [], // [time, steps so far] of recent answers, for the rate
+  stepTimes: [], // [time, steps so far] of recent answers while running, for the rate
+  lastRate: 0, // the rate last measured running, kept through a pause
   frameTimes: [],
   lastFrame: 0,
 };
@@ -89,6 +90,7 @@ async function startWorld(scene, settings = {}) {
   Object.assign(state, { scene, lines: answer.lines, seconds: 0, ended: false, owed: 0, latest: null, busy: false });
   state.sceneStarted = performance.now();
   state.stepTimes = [];
+  state.lastRate = 0;
   $("results").hidden = true;
   syncForm();
   syncLink();
@@ -132,7 +134,9 @@ function requestSteps(steps, always = false) {
     answer.width = width;
     answer.height = height;
     state.latest = answer;
-    recent(state.stepTimes, performance.now(), [performance.now(), answer.steps]);
+    // Single steps while paused say nothing of the running rate, which
+    // `+` and `-` change.
+    if (!state.paused) recent(state.stepTimes, performance.now(), [performance.now(), answer.steps]);
     if (stepsLeft() === 0) endRun();
     if (answer.died) state.died = true;
   });
@@ -163,10 +167,11 @@ async function endRun() {
 
 function measuredRate() {
   const t = state.stepTimes;
-  if (t.length < 2) return 0;
+  if (t.length < 2) return state.lastRate;
   const [t0, s0] = t[0];
   const [t1, s1] = t[t.length - 1];
-  return t1 > t0 ? ((s1 - s0) * 1000) / (t1 - t0) : 0;
+  if (t1 > t0) state.lastRate = ((s1 - s0) * 1000) / (t1 - t0);
+  return state.lastRate;
 }
 
 function changePace(faster) {
@@ -313,6 +318,8 @@ function act(action) {
   switch (action) {
     case "pause":
       state.paused = !state.paused;
+      // The rate is measured afresh from the resume, the pause left out.
+      if (!state.paused) state.stepTimes = [];
       $("controls").querySelector("[data-action=pause]").textContent = state.paused ? "Resume" : "Pause";
       break;
     case "step":
