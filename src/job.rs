@@ -152,38 +152,177 @@ impl Default for Job {
 /// Why a job did not finish.
 #[derive(Debug, thiserror::Error)]
 pub enum JobError {
-    /// The options do not make sense together (the command line's usage
-    /// error).
+    /// The job's options do not go together.
+    #[error(transparent)]
+    Conflict(#[from] Conflict),
+    /// The scene file could not be loaded.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::LoadError),
+    /// The checkpoint to resume from could not be loaded.
+    #[error(transparent)]
+    Checkpoint(#[from] crate::checkpoint::LoadError),
+    /// The checkpoint does not continue this run.
+    #[error(transparent)]
+    Resume(#[from] crate::checkpoint::ResumeError),
+    /// The threads asked for could not be started.
+    #[error(transparent)]
+    Threads(#[from] crate::ThreadsError),
+    /// The run cannot be shown: no display, or no such window.
     #[error("{0}")]
-    Usage(String),
-    /// Something went wrong running it: the message says what.
-    #[error("{0}")]
-    Failed(String),
+    Screen(String),
+    /// The pictures asked for cannot be made.
+    #[error(transparent)]
+    Pictures(#[from] crate::render::RenderError),
+    /// An output file cannot be written.
+    #[error(transparent)]
+    Output(#[from] crate::OutputError),
+    /// The run could not go on (a check against all pairs that failed, a
+    /// picture or a checkpoint that could not be written).
+    #[error(transparent)]
+    Run(#[from] RunError),
+    /// Files the run wrote as it ended could not be written; the results
+    /// were printed all the same.
+    #[error("{}", .0.iter().map(ToString::to_string).collect::<Vec<_>>().join("; "))]
+    Files(Vec<JobError>),
     /// Writing the results failed.
     #[error("cannot write the results: {0}")]
-    Output(#[from] std::io::Error),
-    /// Files the run was to write could not be written (each message
-    /// names its file); the results were printed all the same.
-    #[error("{}", .0.join("; "))]
-    Files(Vec<String>),
+    Results(#[source] std::io::Error),
 }
 
 impl From<String> for JobError {
+    /// What the display layer says when a run cannot be shown.
     fn from(message: String) -> Self {
-        JobError::Failed(message)
+        JobError::Screen(message)
     }
 }
 
-/// Told how a job's run off screen goes: after each step, and once when
-/// it ends, before the results are printed.
+/// Options of a job that do not go together.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum Conflict {
+    /// A run off screen without a number of frames, which would not end.
+    #[error("a run off screen needs a number of frames")]
+    NoEnd,
+    /// A pace for a run off screen, which always goes as fast as it can.
+    #[error("a pace is for runs on screen")]
+    PaceOffScreen,
+    /// Pictures or the check against all pairs for a run on screen.
+    #[error("pictures and the check against all pairs are for runs off screen")]
+    OffScreenOnly,
+    /// A time to show each scene, for a run of one scene.
+    #[error("a time to show each scene is for endless runs of generated scenes")]
+    CycleOfOneScene,
+    /// Files to write at the end, or a checkpoint to resume up to an end,
+    /// for a run without one.
+    #[error("an endless run has no end to write files at or resume up to")]
+    EndlessFiles,
+    /// A generated scene's settings beside a scene file.
+    #[error("a generated scene's settings cannot go with a scene file")]
+    GeneratedAndFile,
+    /// A file the job writes is one it reads, or one it writes already.
+    #[error("the {written} file `{}` is the {other} file `{}`", written_path.display(), other_path.display())]
+    SameFile {
+        /// The file written.
+        written: FileRole,
+        /// Its name as given.
+        written_path: PathBuf,
+        /// The other part the same file plays.
+        other: FileRole,
+        /// Its name there, as given.
+        other_path: PathBuf,
+    },
+}
+
+/// The part a file plays in a job.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FileRole {
+    /// The scene read (`input`).
+    Scene,
+    /// The checkpoint resumed from.
+    Resume,
+    /// The final state written.
+    State,
+    /// The checkpoint written.
+    Checkpoint,
+    /// The pictures written.
+    Pictures,
+}
+
+impl std::fmt::Display for FileRole {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            FileRole::Scene => "scene",
+            FileRole::Resume => "resumed checkpoint",
+            FileRole::State => "state",
+            FileRole::Checkpoint => "checkpoint",
+            FileRole::Pictures => "pictures'",
+        })
+    }
+}
+
+/// What a job has to say beside its results, for the program running it to
+/// put in its own words.
+#[derive(Clone, Debug, PartialEq)]
+#[non_exhaustive]
+pub enum Note {
+    /// A GIF of a long run gets a frame every `every` steps, about
+    /// `frames` in all (said before the run).
+    GifFrames {
+        /// Steps between frames.
+        every: u64,
+        /// Frames, about.
+        frames: u64,
+    },
+    /// Generated scenes were shown one after another; the results are the
+    /// last one's.
+    Scenes {
+        /// Scenes shown.
+        shown: u64,
+        /// The first one's seed.
+        first_seed: u64,
+        /// The last one's seed.
+        last_seed: u64,
+    },
+    /// A signal stopped the run.
+    Stopped {
+        /// Which.
+        signal: Signal,
+        /// The step the run stopped after.
+        step: u64,
+        /// The steps it was to run, if it had an end.
+        of: Option<u64>,
+    },
+    /// The run went on from a checkpoint.
+    Resumed {
+        /// The checkpoint.
+        path: PathBuf,
+        /// Its step.
+        step: u64,
+    },
+    /// Every step's events were those the all-pairs detector finds, but
+    /// for `slivers` sliver events (the documented exception).
+    Verified {
+        /// Steps checked.
+        steps: u64,
+        /// Sliver events met.
+        slivers: u64,
+        /// The step and event of the first.
+        first_sliver: Option<(u64, crate::Event)>,
+    },
+}
+
+/// Told how a job goes: after each step of a run off screen, once when it
+/// ends (before the results are printed), and what the job has to say
+/// beside its results.
 pub trait Progress: Send {
     /// `done` of `steps` steps run, `elapsed` since the run started.
     fn step(&mut self, done: u64, steps: u64, elapsed: Duration);
     /// The run ended: all its steps run (`finished`) or not.
     fn end(&mut self, finished: bool);
+    /// Something to say beside the results; by default nothing is said.
+    fn note(&mut self, _note: Note) {}
 }
 
-/// No progress to show.
+/// No progress to show, nothing said.
 struct Quiet;
 
 impl Progress for Quiet {
@@ -254,7 +393,7 @@ struct Finished {
     input_name: Option<String>,
     /// Why a picture or a checkpoint could not be written, when that
     /// ended the run early.
-    failure: Option<String>,
+    failure: Option<RunError>,
 }
 
 impl Job {
@@ -266,6 +405,8 @@ impl Job {
         out: &mut dyn Write,
         progress: Option<&mut dyn Progress>,
     ) -> Result<Option<Signal>, JobError> {
+        let mut quiet = Quiet;
+        let progress = progress.unwrap_or(&mut quiet);
         self.check()?;
         // The display and the window are checked before anything is
         // printed, so that a run that cannot be shown prints only why.
@@ -281,11 +422,13 @@ impl Job {
         self.check_outputs()?;
         let cycling = self.cycles();
         if !self.json && !cycling {
-            out.write_all(report::header(self.frames, &started.input_name).as_bytes())?;
-            out.flush()?;
+            let header = report::header(self.frames, &started.input_name);
+            (out.write_all(header.as_bytes()))
+                .and_then(|()| out.flush())
+                .map_err(JobError::Results)?;
         }
         let mut finished = match self.screen {
-            Some(screen) => self.on_screen(screen, started.world, started.seed)?,
+            Some(screen) => self.on_screen(screen, started.world, started.seed, progress)?,
             None => self.off_screen(started.world, started.steps, started.digest, progress)?,
         };
         if cycling && !self.json {
@@ -293,7 +436,8 @@ impl Job {
                 .input_name
                 .as_deref()
                 .unwrap_or(&started.input_name);
-            out.write_all(report::header(self.frames, name).as_bytes())?;
+            (out.write_all(report::header(self.frames, name).as_bytes()))
+                .map_err(JobError::Results)?;
         }
         let stopped = crate::stop::requested();
         // The results are printed whatever the files did: a file that could
@@ -301,25 +445,24 @@ impl Job {
         let failure = finished.failure.take();
         let written = self.write_files(&finished.world, started.digest, failure);
         if let Some(signal) = stopped {
-            let of = match self.frames {
-                Some(_) => format!(" of {}", started.steps),
-                None => String::new(),
-            };
-            let (name, step) = (signal.name(), finished.world.steps());
-            eprintln!("screensaver: stopped by {name} after step {step}{of}");
+            progress.note(Note::Stopped {
+                signal,
+                step: finished.world.steps(),
+                of: self.frames.map(|_| started.steps),
+            });
         }
         let verified = finished.world.steps() - first_step;
         if let Some(path) = &self.resume {
-            eprintln!(
-                "screensaver: resumed from {} at step {first_step}",
-                path.display()
-            );
+            let (path, step) = (path.clone(), first_step);
+            progress.note(Note::Resumed { path, step });
         }
         if self.verify && finished.world.mismatch().is_none() {
-            eprintln!(
-                "screensaver: {}",
-                verified_message(&finished.world, verified)
-            );
+            let (slivers, first_sliver) = finished.world.slivers();
+            progress.note(Note::Verified {
+                steps: verified,
+                slivers,
+                first_sliver,
+            });
         }
         let ran = Ran {
             stopped: stopped.is_some(),
@@ -328,8 +471,9 @@ impl Job {
             seed: started.seed,
         };
         let text = self.results(&finished, &ran);
-        out.write_all(text.as_bytes())?;
-        out.flush()?;
+        (out.write_all(text.as_bytes()))
+            .and_then(|()| out.flush())
+            .map_err(JobError::Results)?;
         written?;
         Ok(stopped)
     }
@@ -341,46 +485,29 @@ impl Job {
 
     /// Refuses options that do not go together.
     fn check(&self) -> Result<(), JobError> {
-        let usage = |message: &str| Err(JobError::Usage(message.into()));
         let endless = self.frames.is_none();
-        if self.screen.is_none() && endless {
-            return usage(
-                "FRAMES is required (it may be left out only with -g, --fullscreen, \
-                 --root, --window-id or under XScreenSaver)",
-            );
-        }
-        if self.screen.is_none() && self.pace.is_some() {
-            return usage(
-                "--speed sets the pace of a run on screen (-g, --fullscreen, --root, \
-                 --window-id, XScreenSaver); a run without one always goes as fast as it can",
-            );
-        }
-        if self.screen.is_some() && (self.render.is_some() || self.verify) {
-            return usage(
-                "a run on screen (-g, --fullscreen, --root, --window-id, XScreenSaver's \
-                 XSCREENSAVER_WINDOW) cannot take --render or --verify; they are for runs \
-                 off screen",
-            );
-        }
-        if self.cycle.is_some() && !self.cycles() {
-            return usage(
-                "--cycle sets how long each generated scene of an endless run on screen \
-                 is shown (no FRAMES, no INPUT); this run shows one scene",
-            );
-        }
-        let files = self.state_out.is_some() || self.checkpoint.is_some();
-        if endless && (files || self.resume.is_some()) {
-            return usage(
-                "--state-out, --checkpoint and --resume need FRAMES: an endless run has no end to write",
-            );
-        }
+        let on_screen = self.screen.is_some();
         let generated = self.lines.is_some() || self.kind.is_some() || self.seed.is_some();
-        if self.input.is_some() && generated {
-            return usage(
-                "--lines, --kind and --seed choose a generated scene; they cannot go with INPUT",
-            );
+        let files = self.state_out.is_some() || self.checkpoint.is_some();
+        let conflict = if !on_screen && endless {
+            Some(Conflict::NoEnd)
+        } else if !on_screen && self.pace.is_some() {
+            Some(Conflict::PaceOffScreen)
+        } else if on_screen && (self.render.is_some() || self.verify) {
+            Some(Conflict::OffScreenOnly)
+        } else if self.cycle.is_some() && !self.cycles() {
+            Some(Conflict::CycleOfOneScene)
+        } else if endless && (files || self.resume.is_some()) {
+            Some(Conflict::EndlessFiles)
+        } else if self.input.is_some() && generated {
+            Some(Conflict::GeneratedAndFile)
+        } else {
+            None
+        };
+        match conflict {
+            Some(conflict) => Err(conflict.into()),
+            None => self.check_clashes(),
         }
-        self.check_clashes()
     }
 
     /// Refuses a file written over a file the run reads, or written twice:
@@ -389,14 +516,17 @@ impl Job {
     /// meant: the run carries it on).
     fn check_clashes(&self) -> Result<(), JobError> {
         let outputs = named(&[
-            ("--state-out", &self.state_out),
-            ("--checkpoint", &self.checkpoint),
-            ("--render", &self.render),
+            (FileRole::State, &self.state_out),
+            (FileRole::Checkpoint, &self.checkpoint),
+            (FileRole::Pictures, &self.render),
         ]);
-        let inputs = named(&[("INPUT", &self.input), ("--resume", &self.resume)]);
+        let inputs = named(&[
+            (FileRole::Scene, &self.input),
+            (FileRole::Resume, &self.resume),
+        ]);
         for (k, output) in outputs.iter().enumerate() {
             for input in &inputs {
-                let resumed = output.flag == "--checkpoint" && input.flag == "--resume";
+                let resumed = output.role == FileRole::Checkpoint && input.role == FileRole::Resume;
                 if output.identity == input.identity && !resumed {
                     return Err(output.clash(input));
                 }
@@ -431,10 +561,7 @@ impl Job {
         };
         let built_in = self.lines.is_none() && self.kind.is_none() && self.seed.is_none();
         let (scene, input_name) = match &self.input {
-            Some(path) => (
-                Scene::load(path).map_err(|e| e.to_string())?,
-                path.display().to_string(),
-            ),
+            Some(path) => (Scene::load(path)?, path.display().to_string()),
             None => {
                 let name = if built_in && !endless {
                     report::built_in_input()
@@ -452,14 +579,14 @@ impl Job {
         let steps = self.frames.map_or(u64::MAX, |f| f.saturating_add(1));
         let world = match &self.resume {
             Some(path) => {
-                let saved = Checkpoint::load(path).map_err(|e| e.to_string())?;
+                let saved = Checkpoint::load(path)?;
                 let name = path.display().to_string();
-                (saved.continues(&name, &scene, digest, steps)).map_err(|e| e.to_string())?;
+                saved.continues(&name, &scene, digest, steps)?;
                 World::resume(saved, self.detector, &self.config)
             }
             None => World::with_config(&scene, self.detector, &self.config),
         };
-        let world = world.map_err(|e| e.to_string())?;
+        let world = world?;
         Ok(Started {
             world,
             input_name,
@@ -482,17 +609,21 @@ impl Job {
     /// have reported at once.
     fn check_outputs(&self) -> Result<(), JobError> {
         if let Some(path) = &self.render {
-            Target::for_path(path, self.frames_pictured()).map_err(|e| e.to_string())?;
+            Target::for_path(path, self.frames_pictured())?;
         }
         let files = [&self.state_out, &self.checkpoint, &self.render];
         for path in files.into_iter().flatten() {
-            output::check_writable(path).map_err(|e| e.to_string())?;
+            output::check_writable(path)?;
         }
         Ok(())
     }
 
     /// The pictures' writer, if pictures were asked for.
-    fn recorder(&self, steps: u64) -> Result<Option<Recorder>, JobError> {
+    fn recorder(
+        &self,
+        steps: u64,
+        progress: &mut dyn Progress,
+    ) -> Result<Option<Recorder>, JobError> {
         let Some(path) = &self.render else {
             return Ok(None);
         };
@@ -503,16 +634,12 @@ impl Job {
             None if gif && steps > GIF_FRAMES => {
                 let every = steps.div_ceil(GIF_FRAMES);
                 let frames = steps / every + 1;
-                eprintln!(
-                    "screensaver: --render: a GIF frame every {every} steps (about {frames} \
-                     frames); --render-every 1 for every step"
-                );
+                progress.note(Note::GifFrames { every, frames });
                 Some(every)
             }
             every => every,
         };
-        let recorder = Recorder::new(path, self.size, every, self.fps);
-        Ok(Some(recorder.map_err(|e| e.to_string())?))
+        Ok(Some(Recorder::new(path, self.size, every, self.fps)?))
     }
 
     /// Runs the steps off screen: checked, pictured and saved as asked.
@@ -521,7 +648,7 @@ impl Job {
         mut world: World,
         steps: u64,
         digest: u64,
-        progress: Option<&mut dyn Progress>,
+        progress: &mut dyn Progress,
     ) -> Result<Finished, JobError> {
         let to_run = steps.saturating_sub(world.steps());
         let checkpoints = self.checkpoint.as_deref().map(|path| Checkpoints {
@@ -529,10 +656,8 @@ impl Job {
             every: self.checkpoint_every,
             digest,
         });
-        let recorder = self.recorder(steps)?;
+        let recorder = self.recorder(steps, progress)?;
         let first = world.steps();
-        let mut quiet = Quiet;
-        let progress = progress.unwrap_or(&mut quiet);
         let mut each = |world: &World, elapsed: Duration| {
             progress.step(world.steps() - first, to_run, elapsed)
         };
@@ -551,9 +676,9 @@ impl Job {
             // The steps run before a file failed are counted all the same
             // (their time with the writing's).
             Err(e @ (RunError::Picture(_) | RunError::Checkpoint(_))) => {
-                (started.elapsed(), None, Some(e.to_string()))
+                (started.elapsed(), None, Some(e))
             }
-            Err(e @ RunError::Mismatch(_)) => return Err(e.to_string().into()),
+            Err(e @ RunError::Mismatch(_)) => return Err(e.into()),
         };
         Ok(Finished {
             scenes: 1,
@@ -566,7 +691,13 @@ impl Job {
     }
 
     /// Runs the steps on screen, until they end or the window closes.
-    fn on_screen(&self, screen: Screen, world: World, seed: u64) -> Result<Finished, JobError> {
+    fn on_screen(
+        &self,
+        screen: Screen,
+        world: World,
+        seed: u64,
+        progress: &mut dyn Progress,
+    ) -> Result<Finished, JobError> {
         let scenes = if self.cycles() {
             let (detector, kinds, timing, config) =
                 (self.detector, self.kind, self.stats, self.config);
@@ -613,11 +744,11 @@ impl Job {
         }?;
         let last = outcome.scenes - 1;
         if outcome.scenes > 1 {
-            eprintln!(
-                "screensaver: showed {} scenes (seeds {seed} to {}); the results are the last one's",
-                outcome.scenes,
-                seed.wrapping_add(last),
-            );
+            progress.note(Note::Scenes {
+                shown: outcome.scenes,
+                first_seed: seed,
+                last_seed: seed.wrapping_add(last),
+            });
         }
         let lines = self.lines.unwrap_or(DEFAULT_LINES);
         let name = report::generated_input(self.kind_of(last), lines, seed.wrapping_add(last));
@@ -638,20 +769,20 @@ impl Job {
         &self,
         world: &World,
         digest: u64,
-        failure: Option<String>,
+        failure: Option<RunError>,
     ) -> Result<(), JobError> {
-        let mut errors: Vec<String> = failure.into_iter().collect();
+        let mut errors: Vec<JobError> = failure.into_iter().map(JobError::from).collect();
         if let Some(path) = &self.checkpoint {
             let checkpoints = Checkpoints {
                 path,
                 every: None,
                 digest,
             };
-            errors.extend(checkpoints.save(world).err().map(|e| e.to_string()));
+            errors.extend(checkpoints.save(world).err().map(JobError::from));
         }
         if let Some(path) = &self.state_out {
             let written = output::write_with(path, |out| world.write_state(out));
-            errors.extend(written.err().map(|e| e.to_string()));
+            errors.extend(written.err().map(JobError::from));
         }
         match errors.is_empty() {
             true => Ok(()),
@@ -719,9 +850,9 @@ impl Job {
     }
 }
 
-/// A file a run reads or writes, named by a flag.
+/// A file a run reads or writes, by the part it plays.
 struct NamedFile<'a> {
-    flag: &'static str,
+    role: FileRole,
     path: &'a std::path::Path,
     identity: output::FileIdentity,
 }
@@ -729,27 +860,23 @@ struct NamedFile<'a> {
 impl NamedFile<'_> {
     /// The error for this output written over `other`.
     fn clash(&self, other: &NamedFile) -> JobError {
-        let (a, b) = (self.path.display(), other.path.display());
-        let same = match self.path == other.path {
-            true => format!("`{a}`"),
-            false => format!("`{a}` and `{b}`"),
-        };
-        JobError::Usage(format!(
-            "{} and {} name the same file ({same}): the run would write over it; \
-             give {} another file",
-            self.flag, other.flag, self.flag
-        ))
+        JobError::Conflict(Conflict::SameFile {
+            written: self.role,
+            written_path: self.path.to_path_buf(),
+            other: other.role,
+            other_path: other.path.to_path_buf(),
+        })
     }
 }
 
-/// The regular files among `files` (flag and path, if given).
-fn named<'a>(files: &[(&'static str, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>> {
+/// The regular files among `files` (role and path, if given).
+fn named<'a>(files: &[(FileRole, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>> {
     (files.iter())
-        .filter_map(|&(flag, path)| {
+        .filter_map(|&(role, path)| {
             let path = path.as_deref()?;
             let identity = output::identity(path)?;
             Some(NamedFile {
-                flag,
+                role,
                 path,
                 identity,
             })
@@ -761,24 +888,6 @@ fn named<'a>(files: &[(&'static str, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>
 /// kind in turn.
 fn kind_of(kind: Option<SceneKind>, k: u64) -> SceneKind {
     kind.unwrap_or(SceneKind::ALL[k as usize % SceneKind::ALL.len()])
-}
-
-/// What `--verify` says of a run that matched the all-pairs detector.
-fn verified_message(world: &World, verified: u64) -> String {
-    let agreed =
-        format!("verified: {verified} steps, every event as the all-pairs detector found it");
-    match world.slivers() {
-        (0, _) => agreed,
-        (count, first) => format!(
-            "{agreed} but {}, the documented exception (a line sliding along its own \
-             supporting line past a segment on it; see the README, Conformance){}",
-            crate::plural(count, "sliver event"),
-            first.map_or(String::new(), |(step, e)| format!(
-                ": the first at step {step}, lines {} and {}",
-                e.first, e.second
-            ))
-        ),
-    }
 }
 
 #[cfg(test)]
@@ -815,7 +924,7 @@ mod tests {
 
     #[test]
     fn options_that_do_not_go_together_are_refused() {
-        let refused = |job: Job| matches!(text_of(job), Err(JobError::Usage(_)));
+        let refused = |job: Job| matches!(text_of(job), Err(JobError::Conflict(_)));
         assert!(refused(Job::default()), "no FRAMES off screen");
         let frames = Some(3);
         assert!(refused(Job {

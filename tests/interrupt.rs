@@ -302,7 +302,7 @@ fn resuming_from_a_checkpoint_ends_where_the_whole_run_ends() {
         assert_eq!(out.status.code(), Some(1), "{to}");
         let err = text(&out.stderr);
         assert!(
-            err.contains("damaged.c:") && err.contains("was edited or damaged"),
+            err.contains("damaged.c:") && err.contains("the file was changed after it was written"),
             "{err}"
         );
     }

@@ -5,6 +5,7 @@
 
 mod args;
 mod progress;
+mod words;
 
 use args::{parse_frames, Cli, Command, GenArgs};
 use clap::error::ErrorKind;
@@ -33,10 +34,14 @@ enum Failure {
 impl From<JobError> for Failure {
     fn from(e: JobError) -> Self {
         match e {
-            JobError::Usage(message) => Failure::Usage(ErrorKind::ArgumentConflict, message),
-            JobError::Output(e) => stdout_failure(e, "the results"),
-            JobError::Failed(message) => Failure::Error(message),
-            JobError::Files(messages) => Failure::Errors(messages),
+            JobError::Conflict(c) => {
+                Failure::Usage(ErrorKind::ArgumentConflict, words::conflict(&c))
+            }
+            JobError::Results(e) => stdout_failure(e, "the results"),
+            JobError::Files(errors) => {
+                Failure::Errors(errors.iter().map(ToString::to_string).collect())
+            }
+            e => Failure::Error(e.to_string()),
         }
     }
 }

@@ -1,8 +1,9 @@
 //! The progress bar of a long run off screen: shown on a terminal once the
-//! run has taken a second, cleared when it finishes.
+//! run has taken a second, cleared when it finishes; and what a run says
+//! beside its results, on stderr.
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use screensaver::job::Progress;
+use screensaver::job::{Note, Progress};
 use std::time::{Duration, Instant};
 
 /// A progress bar on stderr, if stderr is a terminal.
@@ -34,6 +35,14 @@ impl Progress for Bar {
             Some(bar) if finished => bar.finish_and_clear(),
             Some(bar) => bar.abandon(),
             None => {}
+        }
+    }
+
+    fn note(&mut self, note: Note) {
+        let line = format!("screensaver: {}", crate::words::note(&note));
+        match &self.bar {
+            Some(bar) => bar.suspend(|| eprintln!("{line}")),
+            None => eprintln!("{line}"),
         }
     }
 }
