@@ -843,8 +843,7 @@ impl Job {
             value["sliver_events"] = serde_json::json!(world.slivers().0);
         }
         if self.stats {
-            let stats = stats().json();
-            value["stats"] = serde_json::from_str(&stats).expect("the statistics are JSON");
+            value["stats"] = stats().json_value();
         }
         format!("{value}\n")
     }

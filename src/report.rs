@@ -193,6 +193,11 @@ impl Stats {
     /// The statistics as a JSON object (keys in `snake_case`), what
     /// `--stats --json` puts under `"stats"`.
     pub fn json(&self) -> String {
+        self.json_value().to_string()
+    }
+
+    /// [`Stats::json`] as a value, for the job's results to hold.
+    pub(crate) fn json_value(&self) -> serde_json::Value {
         let (s, t, config) = (&self.work, &self.times, &self.config);
         let mut value = serde_json::json!({
             "detector": self.kind.name(),
@@ -237,7 +242,7 @@ impl Stats {
             value["drawn_fps"] = serde_json::json!(d.fps());
             value["draw_seconds_per_frame"] = serde_json::json!(d.seconds_per_frame());
         }
-        value.to_string()
+        value
     }
 }
 
