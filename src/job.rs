@@ -394,6 +394,8 @@ struct Finished {
     /// Why a picture or a checkpoint could not be written, when that
     /// ended the run early.
     failure: Option<RunError>,
+    /// Checked against all pairs: the sliver events met, and the first.
+    slivers: Option<(u64, Option<(u64, crate::Event)>)>,
 }
 
 impl Job {
@@ -456,8 +458,7 @@ impl Job {
             let (path, step) = (path.clone(), first_step);
             progress.note(Note::Resumed { path, step });
         }
-        if self.verify && finished.world.mismatch().is_none() {
-            let (slivers, first_sliver) = finished.world.slivers();
+        if let Some((slivers, first_sliver)) = finished.slivers {
             progress.note(Note::Verified {
                 steps: verified,
                 slivers,
@@ -671,12 +672,12 @@ impl Job {
         let started = Instant::now();
         let ran = run.run(&mut world, to_run);
         progress.end(ran.as_ref().is_ok_and(|r| !r.stopped));
-        let (elapsed, drawn, failure) = match ran {
-            Ok(ran) => (ran.elapsed, ran.pictures, None),
+        let (elapsed, drawn, failure, slivers) = match ran {
+            Ok(ran) => (ran.elapsed, ran.pictures, None, ran.slivers),
             // The steps run before a file failed are counted all the same
             // (their time with the writing's).
             Err(e @ (RunError::Picture(_) | RunError::Checkpoint(_))) => {
-                (started.elapsed(), None, Some(e))
+                (started.elapsed(), None, Some(e), None)
             }
             Err(e @ RunError::Mismatch(_)) => return Err(e.into()),
         };
@@ -687,6 +688,7 @@ impl Job {
             drawn,
             input_name: None,
             failure,
+            slivers,
         })
     }
 
@@ -759,6 +761,7 @@ impl Job {
             drawn: Some(drawn),
             input_name: self.cycles().then_some(name),
             failure: None,
+            slivers: None,
         })
     }
 
@@ -840,7 +843,7 @@ impl Job {
         };
         if self.verify {
             value["verified_steps"] = serde_json::json!(verified);
-            value["sliver_events"] = serde_json::json!(world.slivers().0);
+            value["sliver_events"] = serde_json::json!(finished.slivers.map_or(0, |s| s.0));
         }
         if self.stats {
             value["stats"] = stats().json_value();

@@ -63,6 +63,7 @@ pub mod scene;
 pub(crate) mod stop;
 pub(crate) mod storage;
 pub(crate) mod team;
+pub(crate) mod verify;
 pub(crate) mod world;
 
 /// Parts of the library that are not its API, public only with the

@@ -3,11 +3,11 @@
 //! so many steps, a progress callback, a way to stop early), with the
 //! simulation's own time measured apart from all of these.
 
-use crate::detect::Brute;
 use crate::output;
 #[cfg(feature = "render")]
 use crate::render::Recorder;
 use crate::report::DrawStats;
+use crate::verify::Verifier;
 use crate::World;
 use std::ops::ControlFlow;
 use std::path::Path;
@@ -84,6 +84,10 @@ pub struct Ran {
     pub pictures: Option<DrawStats>,
     /// Whether [`Run::stop`] ended the run early.
     pub stopped: bool,
+    /// With [`Run::verify`]: the sliver events met (events the all-pairs
+    /// detector finds and the detector does not, every one the contract's
+    /// documented exception), and the step and event of the first.
+    pub slivers: Option<(u64, Option<(u64, crate::Event)>)>,
 }
 
 /// Why a run could not go on.
@@ -128,9 +132,7 @@ impl Run<'_> {
             mut progress,
             stop,
         } = self;
-        if verify {
-            world.set_oracle(Box::new(Brute::default()));
-        }
+        let mut verifier = verify.then(Verifier::new);
         // Time spent writing pictures, and checkpoints.
         #[cfg_attr(not(feature = "render"), allow(unused_mut))]
         let mut drawing = Duration::ZERO;
@@ -144,12 +146,20 @@ impl Run<'_> {
         let mut failed = None;
         // The first picture is drawn before the loop's clock starts.
         let drawn_before = drawing;
-        let verified_before = world.verifying_time();
         let start = clock();
         let since_start = || start.map_or(Duration::ZERO, |s| s.elapsed());
+        if let Some(verifier) = &mut verifier {
+            verifier.before_step(world);
+        }
+        let mut mismatch = None;
+        let mut ran = 0;
         let stopped = world.run_with(steps, |world| {
-            if world.mismatch().is_some() {
-                return ControlFlow::Break(false);
+            ran += 1;
+            if let Some(verifier) = &mut verifier {
+                if let Err(m) = verifier.after_step(world) {
+                    mismatch = Some(m);
+                    return ControlFlow::Break(false);
+                }
             }
             #[cfg(feature = "render")]
             if let Some(recorder) = &mut recorder {
@@ -176,16 +186,20 @@ impl Run<'_> {
             if stop.is_some_and(|stop| stop(world)) || signalled() {
                 return ControlFlow::Break(true);
             }
+            // The oracle's events for the next step, if there is one.
+            if let Some(verifier) = verifier.as_mut().filter(|_| ran < steps) {
+                verifier.before_step(world);
+            }
             ControlFlow::Continue(())
         });
         // The simulation alone: not the pictures, the checkpoints, nor the
         // all-pairs check of --verify.
-        let verifying = world.verifying_time() - verified_before;
+        let verifying = verifier.as_ref().map_or(Duration::ZERO, |v| v.time);
         let elapsed = since_start().saturating_sub(drawing - drawn_before + saving + verifying);
         if let Some(e) = failed {
             return Err(e);
         }
-        if let Some(mismatch) = world.mismatch() {
+        if let Some(mismatch) = mismatch {
             return Err(RunError::Mismatch(mismatch.to_string()));
         }
         #[cfg(feature = "render")]
@@ -208,6 +222,7 @@ impl Run<'_> {
             elapsed,
             pictures,
             stopped: stopped == Some(true),
+            slivers: verifier.map(|v| (v.slivers, v.first_sliver)),
         })
     }
 }

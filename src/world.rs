@@ -27,54 +27,6 @@ pub(crate) struct PhaseTimes {
     pub advance: Duration,
 }
 
-/// The first step at which a detector's events differed from the oracle's.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) struct Mismatch {
-    /// The step (counting from 1) whose detection differed.
-    pub step: u64,
-    /// The oracle's events, sorted.
-    pub expected: Vec<Event>,
-    /// The detector's events, sorted.
-    pub found: Vec<Event>,
-}
-
-impl std::fmt::Display for Mismatch {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let show = |e: &Event| format!("({}, {}, {:?})", e.first, e.second, e.kind);
-        writeln!(f, "events differ at step {}", self.step)?;
-        let missing: Vec<_> = self
-            .expected
-            .iter()
-            .filter(|e| !self.found.contains(e))
-            .map(show)
-            .collect();
-        let extra: Vec<_> = self
-            .found
-            .iter()
-            .filter(|e| !self.expected.contains(e))
-            .map(show)
-            .collect();
-        writeln!(
-            f,
-            "  missing (found by the oracle only): {}",
-            missing.join(" ")
-        )?;
-        writeln!(
-            f,
-            "  extra (found by the detector only): {}",
-            extra.join(" ")
-        )?;
-        let all = |events: &[Event]| events.iter().map(show).collect::<Vec<_>>().join(" ");
-        writeln!(
-            f,
-            "  oracle ({}): {}",
-            self.expected.len(),
-            all(&self.expected)
-        )?;
-        write!(f, "  detector ({}): {}", self.found.len(), all(&self.found))
-    }
-}
-
 /// Scenes of fewer lines move on one thread even with a team, where the
 /// detector does not have them stored in its order: a member's share of
 /// the move costs less than its hand-off only above this. With the move
@@ -104,15 +56,6 @@ pub struct World {
     /// The same number of threads as a team, for the sweep's phases, the
     /// move and the resolution, at every size from a few thousand lines.
     team: Option<Arc<Team>>,
-    /// A detector every step is checked against, and the first mismatch.
-    oracle: Option<Box<dyn Detector>>,
-    mismatch: Option<Mismatch>,
-    /// Sliver events met while verifying, and the step and event of the
-    /// first (see [`World::slivers`]).
-    slivers: u64,
-    first_sliver: Option<(u64, Event)>,
-    /// Time spent checking steps against the oracle.
-    verifying: Duration,
     /// The lines' ids by slot, once the detector has had them stored in
     /// its own order (see [`crate::storage`]); until then slots are ids.
     storage: Option<Storage>,
@@ -135,14 +78,6 @@ pub struct ThreadsError {
     pub threads: usize,
     /// What the system said.
     pub reason: String,
-}
-
-/// The events `oracle` finds in `lines`, sorted.
-fn oracle_events(oracle: &mut dyn Detector, lines: &[Line]) -> Vec<Event> {
-    let mut events = Vec::new();
-    oracle.detect(lines, DT, &mut events);
-    events.sort_unstable_by_key(Event::order_key);
-    events
 }
 
 /// A scene's lines in box coordinates (converted from window coordinates
@@ -186,11 +121,6 @@ impl World {
             timing: None,
             pool: None,
             team: None,
-            oracle: None,
-            verifying: Duration::ZERO,
-            mismatch: None,
-            slivers: 0,
-            first_sliver: None,
             storage: None,
         }
     }
@@ -396,20 +326,6 @@ impl World {
     /// [`World::step`] on the current thread, or on the current rayon pool
     /// where it pays if `parallel`.
     fn step_here(&mut self, parallel: bool) {
-        // The oracle's events, and the lines they were found on (to tell
-        // the documented sliver exception from a mismatch).
-        // (No clock without an oracle: WebAssembly has none.)
-        let checking = self.oracle.is_some().then(Instant::now);
-        let expected = match (&mut self.oracle, &self.mismatch) {
-            (Some(oracle), None) => {
-                let lines = lines_by_id(&self.lines, self.storage.as_ref()).into_owned();
-                Some((oracle_events(oracle.as_mut(), &lines), lines))
-            }
-            _ => None,
-        };
-        if let (Some(_), Some(checking)) = (&expected, checking) {
-            self.verifying += checking.elapsed();
-        }
         let t0 = self.timing.map(|_| Instant::now());
 
         self.events.clear();
@@ -434,14 +350,6 @@ impl World {
             None => self.events.sort_unstable_by_key(Event::order_key),
         }
         self.counters.line += self.events.len() as u64;
-        if let Some((expected, before)) = expected {
-            let comparing = Instant::now();
-            // Counted as the step it belongs to.
-            self.steps += 1;
-            self.mismatch = self.compare(expected, &before).err();
-            self.steps -= 1;
-            self.verifying += comparing.elapsed();
-        }
         let grain = parallel.then_some(self.grain);
         // The team, for the scenes it shares the sweep's phases of, up to
         // `TEAM_GRAINS` grains: it moves the lines and resolves the events
@@ -532,71 +440,6 @@ impl World {
             &self.lines(),
             &self.colors,
         )
-    }
-
-    /// Runs one step, with `oracle` finding events on the same state; if the
-    /// two detectors' events differ, returns both lists (the step has been
-    /// taken all the same).
-    #[cfg(test)]
-    pub(crate) fn step_verified(&mut self, oracle: &mut dyn Detector) -> Result<(), Mismatch> {
-        let before = self.lines().into_owned();
-        let expected = oracle_events(oracle, &before);
-        self.step();
-        self.compare(expected, &before)
-    }
-
-    /// From now on, checks every step's events against `oracle` (typically
-    /// the all-pairs detector); the first step that differs is kept, see
-    /// [`World::mismatch`].
-    pub(crate) fn set_oracle(&mut self, oracle: Box<dyn Detector>) {
-        self.oracle = Some(oracle);
-    }
-
-    /// The time spent so far checking steps against the oracle (finding its
-    /// events and comparing them), which a run's timing leaves out.
-    pub(crate) fn verifying_time(&self) -> Duration {
-        self.verifying
-    }
-
-    /// The first step whose events differed from the oracle's, if any.
-    pub(crate) fn mismatch(&self) -> Option<&Mismatch> {
-        self.mismatch.as_ref()
-    }
-
-    /// Sliver events met so far while verifying: events the oracle found
-    /// and the detector did not, every one a sliver (a line sliding along its own supporting line,
-    /// the contract's documented exception), with the step of the first.
-    pub fn slivers(&self) -> (u64, Option<(u64, Event)>) {
-        (self.slivers, self.first_sliver)
-    }
-
-    /// Checks this step's events against `expected`, the oracle's on the
-    /// lines `before` the step: equal, or differing only by missing sliver
-    /// events (counted), or a mismatch.
-    fn compare(&mut self, expected: Vec<Event>, before: &[Line]) -> Result<(), Mismatch> {
-        let found = self.last_events();
-        if expected[..] == found[..] {
-            return Ok(());
-        }
-        let extra = found.iter().any(|e| !expected.contains(e));
-        let missing: Vec<Event> = (expected.iter())
-            .filter(|e| !found.contains(e))
-            .copied()
-            .collect();
-        let sliver = |e: &Event| {
-            crate::narrow::is_sliver(&before[e.first as usize], &before[e.second as usize], DT)
-        };
-        if !extra && missing.iter().all(sliver) {
-            drop(found);
-            self.slivers += missing.len() as u64;
-            self.first_sliver = self.first_sliver.or(Some((self.steps, missing[0])));
-            return Ok(());
-        }
-        Err(Mismatch {
-            step: self.steps,
-            expected,
-            found: found.into_owned(),
-        })
     }
 
     /// Runs `n` steps.
@@ -699,60 +542,6 @@ mod tests {
     }
 
     #[test]
-    fn verified_steps_agree_with_the_oracle() {
-        let mut w = world(vec![
-            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
-            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
-        ]);
-        let mut oracle = Brute::default();
-        w.step_verified(&mut oracle).unwrap();
-        assert_eq!(w.counters().line, 1);
-        assert_eq!(w.steps(), 1);
-    }
-
-    /// A detector that never finds anything, to see a mismatch reported.
-    struct Blind;
-    impl Detector for Blind {
-        fn name(&self) -> &'static str {
-            "blind"
-        }
-        fn detect(&mut self, _: &[Line], _: f64, _: &mut Vec<Event>) {}
-        fn stats(&self) -> DetectorStats {
-            DetectorStats::default()
-        }
-    }
-
-    #[test]
-    fn a_wrong_detector_is_caught_with_both_event_lists() {
-        let lines = vec![
-            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
-            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
-        ];
-        let mut w = World::new(lines, vec![Color::Red; 2], Box::new(Blind));
-        let mismatch = w.step_verified(&mut Brute::default()).unwrap_err();
-        assert_eq!(mismatch.step, 1);
-        assert_eq!(mismatch.expected.len(), 1);
-        assert!(mismatch.found.is_empty());
-        let text = mismatch.to_string();
-        assert!(
-            text.contains("events differ at step 1")
-                && text.contains("missing (found by the oracle only): (0, 1, L2WithL1)"),
-            "{text}"
-        );
-        assert_eq!(w.steps(), 1);
-
-        // The same through an oracle kept by the world.
-        let lines = vec![
-            line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0)),
-            line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0)),
-        ];
-        let mut w = World::new(lines, vec![Color::Red; 2], Box::new(Blind));
-        w.set_oracle(Box::new(Brute::default()));
-        w.run(3);
-        assert_eq!(w.mismatch().map(|m| m.step), Some(1));
-    }
-
-    #[test]
     fn timing_adds_up_when_on() {
         let mut w = world(vec![line((0.6, 0.6), (0.7, 0.6), (0.01, 0.0))]);
         assert!(w.phase_times().is_none());
@@ -810,50 +599,5 @@ mod tests {
             }
             stop.store(true, std::sync::atomic::Ordering::Relaxed);
         });
-    }
-
-    /// A segment at rest on the line of one that slides along itself,
-    /// beyond the end of its sweep: the contract's parallelogram, from
-    /// rounded corners, reports an event the sweep (which tests only pairs
-    /// whose hulls meet) does not. Verifying counts it as the documented
-    /// exception rather than a mismatch.
-    #[test]
-    fn a_sliver_is_the_documented_exception_not_a_mismatch() {
-        let (rest, sliding) = crate::test_util::sliver_pair();
-        assert!(crate::narrow::is_sliver(&rest, &sliding, DT));
-        let mut w = World::new(
-            vec![rest, sliding],
-            vec![Color::Red; 2],
-            DetectorKind::Sweep.build(),
-        );
-        w.set_oracle(Box::new(Brute::default()));
-        w.run(1);
-        assert!(w.mismatch().is_none());
-        let (count, first) = w.slivers();
-        assert_eq!(count, 1);
-        assert_eq!(
-            first.map(|(step, e)| (step, e.first, e.second)),
-            Some((1, 0, 1))
-        );
-        // A missing event that is no sliver is a mismatch all the same.
-        let apart = line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0));
-        let toward = line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0));
-        assert!(!crate::narrow::is_sliver(&apart, &toward, DT));
-        let mut w = World::new(vec![apart, toward], vec![Color::Red; 2], Box::new(Blind));
-        w.set_oracle(Box::new(Brute::default()));
-        w.run(1);
-        assert!(w.mismatch().is_some());
-        assert_eq!(w.slivers().0, 0);
-    }
-
-    #[test]
-    fn the_time_spent_verifying_is_kept_apart() {
-        let scene = crate::generate::default_scene();
-        let mut w = World::with_detector(&scene, DetectorKind::Sweep);
-        w.step();
-        assert_eq!(w.verifying_time(), std::time::Duration::ZERO);
-        w.set_oracle(Box::new(Brute::default()));
-        w.step();
-        assert!(w.verifying_time() > std::time::Duration::ZERO);
     }
 }
