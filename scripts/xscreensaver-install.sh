@@ -311,8 +311,18 @@ END {
     # The comment goes just before the mode line; the lines a file lacks go
     # just before the programs block, or at the end when it has none.
     added = 0
+    # An uninstall that empties the list takes out the blank line the
+    # install put before a block it appended at the end.
+    drop = 0
+    if (action == "uninstall" && ps && !nb && pe == n) {
+        for (i = ps - 1; i >= 1; i--) {
+            if (i == ci || (i == mi && !set_mode) || (i == si && !set_sel)) continue
+            if (trim(L[i]) == "") drop = i
+            break
+        }
+    }
     for (i = 1; i <= n; i++) {
-        if (i == ci) continue
+        if (i == ci || i == drop) continue
         if (i == mi) {
             if (keep != "") out(keep)
             if (set_mode) out(prefix(L[i]) newmode)
