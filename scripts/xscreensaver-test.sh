@@ -54,6 +54,16 @@ not_ok() {
     failed=$((failed + 1))
     echo "FAIL $*"
 }
+# Until the full clean-up below takes over: a set-up that fails still ends
+# with the count, the failure in it.
+early_exit() {
+    local status=$?
+    if ((status != 0 && !summary_printed)); then
+        echo "xscreensaver-test: stopped early (status $status)"
+        echo "$passed passed, $((failed + 1)) failed"
+    fi
+}
+trap early_exit EXIT
 # check DESCRIPTION COMMAND...: one check, counted.
 check() {
     local what=$1
