@@ -342,6 +342,25 @@ fn is_fifo(_: &Path) -> bool {
 mod tests {
     use super::*;
 
+    /// A folder that refuses new files is named, never the temporary file
+    /// that was refused (which tempfile names in its own error).
+    #[test]
+    fn a_refused_file_names_its_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("out.state");
+        let denied = OutputError::new(&path, std::io::ErrorKind::PermissionDenied.into());
+        let text = denied.to_string();
+        assert_eq!(
+            text,
+            format!(
+                "{}: cannot write: this user may not make files in the folder {} (permission denied)",
+                path.display(),
+                dir.path().display()
+            )
+        );
+        assert!(!text.contains(".part"), "{text}");
+    }
+
     #[test]
     fn a_file_appears_only_when_committed() {
         let dir = tempfile::tempdir().unwrap();
