@@ -338,17 +338,16 @@ const GIF_FRAMES: u64 = 300;
 
 /// Scenes from this size shown live run on every core all the same: their
 /// pictures come seldom enough that the team gains more than the drawing
-/// takes (two cores, `--fullscreen`: 300,000 clustered lines 10 frames
-/// 0.72 s on two threads against 0.89 s on one; 100,000 lines 0.19 s
-/// against 0.16 s; 10,000 lines 0.159 s against 0.097 s).
+/// takes (docs/DESIGN.md, "Beside other work: pieces claimed, not shares
+/// handed").
 const LIVE_ALL_CORES_FROM: usize = 200_000;
 
 /// Threads to run on unless the job says: every core, less one for the
 /// drawing where a scene of `lines` lines is shown live and smaller than
 /// [`LIVE_ALL_CORES_FROM`] (the drawing takes a core a good part of the
 /// time, and a member of the team switched out for it mid-piece holds up
-/// the step: `-g 5000 koch.in` on two cores took 0.41 s on one thread and
-/// 0.51 s on two).
+/// the step; docs/DESIGN.md, "Beside other work: pieces claimed, not
+/// shares handed").
 fn default_threads(live: bool, lines: usize) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     if live && lines < LIVE_ALL_CORES_FROM {

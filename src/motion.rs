@@ -24,8 +24,8 @@ pub(crate) fn advance_and_bounce(lines: &mut [Line]) -> u64 {
 /// it further out of the box. Returns whether any wall was hit.
 ///
 /// The reference's four checks, in its order (each sees the velocity the
-/// one before left), worked out with masks instead of branches: a third
-/// fewer instructions in a loop that runs over every line every step.
+/// one before left), worked out with masks instead of branches, which
+/// take fewer instructions in a loop that runs over every line every step.
 #[inline(always)]
 pub fn bounce_off_walls(line: &mut Line) -> bool {
     let (p1, p2) = (line.p1, line.p2);

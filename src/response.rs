@@ -43,9 +43,9 @@ fn resolve_each_in(lines: &mut [Line], first: usize, n: usize, events: &[Event])
 }
 
 /// Free events (see [`Resolver::resolve_found`]) a step must have before
-/// a team shares them: 10,000 lines (about 220 a step) ran 1.04x faster on
-/// two threads with them shared, and 100,000 lines (about 2,600) 1.02x to
-/// 1.04x; a few events a step (`koch` has five) are not worth a hand-off.
+/// a team shares them: a few events a step (`koch` has five) are not worth
+/// a hand-off, while the hundreds of a large scene's step are
+/// (docs/DESIGN.md, "How a step is shared").
 const TEAM_MIN_FREE: usize = 128;
 
 /// Events per task in a parallel wave.

@@ -29,12 +29,10 @@ pub(crate) struct PhaseTimes {
 
 /// Scenes of fewer lines move on one thread even with a team, where the
 /// detector does not have them stored in its order: a member's share of
-/// the move costs less than its hand-off only above this. With the move
-/// shared, `koch` (3,900 lines) ran 1000 steps on two threads in 0.098 s
-/// instead of 0.106, and 10,000 lines 300 steps in 0.121 instead of 0.139
-/// (medians of interleaved runs). Lines stored in the sweep's order move
-/// on the team from the size the sweep shares its phases at
-/// (`TEAM_MIN_BOXES`), each member moving the lines it reads next.
+/// the move costs less than its hand-off only above this. Lines stored in
+/// the sweep's order move on the team from the size the sweep shares its
+/// phases at (`TEAM_MIN_BOXES`), each member moving the lines it reads
+/// next (docs/DESIGN.md, "How a step is shared").
 const TEAM_MIN_LINES: usize = 2048;
 
 /// The simulated world. Line ids are indices into [`World::lines`].
@@ -235,10 +233,9 @@ impl World {
     /// Each line with its colour, in the order the world stores them: the
     /// detector's, which keeps lines near each other together (by id until
     /// the detector has stored them). For drawing, where the order shows
-    /// only where lines cross: 100,000 or a million lines drawn in this
-    /// order take 0.33x to 0.76x the time of id order at 1180 x 800 and
-    /// 1920 x 1080 (`examples/draw_speed.rs`), since nearby pixels are
-    /// drawn together.
+    /// only where lines cross: a large scene drawn in this order touches
+    /// the frame row by row, so nearby pixels are drawn together
+    /// (docs/DESIGN.md, "Drawing fast enough").
     pub fn lines_as_stored(&self) -> impl Iterator<Item = (&Line, Color)> + '_ {
         let ids = self.storage.as_ref().map(Storage::ids);
         self.lines.iter().enumerate().map(move |(slot, line)| {

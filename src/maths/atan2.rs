@@ -1,8 +1,9 @@
 //! A correctly rounded `atan2`, the same on every target.
 //!
-//! The reference's glibc `atan2` is not correctly rounded (about 0.08% of
-//! its results differ from the correctly rounded ones in the last bit), but
-//! the contract only compares two of its results, so a correctly rounded
+//! The reference's glibc `atan2` is not correctly rounded (some of its
+//! results differ from the correctly rounded ones in the last bit:
+//! `docs/DESIGN.md`, "Our own maths"), but the contract only compares two
+//! of its results, so a correctly rounded
 //! one leaves every reference state unchanged (the contract's first
 //! section); a merely faithful one (musl's) does not.
 //!

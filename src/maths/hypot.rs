@@ -7,8 +7,8 @@
 //! glibc's follows (C. F. Borges, "An Improved Algorithm for hypot(a,b)",
 //! 2019): the square root of the sum of squares, then one correction step
 //! whose residual is computed exactly without fused multiply-add, with
-//! scaling for very large and very small arguments. Every detail here was
-//! settled by comparing with the system's `hypot` (see the tests, and
+//! scaling for very large and very small arguments. Every detail here is
+//! checked against the system's `hypot` (see the tests, and
 //! `docs/DESIGN.md`, "Our own maths").
 //!
 //! Nothing here may be fused into a multiply-add: Rust never contracts
@@ -20,8 +20,9 @@
 const LARGE: f64 = f64::from_bits(0x5fe0_0000_0000_0000); // 2^511
 /// Below this, the correction's residual (about 2^-53 of the smaller
 /// argument's square) could lose bits to underflow: both are scaled up
-/// first. (At 2^-511, where the square itself would, the system's results
-/// differed from the unscaled ones from about 2^-504 down.)
+/// first. (From 2^-511 only, where the square itself would, is too late:
+/// the system's results differ from the unscaled ones from about 2^-504
+/// down.)
 const TINY: f64 = f64::from_bits(0x2340_0000_0000_0000); // 2^-459
 /// A power of two, so that scaling is exact.
 const SCALE: f64 = f64::from_bits(0x1a70_0000_0000_0000); // 2^-600

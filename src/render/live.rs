@@ -123,7 +123,7 @@ impl std::fmt::Display for Pace {
 pub struct Snapshot {
     /// Every line, in the order the world stores them
     /// ([`World::lines_as_stored`]: nearby lines together, which draws a
-    /// large scene in 0.33x to 0.76x the time of id order).
+    /// large scene faster than id order).
     pub lines: Vec<Line>,
     /// Their colours, in the same order.
     pub colors: Vec<Color>,

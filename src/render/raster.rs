@@ -2,7 +2,8 @@
 //! them: tiny-skia's anti-aliased strokes for scenes small enough to draw
 //! that way at the display's pace, and for larger ones a line rasteriser
 //! of its own (anti-aliased lines one pixel wide, Xiaolin Wu's method),
-//! about a hundred times faster a line (`examples/draw_speed.rs`).
+//! far cheaper a line (docs/PERFORMANCE.md, "Drawing live", measured by
+//! `examples/draw_speed.rs`).
 
 // The window's passes (`Painter`, `draw_thin`) go unused in a build
 // without it.
@@ -14,8 +15,9 @@ use tiny_skia::Pixmap;
 
 /// Scenes of up to this many lines are drawn with tiny-skia's strokes (1.5
 /// pixels wide, round caps, as in pictures); larger ones with
-/// [`draw_thin`]. tiny-skia takes about 8 us a line, so this many lines
-/// draw in about 40 ms (`examples/draw_speed.rs`).
+/// [`draw_thin`]: tiny-skia's time grows with the lines, and past this
+/// many a frame takes longer than a display can wait for
+/// (docs/PERFORMANCE.md, "Drawing live").
 pub const SMOOTH_UP_TO: usize = 5_000;
 
 /// A frame buffer: `height` rows of `width` pixels, each `0x00RRGGBB`.
@@ -138,8 +140,8 @@ pub fn draw_thin(lines: &[Line], colors: &[Color], view: &View, canvas: &mut Can
 
 /// [`draw_thin`] of lines given with their colours, in any order: for
 /// [`World::lines_as_stored`](crate::World::lines_as_stored), whose order
-/// keeps nearby lines together and so draws a large scene in 0.33x to
-/// 0.76x the time of id order.
+/// keeps nearby lines together and so draws a large scene row by row,
+/// faster than in id order (docs/PERFORMANCE.md, "Drawing live").
 pub fn draw_thin_each<'a>(
     lines: impl IntoIterator<Item = (&'a Line, Color)>,
     view: &View,

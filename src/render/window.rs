@@ -243,8 +243,8 @@ impl App<'_> {
             View::new(frame)
         };
         // Drawn in a frame of our own, then copied: drawing straight into
-        // the window's shared buffer took three times as long (a million
-        // lines: 62 ms against 19).
+        // the window's shared buffer costs more than the one copy
+        // (docs/PERFORMANCE.md, "Drawing live").
         let (w, h) = (w.get() as usize, h.get() as usize);
         self.frame.resize(w * h, 0);
         let mut canvas = Canvas::new(&mut self.frame, w, h);

@@ -7,9 +7,10 @@
 //! have grown to the scene's size, a step on one thread allocates nothing
 //! (parallel tasks get buffers of their own).
 //!
-//! (Two other ways of keeping the tree, fat hulls with their pairs cached
-//! from step to step and a chooser between the two, were dropped once the
-//! sweep outran both everywhere: `docs/DESIGN.md`, "Tried and dropped".)
+//! The tree is built anew every step rather than kept with fat hulls and
+//! their pairs cached from step to step: the cached pairs pay only while
+//! the fat hulls are fresh, and the sweep outruns both ways
+//! (`docs/DESIGN.md`, "Tried and dropped").
 
 mod entries;
 mod grid;

@@ -104,9 +104,9 @@ impl<'t> Walk<'t> {
             leaf_size,
             max_depth,
             // Enough tasks to balance the threads, none too small to pay;
-            // a tree of less than a grain of lines stays on one thread
-            // (measured: a walk of 4,000 or 10,000 lines split four ways
-            // lost more to waking the pool than it gained).
+            // a tree of less than a grain of lines stays on one thread,
+            // where waking the pool costs more than sharing the walk saves
+            // (docs/DESIGN.md, "The thread team").
             parallel_min: if threads > 1 && n >= grain {
                 (n / (8 * threads)).max(grain / 16).max(1)
             } else {

@@ -211,9 +211,9 @@ fn permute<T: Copy>(v: &mut [T], order: &[(f32, u32)], spare: &mut Vec<T>) {
 }
 
 /// Moves an insertion sort may make per box before it gives way to a
-/// radix sort. (Going to the radix sort at once for a while after it was
-/// needed, and from two moves a box, gained nothing on `smalllines`, whose
-/// boxes overtake each other most.)
+/// radix sort: a nearly sorted band is put right in place by a few moves,
+/// while boxes far out of order cost the radix sort's fixed passes less
+/// (docs/DESIGN.md, "Sweep and prune", one band, and "Tried and dropped").
 pub(crate) const MOVES_PER_BOX: usize = 8;
 
 /// Boxes as parallel arrays, followed by one sentinel box (key

@@ -234,10 +234,11 @@ fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
 /// same operations in the same order on each, so the same bits.
 ///
 /// Left to the compiler, [`portable::make_batch`] moves each line's values into the
-/// lanes and each lane's results out to its hull one value at a time
-/// (about 72 instructions a line). Here four lines' coordinates are loaded
-/// as rows and turned into columns with a few shuffles, and the eight
-/// bounds of four hulls turned back into rows the same way.
+/// lanes and each lane's results out to its hull one value at a time,
+/// several times the instructions (docs/DESIGN.md, "Sweep and prune",
+/// boxes). Here four lines' coordinates are loaded as rows and turned
+/// into columns with a few shuffles, and the eight bounds of four hulls
+/// turned back into rows the same way.
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::{Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD};
@@ -376,8 +377,9 @@ mod avx2 {
 
 /// [`portable::make_batch`] in WebAssembly's 128-bit vectors: two lines a vector,
 /// the same operations in the same order on each line, so the same bits.
-/// Left to the compiler, the batch is worked value by value (the hulls
-/// took 38% of a step of 10,000 lines in V8, against 15% natively).
+/// Left to the compiler, the batch is worked value by value, which makes
+/// the hulls a large part of a step in V8 (docs/DESIGN.md, "The hulls in
+/// WebAssembly").
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod simd128 {
     use super::{Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD};

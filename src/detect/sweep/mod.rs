@@ -79,7 +79,7 @@ const PLAN_EVERY: u64 = 256;
 /// that a team shares: each thread then moves and makes the boxes of the
 /// same lines, and the exact tests read lines near each other. On one
 /// thread a scene that fits the cache only pays for the copy
-/// (`docs/DESIGN.md`, storage order).
+/// (docs/DESIGN.md, "The data layout").
 const STORE_FROM: usize = LARGE_SCENE;
 
 /// Steps between two times the world stores the lines in the sweep's
@@ -94,14 +94,16 @@ const NOTE_BLOCK: usize = 512;
 
 /// Candidates a box (last step) above which the sweep meets every box's
 /// candidates a block of eight at a time, with no branch on how many it
-/// has ([`scan::sweep`]): 10,000 lines ran 8% faster on one thread, while
-/// `koch` (under one a box) was 20% slower.
+/// has ([`scan::sweep`]). In a dense scene the branch on a box's count
+/// is mispredicted often and the blocks are mostly full; in a sparse one
+/// most boxes meet one candidate or none, and a block is wasted work
+/// (docs/DESIGN.md, "Sweep and prune", the sweep).
 const DENSE: f64 = 2.0;
 
 /// Scenes of fewer boxes keep the sweep on one thread even with a team:
 /// below this the hand-offs and the lines' travel between the cores'
-/// caches cost more than the shared work saves (two threads against one:
-/// 300 lines 0.85x, 400 lines 1.13x).
+/// caches cost more than the shared work saves (docs/DESIGN.md, "How a
+/// step is shared").
 pub(crate) const TEAM_MIN_BOXES: usize = 384;
 
 /// Boxes a thread of a team sweeps at a time (with one band).

@@ -26,9 +26,9 @@ fn across(a: usize) -> usize {
 }
 
 /// The model's cost of sweeping one box (its own work, apart from the
-/// pairs it meets), in units of one candidate pair met: about 50
-/// instructions and a mispredicted branch, against 14 instructions a
-/// candidate (callgrind, `koch`).
+/// pairs it meets), in units of one candidate pair met: a box's loop
+/// ends with a branch no predictor foresees, so it costs several
+/// candidates' worth (docs/DESIGN.md, "Sweep and prune", the plan).
 const SWEEP_COST: f64 = 5.0;
 
 /// What laying boxes out in bands costs the model, in units of one
@@ -103,8 +103,8 @@ fn spread(extents: Vec<(f32, f32)>, total: usize) -> Spread {
 ///
 /// Each box's count of least values up to its greatest is found by one
 /// walk over the boxes in order of their greatest values, rather than by
-/// a binary search a box: on `koch`'s 3,900 boxes the searches, whose
-/// branches go either way at random, cost about 100 us a direction.
+/// a binary search a box, whose branches go either way at random
+/// (docs/DESIGN.md, "Tried and dropped").
 fn met_in_sweep(extents: &[(f32, f32)]) -> u64 {
     // Each box's greatest value, with its rank among the least values. A
     // NaN meets nothing (no least value is at most it).

@@ -23,8 +23,9 @@ pub(crate) struct Tester<'a> {
 impl Tester<'_> {
     /// Tests the noted `pairs` of places, the first of each pair's slot
     /// from `first`, the second's from `second`. In scenes larger than the
-    /// cache, each pair's lines are read a few pairs ahead of its test (a
-    /// million lines 4% faster).
+    /// cache, each pair's lines are read a few pairs ahead of its test, so
+    /// that their loads wait on memory together (docs/DESIGN.md, "Reading
+    /// ahead").
     #[inline(always)]
     pub(crate) fn test(&mut self, pairs: &[(u32, u32)], first: &[u32], second: &[u32]) {
         let slots = |&(i, j): &(u32, u32)| (first[i as usize], second[j as usize]);
@@ -91,8 +92,9 @@ pub(crate) fn sweep_group(
 ///
 /// The two sorted lists are walked together, each box scanning the other
 /// list from where the walk stands, so the work is the boxes of both and
-/// the pairs met (a binary search a guest within the band's longest
-/// extent was slower: a long line makes every guest's window wide).
+/// the pairs met. A binary search a guest within the band's longest
+/// extent would not bound it so: a long line makes every guest's window
+/// wide (docs/DESIGN.md, "Tried and dropped").
 fn sweep_across(
     homes: BoxSlice,
     guests: BoxSlice,
@@ -283,8 +285,9 @@ mod blocks {
     /// out of one comparison as all ones; packing them to bytes, two hulls
     /// at a time then four, and folding each hull's two halves together
     /// leaves four bytes a hull, which are all zero exactly when no lane
-    /// is beyond. That is 19 vector instructions for the block, where a
-    /// mask, a test and a shift for each hull took 56.
+    /// is beyond. That is a few vector instructions for the whole block,
+    /// rather than a mask, a test and a shift for each hull
+    /// (docs/DESIGN.md, "Sweep and prune", the sweep).
     #[inline]
     #[target_feature(enable = "avx2")]
     pub(super) fn overlapping(hulls: &[Packed; BLOCK], reach8: __m256) -> u32 {

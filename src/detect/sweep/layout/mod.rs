@@ -286,9 +286,10 @@ impl Group {
     /// Sorts the movers by band (their end; band `b`'s to `starts[b]` on),
     /// in their order within a band, and with `by_key` each band's by key.
     /// A counting sort: each mover is read in turn and written to its
-    /// band's place (a layout made anew has every box a mover: gathered in
-    /// sorted order instead, a million lines' first step took 0.3 s to lay
-    /// out against 0.12).
+    /// band's place. A layout made anew has every box a mover, taken in
+    /// arrival order and each band then sorted on its own, which costs
+    /// less than gathering every box in one sorted order (docs/DESIGN.md,
+    /// "Tried and dropped").
     fn sort_movers(&mut self, movers: &mut BoxList, starts: &[usize], by_key: bool) {
         let Group {
             order,

@@ -294,9 +294,10 @@ impl Layout {
     /// from the first up, so that no run lands on one not yet moved), each
     /// band finished by insertion with its movers (`mover_starts` of the
     /// sorted movers) inserted, and its guests listed; then the one group
-    /// handed to `then_each`. Against copying every box into the other
-    /// arrays, as the groups do, 100,000 lines (100 frames) ran 1.13x as
-    /// fast on one thread.
+    /// handed to `then_each`. One thread has no other group to copy
+    /// boxes past, so it moves only what changed instead of copying every
+    /// box into the other arrays as the groups do (docs/DESIGN.md, "Sweep
+    /// and prune", several bands).
     fn finish_in_place(
         &mut self,
         arriving: &mut Boxes,
