@@ -350,8 +350,8 @@ impl World {
         let grain = parallel.then_some(self.grain);
         // The team, for the scenes it shares the sweep's phases of, up to
         // `TEAM_GRAINS` grains: it moves the lines and resolves the events
-        // too (at 100,000 lines the pool's pieces of one grain had given
-        // one thread four of seven).
+        // too, as the pool's pieces of one grain can fall unevenly to the
+        // threads (docs/DESIGN.md, "Tried and dropped").
         let n = self.lines.len();
         // (A handle of its own: `self` is borrowed mutably below.)
         let least = match self.storage {

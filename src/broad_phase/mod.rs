@@ -118,9 +118,10 @@ const BROAD_SAMPLE: usize = 2048;
 /// The cost of laying one box out in one band, in units of one candidate
 /// pair met, for the plan: a quarter of the detector's layout made anew,
 /// since these bands are filled in one streaming pass and swept in `f64`
-/// with two comparisons a candidate. Measured on 10^5 and 10^6 generated
-/// boxes against 2, 8 and 16: clustered boxes gain the most from the extra
-/// bands it buys (`versus_broccoli`, see `docs/DESIGN.md`).
+/// with two comparisons a candidate. Set where the plan's choices run
+/// fastest on generated uniform and clustered boxes, clustered ones
+/// gaining the most from the extra bands it buys (`versus_broccoli`;
+/// `docs/DESIGN.md`, "The broad phase on your own boxes").
 const LAYOUT_COST: plan::LayoutCost = plan::LayoutCost {
     per_box: 4.0,
     per_guest: 0.0,

@@ -50,8 +50,8 @@ impl Progress for Bar {
 /// A progress bar for a run of `steps` steps that started at `start` and
 /// has run `done`. Its rate and time left are the run's own, steps over
 /// the time since `start`: indicatif's estimate counts the `done` steps
-/// set at once as one burst (it showed 1,309,816 steps a second for a run
-/// going at 384).
+/// set at once as one burst, and so shows a resumed run's rate many times
+/// too high.
 fn progress_bar(steps: u64, done: u64, start: Instant) -> ProgressBar {
     let bar = ProgressBar::with_draw_target(Some(steps), ProgressDrawTarget::stderr());
     bar.set_style(

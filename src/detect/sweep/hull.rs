@@ -192,7 +192,8 @@ mod portable {
         };
         let (a, b, d) = (project(&ax, &ay), project(&bx, &by), project(&dx, &dy));
         // Plain loops: `array::from_fn` over these nested closures is left as
-        // a call, compiled without AVX2 (`koch` hulls took a third longer).
+        // a call, compiled without AVX2, the values passed through memory
+        // (docs/DESIGN.md, "Tried and dropped").
         let (mut lo, mut hi) = ([[0.0; LANES]; DIRECTIONS], [[0.0; LANES]; DIRECTIONS]);
         for r in 0..DIRECTIONS {
             for k in 0..LANES {
