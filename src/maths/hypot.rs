@@ -20,9 +20,9 @@
 const LARGE: f64 = f64::from_bits(0x5fe0_0000_0000_0000); // 2^511
 /// Below this, the correction's residual (about 2^-53 of the smaller
 /// argument's square) could lose bits to underflow: both are scaled up
-/// first. (From 2^-511 only, where the square itself would, is too late:
-/// the system's results differ from the unscaled ones from about 2^-504
-/// down.)
+/// first. (Scaling only from 2^-511, where the square itself would, is
+/// too late: the system's results differ from the unscaled ones from
+/// about 2^-504 down.)
 const TINY: f64 = f64::from_bits(0x2340_0000_0000_0000); // 2^-459
 /// A power of two, so that scaling is exact.
 const SCALE: f64 = f64::from_bits(0x1a70_0000_0000_0000); // 2^-600
