@@ -158,7 +158,7 @@ impl Resolver {
     /// Given a `team`, the free events (when there are many, and not so
     /// many that the grain sends them to the pool) are resolved in place,
     /// each by the member whose share of the lines (as
-    /// [`team::shares_mut`] splits them) holds both its lines; the few
+    /// [`team::split_mut`] splits them) holds both its lines; the few
     /// whose lines lie in two shares after, on this thread.
     pub fn resolve_found(
         &mut self,
@@ -226,12 +226,9 @@ impl Resolver {
             }
         }
         {
-            let parts = team::shares_mut(lines, threads);
+            let parts = team::split_mut(lines, threads);
             let by_share = &self.by_share;
-            team.run(&|k| {
-                let mut part = parts[k].lock().expect("a share");
-                resolve_each_in(&mut part, starts[k], n, &by_share[k]);
-            });
+            team.run(&|k| resolve_each_in(parts.take(k), starts[k], n, &by_share[k]));
         }
         resolve_each(lines, &self.across);
     }

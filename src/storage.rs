@@ -131,16 +131,12 @@ impl Storage {
         let hits = match team {
             Some(team) => {
                 let threads = team.threads();
-                let orders = team::shares_mut(order, threads);
-                let to = team::shares_mut(&mut self.spare, threads);
-                let to_ids = team::shares_mut(&mut self.spare_ids, threads);
+                let orders = team::split_mut(order, threads);
+                let to = team::split_mut(&mut self.spare, threads);
+                let to_ids = team::split_mut(&mut self.spare_ids, threads);
                 team.run_sum(&|k| {
-                    fill(
-                        team::share(n, threads, k).start,
-                        &mut orders[k].lock().expect("a share"),
-                        &mut to[k].lock().expect("a share"),
-                        &mut to_ids[k].lock().expect("a share"),
-                    )
+                    let start = team::share(n, threads, k).start;
+                    fill(start, orders.take(k), to.take(k), to_ids.take(k))
                 })
             }
             None => fill(0, order, &mut self.spare, &mut self.spare_ids),

@@ -529,20 +529,67 @@ fn delay(s: &Shared, number: u64) {
     }
 }
 
+/// Parts that the pieces of a job take, each its own: piece `k` takes
+/// part `k`, once. A job is one `Fn` that every thread runs, so it cannot
+/// hand out `&mut` borrows by itself; this hands each piece its own part
+/// (a share of a slice, a chunk's buffers), moved out to the one piece
+/// that takes it, without a lock.
+pub struct Parts<T> {
+    cells: Vec<Part<T>>,
+}
+
+/// One part, and whether it has been taken.
+struct Part<T> {
+    taken: AtomicBool,
+    value: std::cell::UnsafeCell<Option<T>>,
+}
+
+// SAFETY: a `&Parts<T>` shared between threads only lets each part's value
+// move out to the one thread that wins its `taken` flag (`Parts::take`),
+// so sharing it is sound exactly when moving a `T` between threads is.
+unsafe impl<T: Send> Sync for Parts<T> {}
+
+impl<T> Parts<T> {
+    /// The parts, numbered in order.
+    pub fn new(parts: impl IntoIterator<Item = T>) -> Parts<T> {
+        let cells = (parts.into_iter())
+            .map(|value| Part {
+                taken: AtomicBool::new(false),
+                value: std::cell::UnsafeCell::new(Some(value)),
+            })
+            .collect();
+        Parts { cells }
+    }
+
+    /// Part `k`, moved out to its one taker.
+    ///
+    /// # Panics
+    /// If part `k` does not exist or was taken already.
+    pub fn take(&self, k: usize) -> T {
+        let part = &self.cells[k];
+        let first = !part.taken.swap(true, Ordering::AcqRel);
+        assert!(first, "part {k} taken twice");
+        // SAFETY: the swap above turned `taken` from false to true in this
+        // call and in no other (it is atomic, and nothing sets it back), so
+        // this is the only access to the cell's value there will ever be
+        // through a shared `Parts`; `&mut self` methods cannot run while
+        // the `&self` this call holds exists.
+        let value = unsafe { (*part.value.get()).take() };
+        debug_assert!(value.is_some(), "an untaken part holds its value");
+        value.expect("an untaken part holds its value")
+    }
+}
+
 /// Splits `items` into `parts` contiguous shares of nearly equal length
-/// (share `k` as [`share`] gives it), each behind its own lock so that a
-/// job (`Fn`, shared by the threads) can write its own: each lock is taken
-/// once, by the thread running that piece, and never waited for.
-pub fn shares_mut<T>(items: &mut [T], parts: usize) -> Vec<Mutex<&mut [T]>> {
+/// (share `k` as [`share`] gives it), for piece `k` of a job to take.
+pub fn split_mut<T>(items: &mut [T], parts: usize) -> Parts<&mut [T]> {
     let n = items.len();
     let mut rest = items;
-    (0..parts.max(1))
-        .map(|k| {
-            let (head, tail) = std::mem::take(&mut rest).split_at_mut(share(n, parts, k).len());
-            rest = tail;
-            Mutex::new(head)
-        })
-        .collect()
+    Parts::new((0..parts.max(1)).map(|k| {
+        let (head, tail) = std::mem::take(&mut rest).split_at_mut(share(n, parts, k).len());
+        rest = tail;
+        head
+    }))
 }
 
 /// Splits `0..n` into `parts` contiguous ranges of nearly equal length;
@@ -555,6 +602,33 @@ pub fn share(n: usize, parts: usize, k: usize) -> std::ops::Range<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Many threads at once take the parts of many jobs: each part goes to
+    /// exactly one taker, whole, and a second take panics.
+    #[test]
+    fn parts_go_each_to_one_taker() {
+        let team = Team::new(4).unwrap();
+        let mut items: Vec<u64> = (0..10_000).collect();
+        for round in 0..200u64 {
+            let parts = split_mut(&mut items, 4);
+            let taken = AtomicUsize::new(0);
+            team.run(&|k| {
+                let part = parts.take(k);
+                assert_eq!(part.len(), share(10_000, 4, k).len());
+                for x in part.iter_mut() {
+                    *x += 1;
+                }
+                taken.fetch_add(1, Ordering::Relaxed);
+            });
+            assert_eq!(taken.into_inner(), 4, "round {round}");
+        }
+        assert!(items.iter().enumerate().all(|(k, &x)| x == k as u64 + 200));
+        let parts = Parts::new([1, 2]);
+        assert_eq!(parts.take(1), 2);
+        let again = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| parts.take(1)));
+        assert!(again.is_err(), "a part taken twice");
+        assert_eq!(parts.take(0), 1);
+    }
 
     #[test]
     fn the_job_word_packs_and_unpacks() {
@@ -617,9 +691,9 @@ mod tests {
         team.delay_members(Duration::from_micros(30));
         let mut data = vec![0u64; 10_007];
         for round in 1..300u64 {
-            let parts = shares_mut(&mut data, 3);
+            let parts = split_mut(&mut data, 3);
             team.run(&|k| {
-                for x in parts[k].lock().unwrap().iter_mut() {
+                for x in parts.take(k).iter_mut() {
                     *x += round;
                 }
             });

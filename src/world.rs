@@ -387,8 +387,8 @@ impl World {
                 .advance_in_order(&mut self.lines, order, team)
         } else if let Some(team) = team {
             // A share of the lines (by slot) per member of the team.
-            let shares = crate::team::shares_mut(&mut self.lines, team.threads());
-            team.run_sum(&|k| advance_and_bounce(&mut shares[k].lock().expect("a share")))
+            let shares = crate::team::split_mut(&mut self.lines, team.threads());
+            team.run_sum(&|k| advance_and_bounce(shares.take(k)))
         } else if parallel {
             use rayon::prelude::*;
             self.lines

@@ -10,7 +10,6 @@ use super::hull::{Packed, NO_KEY};
 use crate::team::{self, Team};
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Mutex;
 
 /// Boxes in parallel slices: each box's key, packed hull and slot.
 #[derive(Clone, Copy, Debug)]
@@ -73,16 +72,16 @@ impl<'a> BoxSliceMut<'a> {
     }
 
     /// Splits the boxes into `parts` shares as [`team::share`] gives them,
-    /// each behind its own lock (see [`team::shares_mut`]).
-    pub(crate) fn shares(self, parts: usize) -> Vec<Mutex<Self>> {
+    /// for the pieces of a job to take (see [`team::Parts`]).
+    pub(crate) fn shares(self, parts: usize) -> team::Parts<Self> {
         let n = self.len();
         let mut rest = self;
         let mut cut = |k| {
             let (head, tail) = std::mem::take(&mut rest).split_at(team::share(n, parts, k).len());
             rest = tail;
-            Mutex::new(head)
+            head
         };
-        (0..parts.max(1)).map(&mut cut).collect()
+        team::Parts::new((0..parts.max(1)).map(&mut cut))
     }
 
     /// Copies the boxes `src` to `dest` on, as [`slice::copy_within`].
@@ -280,7 +279,7 @@ impl Boxes {
         let shares = self.slice_mut(n).shares(threads);
         let sorted = AtomicBool::new(true);
         team.run(&|k| {
-            let share = &mut *shares[k].lock().expect("a share");
+            let mut share = shares.take(k);
             if insert(share.at(0..share.len()), 1, budget / threads, false).is_none() {
                 sorted.store(false, Ordering::Relaxed);
             }

@@ -150,7 +150,7 @@ pub struct Sweep {
     /// A team of one: this thread alone, for scenes too small to share.
     solo: Arc<Team>,
     /// The findings of the chunks swept.
-    chunks: Vec<Mutex<Chunk>>,
+    chunks: Vec<Chunk>,
     /// Whether last step met many candidates a box ([`DENSE`]).
     dense: bool,
     /// Steps until the world next stores the lines in the boxes' order
@@ -193,11 +193,11 @@ impl Sweep {
         let threads = team.threads();
         let (check, noted) = (self.layout).mover_check(n, &self.plan.bands, threads, threads);
         let shares = self.sorted.slice_mut(n).shares(threads);
-        let noted = team::shares_mut(noted, threads);
+        let noted = team::split_mut(noted, threads);
         team.run(&|k| {
             let start = team::share(n, threads, k).start;
-            let share = &mut *shares[k].lock().expect("a share");
-            let noted = &mut noted[k].lock().expect("a share")[0];
+            let mut share = shares.take(k);
+            let noted = &mut noted.take(k)[0];
             noted.clear();
             for at in (0..share.len()).step_by(NOTE_BLOCK) {
                 let block = share.at(at..(at + NOTE_BLOCK).min(share.len()));
@@ -294,10 +294,11 @@ impl Sweep {
         let mut found = std::mem::take(&mut self.chunks);
         // A member without a group (fewer bands than threads) finds
         // nothing: every group's findings start empty.
-        found.resize_with(groups.max(found.len()), Mutex::default);
+        found.resize_with(groups.max(found.len()), Chunk::default);
         for chunk in &mut found[..groups] {
-            chunk.get_mut().expect("a group's findings").counts = PairCounts::default();
+            chunk.counts = PairCounts::default();
         }
+        let parts = team::Parts::new(found[..groups].iter_mut());
         let layout_end = Mutex::new(None);
         let (along, dense) = (self.plan.along, self.dense);
         // The clock is read only when timing (WebAssembly has none).
@@ -306,7 +307,7 @@ impl Sweep {
             if timing && group.index == 0 {
                 *layout_end.lock().expect("the layout's end") = Some(Instant::now());
             }
-            let chunk = &mut *found[group.index].lock().expect("a group's findings");
+            let chunk = parts.take(group.index);
             let (events, counts) = (&mut chunk.events, &mut chunk.counts);
             let mut test = Tester {
                 lines: stored,
@@ -322,6 +323,7 @@ impl Sweep {
             let end = layout_end.into_inner().expect("the layout's end");
             clock.lap_at(LAYOUT, end.unwrap_or_else(Instant::now));
         }
+        drop(parts);
         let mut counts = PairCounts::default();
         join_findings(&mut found[..groups], events, &mut counts);
         self.chunks = found;
@@ -349,14 +351,15 @@ impl Sweep {
         let chunks = boxed.div_ceil(size);
         let next = AtomicUsize::new(0);
         let mut found = std::mem::take(&mut self.chunks);
-        found.resize_with(chunks.max(found.len()), Mutex::default);
+        found.resize_with(chunks.max(found.len()), Chunk::default);
+        let parts = team::Parts::new(found[..chunks].iter_mut());
         let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
         team.run(&|_| loop {
             let c = next.fetch_add(1, Ordering::Relaxed);
             if c >= chunks {
                 break;
             }
-            let chunk = &mut *found[c].lock().expect("a chunk's findings");
+            let chunk = parts.take(c);
             chunk.counts = PairCounts::default();
             chunk.pairs.clear();
             let range = c * size..((c + 1) * size).min(boxed);
@@ -372,6 +375,7 @@ impl Sweep {
             test.test(&chunk.pairs, &sorted.slots, &sorted.slots);
             chunk.counts.candidates = candidates;
         });
+        drop(parts);
         let mut counts = PairCounts::default();
         join_findings(&mut found[..chunks], events, &mut counts);
         self.chunks = found;
@@ -406,9 +410,8 @@ struct Chunk {
 
 /// Appends each chunk's events to `events` and adds its counts to
 /// `counts`, in chunk order, emptying its events.
-fn join_findings(chunks: &mut [Mutex<Chunk>], events: &mut Vec<Event>, counts: &mut PairCounts) {
+fn join_findings(chunks: &mut [Chunk], events: &mut Vec<Event>, counts: &mut PairCounts) {
     for chunk in chunks {
-        let chunk = chunk.get_mut().expect("a chunk's findings");
         events.append(&mut chunk.events);
         counts.add(&chunk.counts);
     }

@@ -17,7 +17,6 @@ use crate::detect::sweep::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use crate::detect::sweep::hull::{hi, lo, NO_KEY};
 use crate::team::Team;
 use std::ops::Range;
-use std::sync::Mutex;
 
 /// What a share of the boxes, as they arrive in last step's layout with
 /// their hulls made anew, holds that left their band: found as the hulls
@@ -187,10 +186,10 @@ impl Layout {
         if !(kept && noted) {
             let (check, noted) = self.mover_check(n, bands, groups, groups);
             let check = check.expect("a layout to update");
-            let noted = crate::team::shares_mut(noted, groups);
+            let noted = crate::team::split_mut(noted, groups);
             team.run(&|k| {
                 let share = crate::team::share(n, groups, k);
-                let into = &mut noted[k].lock().expect("a share")[0];
+                let into = &mut noted.take(k)[0];
                 into.clear();
                 check.note(share.start, arriving.slice(n).at(share), into);
             });
@@ -268,15 +267,13 @@ impl Layout {
         laid.set_len(arrived.len());
         let (layout, starts) = (&*self, &self.starts[..]);
         let stretches = stretches(starts, laid.slice_mut(arrived.len()), bounds);
-        let work: Vec<_> = stretches
-            .into_iter()
-            .zip(groups.iter_mut())
-            .map(Mutex::new)
-            .collect();
-        team.run_pieces(work.len(), &|index| {
-            let (s, group) = &mut *work[index].lock().expect("a group");
-            let boxes = layout.finish_group(s, group, arrived);
-            let group = &**group;
+        let work: Vec<_> = stretches.into_iter().zip(groups.iter_mut()).collect();
+        let pieces = work.len();
+        let work = crate::team::Parts::new(work);
+        team.run_pieces(pieces, &|index| {
+            let (mut s, group) = work.take(index);
+            let boxes = layout.finish_group(&mut s, group, arrived);
+            let group = &*group;
             then_each(GroupView {
                 index,
                 boxes,
