@@ -4,7 +4,7 @@
 //! in last step's layout, and each exact test reads two neighbours in that
 //! layout. Stored by id, every one of those reads lands anywhere among the
 //! lines; on two threads, half of them land on lines the other thread
-//! wrote last. So when the detector asks ([`Detector::storage_order`]),
+//! wrote last. So when the detector asks ([`Detector::reorder`]),
 //! the world stores the lines in its order as it moves them: each line is
 //! copied to its place in that order and moved there, in one pass split
 //! into contiguous shares, one per thread, and next step each thread makes
@@ -21,13 +21,17 @@
 //! bits in any order: moving and the wall check touch one line at a time,
 //! and each line's events are resolved in the same order.
 //!
-//! [`Detector::storage_order`]: crate::detect::Detector::storage_order
+//! The world always holds its lines this way: until the detector first
+//! asks, each slot holds the line of that id.
+//!
+//! [`Detector::reorder`]: crate::detect::Detector::reorder
 
 use crate::line::Line;
 use crate::motion::advance_and_bounce;
 use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::team::{self, Team};
+use std::borrow::Cow;
 
 /// Lines copied and moved at a time (6 KB of them).
 const BLOCK: usize = 128;
@@ -42,6 +46,9 @@ pub(crate) struct Storage {
     spare_ids: Vec<u32>,
     /// This step's events by slot, as the detector found them.
     slot_events: Vec<Event>,
+    /// Whether the lines have left id order (a detector's order was
+    /// applied).
+    reordered: bool,
 }
 
 impl Storage {
@@ -56,6 +63,12 @@ impl Storage {
     /// The id of the line in each slot.
     pub(crate) fn ids(&self) -> &[u32] {
         &self.ids
+    }
+
+    /// Whether the lines are stored in a detector's order rather than by
+    /// id.
+    pub(crate) fn reordered(&self) -> bool {
+        self.reordered
     }
 
     /// What the detector is handed: the id of the line in each slot, and
@@ -92,9 +105,8 @@ impl Storage {
 
     /// Moves every line and bounces it off the walls, storing it in the
     /// order `order` gives by slot (`order[k]` is the slot of the line to
-    /// store at `k`), shared among `team` if there is one; then sets
-    /// `order[k] = k`, as the lines' slots are now their places. Returns
-    /// the lines that hit a wall.
+    /// store at `k`), shared among `team` if there is one. Returns the
+    /// lines that hit a wall.
     ///
     /// # Panics
     /// If `order` is not as long as `lines`; a slot repeated or left out
@@ -102,7 +114,7 @@ impl Storage {
     pub(crate) fn advance_in_order(
         &mut self,
         lines: &mut Vec<Line>,
-        order: &mut [u32],
+        order: &[u32],
         team: Option<&Team>,
     ) -> u64 {
         let n = lines.len();
@@ -112,17 +124,13 @@ impl Storage {
         self.spare_ids.resize(n, 0);
         let (from, from_ids) = (&lines[..], &self.ids[..]);
         // A block at a time, moved while its copies are at hand.
-        let fill = |first: usize, order: &mut [u32], to: &mut [Line], to_ids: &mut [u32]| {
+        let fill = |order: &[u32], to: &mut [Line], to_ids: &mut [u32]| {
             let mut hits = 0;
-            let blocks = order.chunks_mut(BLOCK).zip(to.chunks_mut(BLOCK));
-            for (b, ((order, to), to_ids)) in blocks.zip(to_ids.chunks_mut(BLOCK)).enumerate() {
-                let at = first + b * BLOCK;
-                for (k, ((slot, line), id)) in
-                    order.iter_mut().zip(&mut *to).zip(to_ids).enumerate()
-                {
-                    *line = from[*slot as usize];
-                    *id = from_ids[*slot as usize];
-                    *slot = (at + k) as u32;
+            let blocks = order.chunks(BLOCK).zip(to.chunks_mut(BLOCK));
+            for ((order, to), to_ids) in blocks.zip(to_ids.chunks_mut(BLOCK)) {
+                for ((&slot, line), id) in order.iter().zip(&mut *to).zip(to_ids) {
+                    *line = from[slot as usize];
+                    *id = from_ids[slot as usize];
                 }
                 hits += advance_and_bounce(to);
             }
@@ -131,28 +139,32 @@ impl Storage {
         let hits = match team {
             Some(team) => {
                 let threads = team.threads();
-                let orders = team::split_mut(order, threads);
                 let to = team::split_mut(&mut self.spare, threads);
                 let to_ids = team::split_mut(&mut self.spare_ids, threads);
                 team.run_sum(&|k| {
-                    let start = team::share(n, threads, k).start;
-                    fill(start, orders.take(k), to.take(k), to_ids.take(k))
+                    let order = &order[team::share(n, threads, k)];
+                    fill(order, to.take(k), to_ids.take(k))
                 })
             }
-            None => fill(0, order, &mut self.spare, &mut self.spare_ids),
+            None => fill(order, &mut self.spare, &mut self.spare_ids),
         };
         std::mem::swap(lines, &mut self.spare);
         std::mem::swap(&mut self.ids, &mut self.spare_ids);
+        self.reordered = true;
         hits
     }
 
-    /// The lines, stored by slot in `lines`, by id.
-    pub(crate) fn by_id(&self, lines: &[Line]) -> Vec<Line> {
+    /// The lines, stored by slot in `lines`, by id: `lines` themselves
+    /// while they are in id order.
+    pub(crate) fn by_id<'a>(&self, lines: &'a [Line]) -> Cow<'a, [Line]> {
+        if !self.reordered {
+            return Cow::Borrowed(lines);
+        }
         let mut out = vec![Line::default(); lines.len()];
         for (line, &id) in lines.iter().zip(&self.ids) {
             out[id as usize] = *line;
         }
-        out
+        Cow::Owned(out)
     }
 }
 
@@ -194,20 +206,21 @@ mod tests {
             let mut stored = start.clone();
             let mut storage = Storage::new(n);
             // Two reorderings in a row: reversed, then odd slots first.
-            let mut order: Vec<u32> = (0..n as u32).rev().collect();
-            let hits = storage.advance_in_order(&mut stored, &mut order, team.as_ref());
+            assert!(!storage.reordered());
+            let order: Vec<u32> = (0..n as u32).rev().collect();
+            let hits = storage.advance_in_order(&mut stored, &order, team.as_ref());
             assert_eq!(hits, expected_hits);
-            assert_eq!(order, (0..n as u32).collect::<Vec<_>>());
+            assert!(storage.reordered());
             assert_eq!(storage.ids()[0], n as u32 - 1);
-            assert_eq!(storage.by_id(&stored), by_id);
-            let mut order: Vec<u32> = (1..n as u32)
+            assert_eq!(storage.by_id(&stored)[..], by_id[..]);
+            let order: Vec<u32> = (1..n as u32)
                 .step_by(2)
                 .chain((0..n as u32).step_by(2))
                 .collect();
-            storage.advance_in_order(&mut stored, &mut order, team.as_ref());
+            storage.advance_in_order(&mut stored, &order, team.as_ref());
             let mut twice = by_id.clone();
             advance_and_bounce(&mut twice);
-            assert_eq!(storage.by_id(&stored), twice);
+            assert_eq!(storage.by_id(&stored)[..], twice[..]);
             for (slot, &id) in storage.ids().iter().enumerate() {
                 assert_eq!(stored[slot], twice[id as usize]);
             }
@@ -219,8 +232,7 @@ mod tests {
         let start = lines(6);
         let mut stored = start.clone();
         let mut storage = Storage::new(6);
-        let mut order = vec![5, 4, 3, 2, 1, 0];
-        storage.advance_in_order(&mut stored, &mut order, None);
+        storage.advance_in_order(&mut stored, &[5, 4, 3, 2, 1, 0], None);
         let mut by_id = start;
         advance_and_bounce(&mut by_id);
         // Slot k now holds line 5 - k; events name the lower id first.
@@ -242,6 +254,6 @@ mod tests {
         for e in &sorted {
             crate::response::resolve(&mut by_id, e);
         }
-        assert_eq!(storage.by_id(&stored), by_id);
+        assert_eq!(storage.by_id(&stored)[..], by_id[..]);
     }
 }

@@ -42,8 +42,8 @@ pub struct World {
     counters: Counters,
     steps: u64,
     detector: Box<dyn Detector>,
-    /// The last step's events by id: sorted in the order of resolution,
-    /// or in the order found once the lines are stored by slot.
+    /// The last step's events by id: sorted in the order of resolution
+    /// while the lines are in id order, else in the order found.
     events: Vec<Event>,
     resolver: Resolver,
     /// The smallest piece of work handed to a thread, in lines or events.
@@ -54,18 +54,9 @@ pub struct World {
     /// The same number of threads as a team, for the sweep's phases, the
     /// move and the resolution, at every size from a few thousand lines.
     team: Option<Arc<Team>>,
-    /// The lines' ids by slot, once the detector has had them stored in
-    /// its own order (see [`crate::storage`]); until then slots are ids.
-    storage: Option<Storage>,
-}
-
-/// The lines by id: `lines` themselves while they are stored by id, else
-/// a copy put back in id order through `storage`.
-fn lines_by_id<'a>(lines: &'a [Line], storage: Option<&Storage>) -> Cow<'a, [Line]> {
-    match storage {
-        Some(st) => Cow::Owned(st.by_id(lines)),
-        None => Cow::Borrowed(lines),
-    }
+    /// The lines' ids by slot (see [`crate::storage`]): `lines` holds
+    /// them by slot, in id order until the detector asks for its own.
+    storage: Storage,
 }
 
 /// The system would not start the threads a world was asked to run on.
@@ -107,6 +98,7 @@ impl World {
             u32::try_from(lines.len()).is_ok(),
             "too many lines for u32 ids"
         );
+        let storage = Storage::new(lines.len());
         Self {
             lines,
             colors,
@@ -119,7 +111,7 @@ impl World {
             timing: None,
             pool: None,
             team: None,
-            storage: None,
+            storage,
         }
     }
 
@@ -227,7 +219,7 @@ impl World {
     /// The lines, indexed by id: borrowed while they are stored by id, a
     /// copy in id order once the detector has had them stored in its own.
     pub fn lines(&self) -> Cow<'_, [Line]> {
-        lines_by_id(&self.lines, self.storage.as_ref())
+        self.storage.by_id(&self.lines)
     }
 
     /// Each line with its colour, in the order the world stores them: the
@@ -237,11 +229,10 @@ impl World {
     /// the frame row by row, so nearby pixels are drawn together
     /// (docs/DESIGN.md, "Drawing fast enough").
     pub fn lines_as_stored(&self) -> impl Iterator<Item = (&Line, Color)> + '_ {
-        let ids = self.storage.as_ref().map(Storage::ids);
-        self.lines.iter().enumerate().map(move |(slot, line)| {
-            let id = ids.map_or(slot, |ids| ids[slot] as usize);
-            (line, self.colors[id])
-        })
+        let ids = self.storage.ids();
+        (self.lines.iter())
+            .zip(ids)
+            .map(move |(line, &id)| (line, self.colors[id as usize]))
     }
 
     /// The colour of each line, indexed by id.
@@ -272,15 +263,13 @@ impl World {
     /// Events of the last step, sorted in the contract's order of
     /// resolution (ascending ids).
     pub fn last_events(&self) -> Cow<'_, [Event]> {
-        match &self.storage {
-            // Kept in the order found (see `crate::storage`).
-            Some(_) => {
-                let mut events = self.events.clone();
-                events.sort_unstable_by_key(Event::order_key);
-                Cow::Owned(events)
-            }
-            None => Cow::Borrowed(&self.events),
+        if !self.storage.reordered() {
+            return Cow::Borrowed(&self.events);
         }
+        // Kept in the order found (see `crate::storage`).
+        let mut events = self.events.clone();
+        events.sort_unstable_by_key(Event::order_key);
+        Cow::Owned(events)
     }
 
     /// Turns per-phase timing on or off, the detector's own phases included
@@ -325,26 +314,28 @@ impl World {
     fn step_here(&mut self, parallel: bool) {
         let t0 = self.timing.map(|_| Instant::now());
 
+        // While the lines are in id order, slots are ids: the detector
+        // reads them as they are, and its events are sorted to be resolved
+        // in order; once they are in its own order, its events by slot are
+        // named by id and resolved as found, without a sort (see
+        // `crate::storage`).
+        let reordered = self.storage.reordered();
         self.events.clear();
-        match &mut self.storage {
-            Some(st) => {
-                let (ids, found) = st.for_detector();
-                self.detector.detect_stored(&self.lines, ids, DT, found);
-            }
-            None => self.detector.detect(&self.lines, DT, &mut self.events),
+        if reordered {
+            let (ids, found) = self.storage.for_detector();
+            self.detector.detect_stored(&self.lines, ids, DT, found);
+        } else {
+            self.detector.detect(&self.lines, DT, &mut self.events);
         }
         let t1 = self.lap(t0, |t, d| t.detect += d);
-
-        match &self.storage {
-            // Named by id in the order found: resolved without a sort.
-            Some(st) => st.name_by_id(&mut self.events),
-            // Pairs are unique, so an unstable sort gives the one sorted
-            // order.
-            None if parallel && self.events.len() >= self.grain => {
-                use rayon::slice::ParallelSliceMut;
-                self.events.par_sort_unstable_by_key(Event::order_key);
-            }
-            None => self.events.sort_unstable_by_key(Event::order_key),
+        if reordered {
+            self.storage.name_by_id(&mut self.events);
+        } else if parallel && self.events.len() >= self.grain {
+            // Pairs are unique, so an unstable sort gives the one order.
+            use rayon::slice::ParallelSliceMut;
+            self.events.par_sort_unstable_by_key(Event::order_key);
+        } else {
+            self.events.sort_unstable_by_key(Event::order_key);
         }
         self.counters.line += self.events.len() as u64;
         let grain = parallel.then_some(self.grain);
@@ -354,23 +345,21 @@ impl World {
         // threads (docs/DESIGN.md, "Tried and dropped").
         let n = self.lines.len();
         // (A handle of its own: `self` is borrowed mutably below.)
-        let least = match self.storage {
-            Some(_) => crate::detect::TEAM_MIN_BOXES,
-            None => TEAM_MIN_LINES,
+        let least = match reordered {
+            true => crate::detect::TEAM_MIN_BOXES,
+            false => TEAM_MIN_LINES,
         };
         let team = (self.team.clone()).filter(|_| crate::team::takes(n, least, self.grain));
         let team = team.as_deref();
-        match &self.storage {
-            Some(st) => st.resolve(
+        match reordered {
+            true => (self.storage).resolve(
                 &mut self.lines,
                 &mut self.resolver,
                 &self.events,
                 grain,
                 team,
             ),
-            None => self
-                .resolver
-                .resolve_all(&mut self.lines, &self.events, grain),
+            false => (self.resolver).resolve_all(&mut self.lines, &self.events, grain),
         }
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
@@ -379,12 +368,10 @@ impl World {
         // reads only the line's own new position).
         // The wall counter is a sum, the same in any order.
         let parallel = parallel && n >= 4 * self.grain;
-        let hits = if let Some(order) = self.detector.storage_order() {
+        let hits = if let Some(order) = self.detector.reorder() {
             // The lines stored in the detector's order as they move (see
             // `crate::storage`), a share per member of the team.
-            self.storage
-                .get_or_insert_with(|| Storage::new(n))
-                .advance_in_order(&mut self.lines, order, team)
+            (self.storage).advance_in_order(&mut self.lines, &order, team)
         } else if let Some(team) = team {
             // A share of the lines (by slot) per member of the team.
             let shares = crate::team::split_mut(&mut self.lines, team.threads());

@@ -49,22 +49,24 @@ pub trait Detector: Send {
     /// line, and must find exactly the all-pairs detector's events.
     fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>);
 
-    /// [`Detector::detect`] on lines the world stores in another order:
+    /// [`Detector::detect`] on the lines as the world stores them:
     /// `lines[slot]` is the line with id `ids[slot]`, and each event names
     /// its lines by slot, the one with the lower id first. A detector that
-    /// never gives a [`Detector::storage_order`] is only called with the
-    /// lines in id order (slots are ids), as the default takes them.
+    /// never gives a [`Detector::reorder`] is only called with the lines
+    /// in id order (slots are ids), as the default takes them.
     fn detect_stored(&mut self, lines: &[Line], ids: &[u32], dt: f64, events: &mut Vec<Event>) {
         debug_assert!(ids.iter().enumerate().all(|(k, &id)| id as usize == k));
         self.detect(lines, dt, events);
     }
 
-    /// The slots of the lines in the order this detector reads them next
-    /// step, when it pays for the world to store them in that order. The
-    /// world may then do so, writing each position's own index in its
-    /// place (the slots the detector holds become the new ones); `None`
-    /// (the default) keeps the lines where they are.
-    fn storage_order(&mut self) -> Option<&mut [u32]> {
+    /// Asked once after each step's detection: the order to store the
+    /// lines in from the next step on, when it pays for the world to store
+    /// them in the order this detector reads them (`order[k]` is the slot
+    /// of the line to store at slot `k`), or `None` (the default) to leave
+    /// them where they are. The world stores them so before the next
+    /// detection; a detector that gives an order has renumbered the slots
+    /// it keeps to match (the line at slot `order[k]` is at slot `k`).
+    fn reorder(&mut self) -> Option<Vec<u32>> {
         None
     }
 

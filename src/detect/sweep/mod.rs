@@ -154,7 +154,7 @@ pub struct Sweep {
     /// Whether last step met many candidates a box ([`DENSE`]).
     dense: bool,
     /// Steps until the world next stores the lines in the boxes' order
-    /// ([`Detector::storage_order`], `STORE_EVERY`).
+    /// ([`Detector::reorder`], `STORE_EVERY`).
     until_store: u64,
 }
 
@@ -433,8 +433,9 @@ impl Detector for Sweep {
 
     /// The boxes' order, band by band, where the lines are read by more
     /// than one thread or do not fit the cache (see `STORE_FROM`), every
-    /// `STORE_EVERY` steps.
-    fn storage_order(&mut self) -> Option<&mut [u32]> {
+    /// `STORE_EVERY` steps; the boxes then name their lines by their new
+    /// slots, which are their places.
+    fn reorder(&mut self) -> Option<Vec<u32>> {
         let n = self.sorted.len();
         let shared = self.team.threads() > 1 && n >= TEAM_MIN_BOXES;
         if !(shared || n >= STORE_FROM) {
@@ -445,7 +446,12 @@ impl Detector for Sweep {
             return None;
         }
         self.until_store = STORE_EVERY - 1;
-        Some(&mut self.sorted.slots[..n])
+        let slots = &mut self.sorted.slots[..n];
+        let order = slots.to_vec();
+        for (place, slot) in slots.iter_mut().enumerate() {
+            *slot = place as u32;
+        }
+        Some(order)
     }
 
     fn stats(&self) -> DetectorStats {
@@ -497,12 +503,10 @@ mod tests {
         let mut sweep = Sweep::default();
         sweep.set_threads(2, Some(Arc::new(Team::new(2).expect("a team"))));
         sweep.detect(&lines, 0.5, &mut events);
-        let steps: Vec<u64> = (0..40u64)
-            .filter(|_| sweep.storage_order().is_some())
-            .collect();
+        let steps: Vec<u64> = (0..40u64).filter(|_| sweep.reorder().is_some()).collect();
         assert_eq!(steps, [0, STORE_EVERY, 2 * STORE_EVERY]);
         let mut alone = Sweep::default();
         alone.detect(&lines, 0.5, &mut events);
-        assert!((0..40).all(|_| alone.storage_order().is_none()));
+        assert!((0..40).all(|_| alone.reorder().is_none()));
     }
 }
