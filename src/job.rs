@@ -13,6 +13,7 @@ use crate::render::live::{Outcome, Pace, Scenes};
 use crate::render::{window, Frames, Recorder, Size, Target};
 use crate::report::{self, DrawStats, Stats};
 use crate::run::{Checkpoints, Run, RunError};
+use crate::schedule::Schedule;
 use crate::stop::Signal;
 use crate::{DetectorConfig, DetectorKind, Scene, World};
 use std::io::Write;
@@ -336,25 +337,10 @@ const DEFAULT_CYCLE: Duration = Duration::from_secs(60);
 /// Most frames a GIF gets unless `render_every` says otherwise.
 const GIF_FRAMES: u64 = 300;
 
-/// Scenes from this size shown live run on every core all the same: their
-/// pictures come seldom enough that the team gains more than the drawing
-/// takes (docs/DESIGN.md, "Beside other work: pieces claimed, not shares
-/// handed").
-const LIVE_ALL_CORES_FROM: usize = 200_000;
-
-/// Threads to run on unless the job says: every core, less one for the
-/// drawing where a scene of `lines` lines is shown live and smaller than
-/// [`LIVE_ALL_CORES_FROM`] (the drawing takes a core a good part of the
-/// time, and a member of the team switched out for it mid-piece holds up
-/// the step; docs/DESIGN.md, "Beside other work: pieces claimed, not
-/// shares handed").
+/// Threads to run on unless the job says ([`Schedule::default_threads`]).
 fn default_threads(live: bool, lines: usize) -> usize {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    if live && lines < LIVE_ALL_CORES_FROM {
-        (cores - 1).max(1)
-    } else {
-        cores
-    }
+    Schedule::default_threads(cores, live, lines)
 }
 
 /// The world a job runs and what it knows of it before the first step.

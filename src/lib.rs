@@ -59,6 +59,7 @@ pub mod report;
 pub(crate) mod response;
 pub mod run;
 pub mod scene;
+pub(crate) mod schedule;
 #[cfg(feature = "signals")]
 pub(crate) mod stop;
 pub(crate) mod storage;

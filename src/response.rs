@@ -3,6 +3,7 @@
 use crate::geometry::{crossing_point, Vec2};
 use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::{Event, IntersectionKind};
+use crate::schedule::Schedule;
 use crate::team::{self, Team};
 use std::mem::take;
 
@@ -42,12 +43,6 @@ fn resolve_each_in(lines: &mut [Line], first: usize, n: usize, events: &[Event])
     }
 }
 
-/// Free events (see [`Resolver::resolve_found`]) a step must have before
-/// a team shares them: a few events a step (`koch` has five) are not worth
-/// a hand-off, while the hundreds of a large scene's step are
-/// (docs/DESIGN.md, "How a step is shared").
-const TEAM_MIN_FREE: usize = 128;
-
 /// Events per task in a parallel wave.
 const WAVE_CHUNK: usize = 256;
 
@@ -86,7 +81,7 @@ pub struct Resolver {
     by_share: Vec<Vec<Event>>,
     across: Vec<Event>,
     /// Free events a step must have before a team shares them, if not
-    /// `TEAM_MIN_FREE` (tests share fewer).
+    /// [`Schedule::RESOLVE_FROM`] (tests share fewer).
     team_min: Option<usize>,
 }
 
@@ -191,12 +186,12 @@ impl Resolver {
         for e in events {
             (shares[e.first as usize], shares[e.second as usize]) = (0, 0);
         }
-        let min = self.team_min.unwrap_or(TEAM_MIN_FREE).max(1);
+        let shares = Schedule::resolution_shares(free.len(), self.team_min);
         match (grain, team) {
             (Some(grain), _) if free.len() >= (grain / 4).max(1) => {
                 self.resolve_wave(lines, &free, grain)
             }
-            (_, Some(team)) if free.len() >= min => self.resolve_by_share(team, lines, &free),
+            (_, Some(team)) if shares => self.resolve_by_share(team, lines, &free),
             _ => resolve_each(lines, &free),
         }
         // Pairs are unique, so an unstable sort gives the one sorted order.

@@ -31,20 +31,6 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// Grains of work up to which the world shares its own phases (moving the
-/// lines, resolving the events) among its team rather than on rayon's
-/// pool: 4,194,304 lines at the default grain. With a grain of a few lines
-/// (as in tests) they go to the pool. (The sweep's phases always go to the
-/// team.)
-pub const TEAM_GRAINS: usize = 256;
-
-/// Whether `work` lines of the world's phases go to the team: from `least`
-/// (below, one thread does better) up to [`TEAM_GRAINS`] grains of
-/// `grain` (from there, rayon's pool).
-pub(crate) fn takes(work: usize, least: usize, grain: usize) -> bool {
-    (least..TEAM_GRAINS.saturating_mul(grain)).contains(&work)
-}
-
 /// How long an idle member spins before it parks.
 const SPIN: Duration = Duration::from_micros(200);
 

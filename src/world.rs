@@ -9,6 +9,7 @@ use crate::motion::advance_and_bounce;
 use crate::narrow::Event;
 use crate::response::Resolver;
 use crate::scene::Scene;
+use crate::schedule::Schedule;
 use crate::storage::Storage;
 use crate::team::{HandOffs, Team};
 use std::borrow::Cow;
@@ -26,14 +27,6 @@ pub(crate) struct PhaseTimes {
     /// Moving lines and bouncing them off the walls (one pass).
     pub advance: Duration,
 }
-
-/// Scenes of fewer lines move on one thread even with a team, where the
-/// detector does not have them stored in its order: a member's share of
-/// the move costs less than its hand-off only above this. Lines stored in
-/// the sweep's order move on the team from the size the sweep shares its
-/// phases at (`TEAM_MIN_BOXES`), each member moving the lines it reads
-/// next (docs/DESIGN.md, "How a step is shared").
-const TEAM_MIN_LINES: usize = 2048;
 
 /// The simulated world. Line ids are indices into [`World::lines`].
 pub struct World {
@@ -339,17 +332,14 @@ impl World {
         }
         self.counters.line += self.events.len() as u64;
         let grain = parallel.then_some(self.grain);
-        // The team, for the scenes it shares the sweep's phases of, up to
-        // `TEAM_GRAINS` grains: it moves the lines and resolves the events
-        // too, as the pool's pieces of one grain can fall unevenly to the
-        // threads (docs/DESIGN.md, "Tried and dropped").
+        // The team, where the schedule shares the world's phases
+        // (`Schedule::world_shares`): it moves the lines and resolves the
+        // events, as the pool's pieces of one grain can fall unevenly to
+        // the threads (docs/DESIGN.md, "Tried and dropped").
         let n = self.lines.len();
         // (A handle of its own: `self` is borrowed mutably below.)
-        let least = match reordered {
-            true => crate::detect::TEAM_MIN_BOXES,
-            false => TEAM_MIN_LINES,
-        };
-        let team = (self.team.clone()).filter(|_| crate::team::takes(n, least, self.grain));
+        let shares = Schedule::world_shares(n, reordered, self.grain);
+        let team = (self.team.clone()).filter(|_| shares);
         let team = team.as_deref();
         match reordered {
             true => (self.storage).resolve(

@@ -15,7 +15,6 @@ pub(crate) mod swept;
 pub use brute::Brute;
 pub use quadtree::{Quadtree, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 pub use sweep::Sweep;
-pub(crate) use sweep::TEAM_MIN_BOXES;
 pub use swept::swept_box;
 
 use crate::line::Line;

@@ -59,8 +59,9 @@ pub(crate) mod scan;
 use super::clock::PhaseClock;
 use super::swept::{test_wild, PairCounts};
 use super::{Detector, DetectorConfig, DetectorStats};
-use crate::line::{Line, LARGE_SCENE};
+use crate::line::Line;
 use crate::narrow::Event;
+use crate::schedule::Schedule;
 use crate::team::{self, Team};
 use boxes::Boxes;
 use hull::{lo, NO_KEY};
@@ -74,20 +75,6 @@ use std::time::{Duration, Instant};
 /// Steps between two plans (the first step always makes one).
 const PLAN_EVERY: u64 = 256;
 
-/// Scenes of this many lines or more have the world store their lines in
-/// the sweep's order ([`crate::storage`]) even on one thread, as do scenes
-/// that a team shares: each thread then moves and makes the boxes of the
-/// same lines, and the exact tests read lines near each other. On one
-/// thread a scene that fits the cache only pays for the copy
-/// (docs/DESIGN.md, "The data layout").
-const STORE_FROM: usize = LARGE_SCENE;
-
-/// Steps between two times the world stores the lines in the sweep's
-/// order; in between they move where they are. From step to step only the
-/// few movers leave the stored order, so reads stay near each other, and
-/// the move works in place instead of copying every line.
-const STORE_EVERY: u64 = 16;
-
 /// Boxes made at a time before the movers among them are noted (16 KB of
 /// hulls, at hand in the cache).
 const NOTE_BLOCK: usize = 512;
@@ -99,12 +86,6 @@ const NOTE_BLOCK: usize = 512;
 /// most boxes meet one candidate or none, and a block is wasted work
 /// (docs/DESIGN.md, "Sweep and prune", the sweep).
 const DENSE: f64 = 2.0;
-
-/// Scenes of fewer boxes keep the sweep on one thread even with a team:
-/// below this the hand-offs and the lines' travel between the cores'
-/// caches cost more than the shared work saves (docs/DESIGN.md, "How a
-/// step is shared").
-pub(crate) const TEAM_MIN_BOXES: usize = 384;
 
 /// Boxes a thread of a team sweeps at a time (with one band).
 const TEAM_SWEEP_CHUNK: usize = 256;
@@ -144,7 +125,7 @@ pub struct Sweep {
     wild: Vec<u32>,
     stats: DetectorStats,
     clock: Option<Clock>,
-    /// The team that shares the phases from `TEAM_MIN_BOXES` boxes on:
+    /// The team that shares the phases ([`Schedule::sweep_shares`]):
     /// the world's, or a team of one.
     team: Arc<Team>,
     /// A team of one: this thread alone, for scenes too small to share.
@@ -154,7 +135,7 @@ pub struct Sweep {
     /// Whether last step met many candidates a box ([`DENSE`]).
     dense: bool,
     /// Steps until the world next stores the lines in the boxes' order
-    /// ([`Detector::reorder`], `STORE_EVERY`).
+    /// ([`Detector::reorder`], [`Schedule::STORE_EVERY`]).
     until_store: u64,
 }
 
@@ -173,10 +154,10 @@ impl Sweep {
     }
 
     /// The team to share `work` boxes' worth of a phase among: the team
-    /// from `TEAM_MIN_BOXES` boxes on, else this thread alone. (A handle
+    /// where [`Schedule::sweep_shares`], else this thread alone. (A handle
     /// of its own, as the phases borrow the boxes mutably.)
     fn team_for(&self, work: usize) -> Arc<Team> {
-        match work >= TEAM_MIN_BOXES {
+        match Schedule::sweep_shares(work) {
             true => Arc::clone(&self.team),
             false => Arc::clone(&self.solo),
         }
@@ -432,20 +413,20 @@ impl Detector for Sweep {
     }
 
     /// The boxes' order, band by band, where the lines are read by more
-    /// than one thread or do not fit the cache (see `STORE_FROM`), every
-    /// `STORE_EVERY` steps; the boxes then name their lines by their new
+    /// than one thread or do not fit the cache
+    /// ([`Schedule::stores_in_order`]), every [`Schedule::STORE_EVERY`]
+    /// steps; the boxes then name their lines by their new
     /// slots, which are their places.
     fn reorder(&mut self) -> Option<Vec<u32>> {
         let n = self.sorted.len();
-        let shared = self.team.threads() > 1 && n >= TEAM_MIN_BOXES;
-        if !(shared || n >= STORE_FROM) {
+        if !Schedule::stores_in_order(n, self.team.threads()) {
             return None;
         }
         if self.until_store > 0 {
             self.until_store -= 1;
             return None;
         }
-        self.until_store = STORE_EVERY - 1;
+        self.until_store = Schedule::STORE_EVERY - 1;
         let slots = &mut self.sorted.slots[..n];
         let order = slots.to_vec();
         for (place, slot) in slots.iter_mut().enumerate() {
@@ -504,7 +485,8 @@ mod tests {
         sweep.set_threads(2, Some(Arc::new(Team::new(2).expect("a team"))));
         sweep.detect(&lines, 0.5, &mut events);
         let steps: Vec<u64> = (0..40u64).filter(|_| sweep.reorder().is_some()).collect();
-        assert_eq!(steps, [0, STORE_EVERY, 2 * STORE_EVERY]);
+        let every = Schedule::STORE_EVERY;
+        assert_eq!(steps, [0, every, 2 * every]);
         let mut alone = Sweep::default();
         alone.detect(&lines, 0.5, &mut events);
         assert!((0..40).all(|_| alone.reorder().is_none()));

@@ -1,0 +1,119 @@
+//! Which thread runs what, and when the lines are stored in the detector's
+//! order: every threshold that decides it, in one place. Each is a size
+//! below which a phase does better on one thread (or the lines where they
+//! are) than shared; results never depend on any of them. The figures
+//! behind them are in docs/DESIGN.md, "How a step is shared".
+
+use crate::line::LARGE_SCENE;
+
+/// The step's thresholds.
+pub(crate) struct Schedule;
+
+impl Schedule {
+    /// Boxes from which the sweep shares its phases among the team: below
+    /// this the hand-offs and the lines' travel between the cores' caches
+    /// cost more than the shared work saves.
+    pub const SWEEP_FROM: usize = 384;
+
+    /// Lines from which the world's move is shared among the team while
+    /// they are in id order: a member's share of the move costs less than
+    /// its hand-off only above this. Lines stored in the detector's order
+    /// move on the team from [`Schedule::SWEEP_FROM`], each member moving
+    /// the lines it reads next.
+    pub const MOVE_FROM: usize = 2048;
+
+    /// Grains of work up to which the world's own phases (moving the
+    /// lines, resolving the events) go to the team rather than rayon's
+    /// pool: 4,194,304 lines at the default grain. With a grain of a few
+    /// lines (as in tests) they go to the pool.
+    pub const TEAM_GRAINS: usize = 256;
+
+    /// Free events (see [`crate::response::Resolver::resolve_found`]) a
+    /// step must have before the team shares them: a few events a step are
+    /// not worth a hand-off, while the hundreds of a large scene's step are.
+    pub const RESOLVE_FROM: usize = 128;
+
+    /// Lines from which the world stores them in the sweep's order even on
+    /// one thread (as it does for scenes a team shares): each thread then
+    /// moves and makes the boxes of the same lines, and the exact tests
+    /// read lines near each other. On one thread a scene that fits the
+    /// cache only pays for the copy.
+    pub const STORE_FROM: usize = LARGE_SCENE;
+
+    /// Steps between two times the lines are stored in the sweep's order;
+    /// in between they move where they are. From step to step only the few
+    /// movers leave the stored order, so reads stay near each other, and
+    /// the move works in place instead of copying every line.
+    pub const STORE_EVERY: u64 = 16;
+
+    /// Lines from which a scene shown live runs on every core all the
+    /// same: its pictures come seldom enough that the team gains more than
+    /// the drawing takes from it.
+    pub const LIVE_ALL_CORES_FROM: usize = 200_000;
+
+    /// Whether the sweep shares a phase of `boxes` boxes among its team.
+    pub fn sweep_shares(boxes: usize) -> bool {
+        boxes >= Self::SWEEP_FROM
+    }
+
+    /// Whether the world's phases over `lines` lines go to the team: from
+    /// [`Schedule::MOVE_FROM`] (or [`Schedule::SWEEP_FROM`] once they are
+    /// in the detector's order) up to [`Schedule::TEAM_GRAINS`] grains of
+    /// `grain`.
+    pub fn world_shares(lines: usize, in_detector_order: bool, grain: usize) -> bool {
+        let least = match in_detector_order {
+            true => Self::SWEEP_FROM,
+            false => Self::MOVE_FROM,
+        };
+        (least..Self::TEAM_GRAINS.saturating_mul(grain)).contains(&lines)
+    }
+
+    /// Whether the team resolves `free` events that share no line.
+    pub fn resolution_shares(free: usize, least: Option<usize>) -> bool {
+        free >= least.unwrap_or(Self::RESOLVE_FROM).max(1)
+    }
+
+    /// Whether the sweep has the world store `lines` lines in its order,
+    /// on `threads` threads.
+    pub fn stores_in_order(lines: usize, threads: usize) -> bool {
+        (threads > 1 && Self::sweep_shares(lines)) || lines >= Self::STORE_FROM
+    }
+
+    /// Threads to run on unless asked: every core, less one for the
+    /// drawing where a scene of `lines` lines is shown `live` and smaller
+    /// than [`Schedule::LIVE_ALL_CORES_FROM`] (the drawing takes a core a
+    /// good part of the time, and a member of the team switched out for it
+    /// mid-piece holds up the step).
+    pub fn default_threads(cores: usize, live: bool, lines: usize) -> usize {
+        match live && lines < Self::LIVE_ALL_CORES_FROM {
+            true => (cores - 1).max(1),
+            false => cores,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_thresholds_split_where_they_say() {
+        assert!(!Schedule::sweep_shares(383) && Schedule::sweep_shares(384));
+        let grain = 16_384;
+        assert!(!Schedule::world_shares(2047, false, grain));
+        assert!(Schedule::world_shares(2048, false, grain));
+        assert!(Schedule::world_shares(384, true, grain));
+        assert!(
+            !Schedule::world_shares(256 * grain, true, grain),
+            "the pool's"
+        );
+        assert!(!Schedule::resolution_shares(127, None) && Schedule::resolution_shares(128, None));
+        assert!(Schedule::resolution_shares(1, Some(1)));
+        assert!(!Schedule::stores_in_order(3000, 1) && Schedule::stores_in_order(3000, 2));
+        assert!(Schedule::stores_in_order(1 << 16, 1));
+        assert_eq!(Schedule::default_threads(2, true, 10_000), 1);
+        assert_eq!(Schedule::default_threads(2, true, 300_000), 2);
+        assert_eq!(Schedule::default_threads(2, false, 10_000), 2);
+        assert_eq!(Schedule::default_threads(1, true, 10), 1);
+    }
+}
