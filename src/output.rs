@@ -119,6 +119,7 @@ fn kind(path: &Path) -> Kind {
 
 /// Which file a path names, so that two names of one file (`./a` and
 /// `a`, a link and its target, two hard links) compare equal.
+#[cfg(any(test, feature = "window"))]
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) enum FileIdentity {
     /// A file that exists: its device and inode.
@@ -131,6 +132,7 @@ pub(crate) enum FileIdentity {
 /// The file `path` names as a regular file, if it does: `None` for
 /// standard output, devices, FIFOs and sockets, which any number of
 /// outputs may share.
+#[cfg(any(test, feature = "window"))]
 pub(crate) fn identity(path: &Path) -> Option<FileIdentity> {
     let Kind::Whole(target) = kind(path) else {
         return None;
@@ -341,6 +343,30 @@ fn is_fifo(_: &Path) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two names of one file are one identity: `./a` and `a`, a link and
+    /// its target, two hard links, a file not made yet by either name of
+    /// its folder; other files and devices are not.
+    #[cfg(unix)]
+    #[test]
+    fn names_of_one_file_are_one_identity() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = dir.path().join("a");
+        std::fs::write(&a, b"x").unwrap();
+        std::os::unix::fs::symlink(&a, dir.path().join("link")).unwrap();
+        std::fs::hard_link(&a, dir.path().join("hard")).unwrap();
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let id = |name: &str| identity(&dir.path().join(name));
+        assert!(id("a").is_some());
+        for other in ["./a", "link", "hard", "sub/../a"] {
+            assert_eq!(id(other), id("a"), "{other}");
+        }
+        assert_eq!(id("new"), id("sub/../new"));
+        assert_ne!(id("new"), id("a"));
+        assert_ne!(id("new"), id("other"));
+        assert_eq!(identity(Path::new("/dev/null")), None);
+        assert_eq!(identity(Path::new("-")), None);
+    }
 
     /// A folder that refuses new files is named, never the temporary file
     /// that was refused (which tempfile names in its own error).
