@@ -9,7 +9,14 @@ use crate::line::{Line, BOX_MAX, BOX_MIN, DT};
 ///
 /// Compiled for the baseline and for AVX2, chosen when the program starts;
 /// both clones perform the same operations in the same order.
-#[multiversion::multiversion(targets("x86_64+avx2"))]
+#[cfg_attr(
+    not(screensaver_baseline),
+    multiversion::multiversion(targets("x86_64+avx2"))
+)]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion::multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
 pub(crate) fn advance_and_bounce(lines: &mut [Line]) -> u64 {
     let mut hits = 0;
     for line in lines {

@@ -17,6 +17,7 @@
 //! become infinite. It can only add overlaps between boxes closer than
 //! `f32` resolves, which the exact test behind the sweep turns down.
 
+use super::lanes;
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
 use crate::line::Line;
 use multiversion::multiversion;
@@ -94,14 +95,17 @@ fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
 /// least value along direction `along` into `keys[k]` ([`NO_KEY`] for a
 /// line without a hull).
 ///
-/// Lines are taken [`LANES`] at a time ([`portable::make_batch`]), so that each
-/// operation works on four lines at once; the rest one at a time. Compiled
-/// twice, for the baseline and for AVX2 (four `f64` lanes in one register,
-/// the batch written out with its intrinsics: [`avx2`]), and chosen when
-/// the program starts by what the processor has. Every path performs the
-/// same operations on each line in the same order, so their results are
-/// the same bits.
-#[multiversion(targets("x86_64+avx2"))]
+/// Lines are taken [`LANES`] at a time, each value of the four lines one
+/// lane of the target's lane type ([`super::lanes`]); the rest one at a
+/// time. Compiled twice on x86-64, for the baseline (SSE2) and for AVX2,
+/// and chosen when the program starts by what the processor has. Every
+/// path performs the same operations on each line in the same order, so
+/// their results are the same bits.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
 pub(crate) fn make(
     lines: &[Line],
     slots: &[u32],
@@ -113,30 +117,26 @@ pub(crate) fn make(
     let n = slots.len().min(hulls.len()).min(keys.len());
     let line = |k: usize| &lines[slots[k] as usize];
     multiversion::target::match_target! {
-        "x86_64+avx2" => avx2::make_each(line, &mut hulls[..n], &mut keys[..n], along, dt),
-        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, portable_batch),
+        "x86_64+avx2" => make_each_avx2(line, &mut hulls[..n], &mut keys[..n], along, dt),
+        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, batch_default),
     }
 }
 
 /// Makes the packed hull and key of each line `line(k)` into `hulls[k]`
-/// and `keys[k]`: [`LANES`] lines at a time by `batch`, the rest one at a
-/// time.
+/// and `keys[k]`: `W` lines at a time by `batch`, the rest one at a time.
 #[inline(always)]
-fn make_each<'a>(
+fn make_each<'a, const W: usize>(
     line: impl Fn(usize) -> &'a Line,
     hulls: &mut [Packed],
     keys: &mut [f32],
     along: usize,
     dt: f64,
-    batch: impl Fn([&'a Line; LANES], f64, usize, &mut [Packed], &mut [f32]),
+    batch: impl Fn([&'a Line; W], f64, usize, &mut [Packed], &mut [f32]),
 ) {
     let n = hulls.len().min(keys.len());
-    let whole = n - n % LANES;
-    for start in (0..whole).step_by(LANES) {
-        let (lines, range) = (
-            std::array::from_fn(|k| line(start + k)),
-            start..start + LANES,
-        );
+    let whole = n - n % W;
+    for start in (0..whole).step_by(W) {
+        let (lines, range) = (std::array::from_fn(|k| line(start + k)), start..start + W);
         let (hulls, keys) = (&mut hulls[range.clone()], &mut keys[range]);
         batch(lines, dt, along, hulls, keys);
     }
@@ -145,78 +145,121 @@ fn make_each<'a>(
     }
 }
 
-/// Lines whose hulls [`portable::make_batch`] makes at once.
+/// [`make_each`] with the AVX2 batch (the closure is compiled with AVX2,
+/// as the function it is in).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+#[target_feature(enable = "avx2")]
+fn make_each_avx2<'a>(
+    line: impl Fn(usize) -> &'a Line,
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+    along: usize,
+    dt: f64,
+) {
+    let batch = |lines, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
+        batch_avx2(lines, dt, along, hulls, keys)
+    };
+    make_each(line, hulls, keys, along, dt, batch);
+}
+
+/// Lines whose hulls the widest batch makes at once.
 pub(crate) const LANES: usize = 4;
 
-/// The batch as the compiler vectorises it (WebAssembly with SIMD has one
-/// of its own, `simd128`).
-#[cfg_attr(
-    all(target_arch = "wasm32", target_feature = "simd128"),
-    allow(dead_code)
-)]
-mod portable {
-    use super::{
-        max, min, Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD,
-    };
-
-    /// One value for each line of a batch.
-    type Lanes = [f64; LANES];
-
-    /// `f` of each lane.
-    #[inline(always)]
-    fn lanes(f: impl FnMut(usize) -> f64) -> Lanes {
-        std::array::from_fn(f)
-    }
-
-    /// [`super::of_line`] of [`LANES`] lines at once, each value a lane: the same
-    /// operations on each line in the same order, written lane by lane so
-    /// that the compiler turns each into one vector operation. Writes each
-    /// line's packed hull and key (least value along `along`, or [`NO_KEY`]).
-    #[inline(always)]
-    pub(super) fn make_batch(
-        batch: [&Line; LANES],
-        dt: f64,
-        along: usize,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-    ) {
-        let field = |f: fn(&Line) -> f64| lanes(|k| f(batch[k]));
-        let (ax, ay) = (field(|l| l.p1.x), field(|l| l.p1.y));
-        let (bx, by) = (field(|l| l.p2.x), field(|l| l.p2.y));
-        let (vx, vy) = (field(|l| l.v.x), field(|l| l.v.y));
-        let (dx, dy) = (lanes(|k| vx[k] * dt), lanes(|k| vy[k] * dt));
-        // The four directions of each point, as `project` makes them.
-        let project = |x: &Lanes, y: &Lanes| -> [Lanes; DIRECTIONS] {
-            let (x_, y_) = (lanes(|k| x[k] * DIAGONAL_X), lanes(|k| y[k] * DIAGONAL_Y));
-            [*x, *y, lanes(|k| x_[k] + y_[k]), lanes(|k| x_[k] - y_[k])]
-        };
-        let (a, b, d) = (project(&ax, &ay), project(&bx, &by), project(&dx, &dy));
-        // Plain loops: `array::from_fn` over these nested closures is left as
-        // a call, compiled without AVX2, the values passed through memory
-        // (docs/DESIGN.md, "Tried and dropped").
-        let (mut lo, mut hi) = ([[0.0; LANES]; DIRECTIONS], [[0.0; LANES]; DIRECTIONS]);
-        for r in 0..DIRECTIONS {
-            for k in 0..LANES {
-                lo[r][k] = min(a[r][k], b[r][k]) + min(d[r][k], 0.0);
-                hi[r][k] = max(a[r][k], b[r][k]) + max(d[r][k], 0.0);
-            }
-        }
-        let magnitude = lanes(|k| max(max(-lo[0][k], hi[0][k]), max(-lo[1][k], hi[1][k])));
-        let sum = lanes(|k| ax[k] + ay[k] + bx[k] + by[k] + vx[k] + vy[k]);
-        let pad = lanes(|k| magnitude[k] * PAD + 1e-12);
-        let pad_diagonal = lanes(|k| (DIAGONAL_X + DIAGONAL_Y) * pad[k]);
-        let pads = [pad, pad, pad_diagonal, pad_diagonal];
-        for k in 0..LANES {
-            let hull = &mut hulls[k];
+/// The batch: [`of_line`] of a lane type's width of lines at once (up to
+/// [`LANES`]), each value a lane of
+/// a lane type ([`super::lanes`]), the same operations on each line in the
+/// same order. Writes each line's packed hull and key (least value along
+/// `along`, or [`NO_KEY`]). Written once here and stamped out for each
+/// lane type, with the attributes its target needs (a macro rather than a
+/// generic function, so that the AVX2 copy is compiled with AVX2 and calls
+/// the lane type's AVX2 operations without `unsafe`).
+macro_rules! batch {
+    ($(#[$attr:meta])* fn $name:ident($lanes:ty)) => {
+        $(#[$attr])*
+        fn $name(
+            batch: [&Line; <$lanes>::WIDTH],
+            dt: f64,
+            along: usize,
+            hulls: &mut [Packed],
+            keys: &mut [f32],
+        ) {
+            type L = $lanes;
+            let [ax, ay, bx, by] = L::points(batch);
+            let (vx, vy) = (L::gather(batch.map(|l| l.v.x)), L::gather(batch.map(|l| l.v.y)));
+            let dt = L::splat(dt);
+            let (dx, dy) = (vx.mul(dt), vy.mul(dt));
+            // The four directions of each point, as `project` makes them.
+            let project = |x: L, y: L| -> [L; DIRECTIONS] {
+                let (x_, y_) = (x.mul(L::splat(DIAGONAL_X)), y.mul(L::splat(DIAGONAL_Y)));
+                [x, y, x_.add(y_), x_.sub(y_)]
+            };
+            let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
+            // Plain loops: `array::from_fn` over closures is left as a
+            // call, compiled without the batch's target features
+            // (docs/DESIGN.md, "Tried and dropped").
+            let zero = L::splat(0.0);
+            let (mut lo, mut hi) = ([zero; DIRECTIONS], [zero; DIRECTIONS]);
             for r in 0..DIRECTIONS {
-                hull[r] = (lo[r][k] - pads[r][k]) as f32;
-                hull[r + DIRECTIONS] = -(hi[r][k] + pads[r][k]) as f32;
+                lo[r] = a[r].min(b[r]).add(d[r].min(zero));
+                hi[r] = a[r].max(b[r]).add(d[r].max(zero));
             }
-            let valid = sum[k].is_finite() && magnitude[k] <= LARGEST;
-            keys[k] = if valid { hull[along] } else { NO_KEY };
+            let magnitude = (lo[0].neg().max(hi[0])).max(lo[1].neg().max(hi[1]));
+            let sum = ax.add(ay).add(bx).add(by).add(vx).add(vy);
+            let pad = magnitude.mul(L::splat(PAD)).add(L::splat(1e-12));
+            let pad_diagonal = L::splat(DIAGONAL_X + DIAGONAL_Y).mul(pad);
+            let pads = [pad, pad, pad_diagonal, pad_diagonal];
+            let (mut low, mut high) = ([zero; DIRECTIONS], [zero; DIRECTIONS]);
+            for r in 0..DIRECTIONS {
+                low[r] = lo[r].sub(pads[r]);
+                high[r] = hi[r].add(pads[r]);
+            }
+            let valid = L::valid(sum, magnitude, LARGEST);
+            L::store(low, high, valid, along, hulls, keys);
         }
-    }
+    };
 }
+
+#[cfg(target_arch = "x86_64")]
+batch!(
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn batch_avx2(lanes::Avx2)
+);
+
+#[cfg(target_arch = "x86_64")]
+batch!(
+    #[inline(always)]
+    fn batch_sse2(lanes::Sse2)
+);
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+batch!(
+    #[inline(always)]
+    fn batch_simd128(lanes::Simd128)
+);
+
+batch!(
+    #[inline(always)]
+    #[cfg_attr(
+        any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")),
+        allow(dead_code)
+    )]
+    fn batch_scalar(lanes::Scalar)
+);
+
+#[cfg(not(any(
+    target_arch = "x86_64",
+    all(target_arch = "wasm32", target_feature = "simd128")
+)))]
+use batch_scalar as batch_default;
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+use batch_simd128 as batch_default;
+/// The batch of the baseline: the target's lane type where it has one
+/// (every x86-64 processor has SSE2; WebAssembly with SIMD), else plain
+/// values.
+#[cfg(target_arch = "x86_64")]
+use batch_sse2 as batch_default;
 
 /// Makes `line`'s packed hull into `hull` and returns its key (least value
 /// along `along`), or [`NO_KEY`] if it has no hull.
@@ -230,249 +273,6 @@ fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
         None => NO_KEY,
     }
 }
-
-/// [`make_each`] with AVX2 written out: four lines' hulls at once, the
-/// same operations in the same order on each, so the same bits.
-///
-/// Left to the compiler, [`portable::make_batch`] moves each line's values into the
-/// lanes and each lane's results out to its hull one value at a time,
-/// several times the instructions (docs/DESIGN.md, "Sweep and prune",
-/// boxes). Here four lines' coordinates are loaded as rows and turned
-/// into columns with a few shuffles, and the eight bounds of four hulls
-/// turned back into rows the same way.
-#[cfg(target_arch = "x86_64")]
-mod avx2 {
-    use super::{Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD};
-    use std::arch::x86_64::{
-        __m128, __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_cvtpd_ps,
-        _mm256_max_pd, _mm256_min_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute2f128_pd,
-        _mm256_set1_pd, _mm256_setzero_pd, _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd,
-        _mm256_xor_pd, _mm_movehl_ps, _mm_movelh_ps, _mm_set1_ps, _mm_unpackhi_ps, _mm_unpacklo_ps,
-        _mm_xor_ps, _CMP_LE_OQ, _CMP_LT_OQ,
-    };
-
-    /// [`super::make_each`] with [`make_batch`].
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn make_each<'a>(
-        line: impl Fn(usize) -> &'a Line,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-        along: usize,
-        dt: f64,
-    ) {
-        // The closure is compiled with AVX2, as the function it is in.
-        let batch = |lines, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
-            make_batch(lines, dt, along, hulls, keys)
-        };
-        super::make_each(line, hulls, keys, along, dt, batch);
-    }
-
-    /// The four directions of points whose coordinates are `x` and `y`,
-    /// as [`super::project`] makes them.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn project(x: __m256d, y: __m256d) -> [__m256d; DIRECTIONS] {
-        let x_ = _mm256_mul_pd(x, _mm256_set1_pd(DIAGONAL_X));
-        let y_ = _mm256_mul_pd(y, _mm256_set1_pd(DIAGONAL_Y));
-        [x, y, _mm256_add_pd(x_, y_), _mm256_sub_pd(x_, y_)]
-    }
-
-    /// Four rows of four values turned into four columns.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn columns(r: [__m128; 4]) -> [__m128; 4] {
-        let (t0, t1) = (_mm_unpacklo_ps(r[0], r[1]), _mm_unpacklo_ps(r[2], r[3]));
-        let (t2, t3) = (_mm_unpackhi_ps(r[0], r[1]), _mm_unpackhi_ps(r[2], r[3]));
-        [
-            _mm_movelh_ps(t0, t1),
-            _mm_movehl_ps(t1, t0),
-            _mm_movelh_ps(t2, t3),
-            _mm_movehl_ps(t3, t2),
-        ]
-    }
-
-    /// [`super::portable::make_batch`]: each `_mm256_min_pd(a, b)` is `a < b ? a :
-    /// b` as [`super::min`] is, each `_mm256_max_pd(a, b)` `a > b ? a : b`,
-    /// and each conversion rounds to nearest as `as f32` does.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn make_batch(
-        batch: [&Line; LANES],
-        dt: f64,
-        along: usize,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-    ) {
-        // Rows `p1.x p1.y p2.x p2.y`, one a line, turned into columns.
-        let row = |l: &Line| -> __m256d { bytemuck::cast([l.p1.x, l.p1.y, l.p2.x, l.p2.y]) };
-        let r = batch.map(row);
-        let (t0, t1) = (
-            _mm256_unpacklo_pd(r[0], r[1]),
-            _mm256_unpackhi_pd(r[0], r[1]),
-        );
-        let (t2, t3) = (
-            _mm256_unpacklo_pd(r[2], r[3]),
-            _mm256_unpackhi_pd(r[2], r[3]),
-        );
-        let ax = _mm256_permute2f128_pd::<0x20>(t0, t2);
-        let ay = _mm256_permute2f128_pd::<0x20>(t1, t3);
-        let bx = _mm256_permute2f128_pd::<0x31>(t0, t2);
-        let by = _mm256_permute2f128_pd::<0x31>(t1, t3);
-        let vx: __m256d = bytemuck::cast(batch.map(|l| l.v.x));
-        let vy: __m256d = bytemuck::cast(batch.map(|l| l.v.y));
-        let dt = _mm256_set1_pd(dt);
-        let (dx, dy) = (_mm256_mul_pd(vx, dt), _mm256_mul_pd(vy, dt));
-        let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
-        let zero = _mm256_setzero_pd();
-        let mut lo = [zero; DIRECTIONS];
-        let mut hi = [zero; DIRECTIONS];
-        for r in 0..DIRECTIONS {
-            lo[r] = _mm256_add_pd(_mm256_min_pd(a[r], b[r]), _mm256_min_pd(d[r], zero));
-            hi[r] = _mm256_add_pd(_mm256_max_pd(a[r], b[r]), _mm256_max_pd(d[r], zero));
-        }
-        let sign = _mm256_set1_pd(-0.0);
-        let neg = |v: __m256d| _mm256_xor_pd(v, sign);
-        let magnitude = _mm256_max_pd(
-            _mm256_max_pd(neg(lo[0]), hi[0]),
-            _mm256_max_pd(neg(lo[1]), hi[1]),
-        );
-        let sum = _mm256_add_pd(
-            _mm256_add_pd(
-                _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(ax, ay), bx), by),
-                vx,
-            ),
-            vy,
-        );
-        let pad = _mm256_add_pd(
-            _mm256_mul_pd(magnitude, _mm256_set1_pd(PAD)),
-            _mm256_set1_pd(1e-12),
-        );
-        let pad_diagonal = _mm256_mul_pd(_mm256_set1_pd(DIAGONAL_X + DIAGONAL_Y), pad);
-        let pads = [pad, pad, pad_diagonal, pad_diagonal];
-        let mut low = [bytemuck::Zeroable::zeroed(); DIRECTIONS];
-        let mut high = [bytemuck::Zeroable::zeroed(); DIRECTIONS];
-        let sign32 = _mm_set1_ps(-0.0);
-        for r in 0..DIRECTIONS {
-            low[r] = _mm256_cvtpd_ps(_mm256_sub_pd(lo[r], pads[r]));
-            high[r] = _mm_xor_ps(_mm256_cvtpd_ps(_mm256_add_pd(hi[r], pads[r])), sign32);
-        }
-        // Finite (NaN and infinities fail) and within the largest.
-        let abs = _mm256_and_pd(sum, bytemuck::cast([f64::from_bits(!(1u64 << 63)); 4]));
-        let finite = _mm256_cmp_pd::<_CMP_LT_OQ>(abs, _mm256_set1_pd(f64::INFINITY));
-        let within = _mm256_cmp_pd::<_CMP_LE_OQ>(magnitude, _mm256_set1_pd(LARGEST));
-        let valid = _mm256_movemask_pd(_mm256_and_pd(finite, within));
-        let key: [f32; LANES] = bytemuck::cast(low[along]);
-        let (low, high) = (columns(low), columns(high));
-        for k in 0..LANES {
-            let (l, h): ([f32; 4], [f32; 4]) = (bytemuck::cast(low[k]), bytemuck::cast(high[k]));
-            hulls[k] = [l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]];
-            keys[k] = if valid & (1 << k) != 0 {
-                key[k]
-            } else {
-                NO_KEY
-            };
-        }
-    }
-}
-
-/// [`portable::make_batch`] in WebAssembly's 128-bit vectors: two lines a vector,
-/// the same operations in the same order on each line, so the same bits.
-/// Left to the compiler, the batch is worked value by value, which makes
-/// the hulls a large part of a step in V8 (docs/DESIGN.md, "The hulls in
-/// WebAssembly").
-#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-mod simd128 {
-    use super::{Line, Packed, DIAGONAL_X, DIAGONAL_Y, DIRECTIONS, LANES, LARGEST, NO_KEY, PAD};
-    use core::arch::wasm32::{
-        f32x4_demote_f64x2_zero, f32x4_extract_lane, f32x4_neg, f64x2, f64x2_add,
-        f64x2_extract_lane, f64x2_mul, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat, f64x2_sub,
-        v128,
-    };
-
-    /// `a < b ? a : b`, as [`super::min`] (`pmin(x, y)` is `y < x ? y : x`).
-    #[inline(always)]
-    fn min(a: v128, b: v128) -> v128 {
-        f64x2_pmin(b, a)
-    }
-
-    /// `a > b ? a : b`, as [`super::max`] (`pmax(x, y)` is `x < y ? y : x`).
-    #[inline(always)]
-    fn max(a: v128, b: v128) -> v128 {
-        f64x2_pmax(b, a)
-    }
-
-    /// The four directions of points whose coordinates are `x` and `y`.
-    #[inline(always)]
-    fn project(x: v128, y: v128) -> [v128; DIRECTIONS] {
-        let x_ = f64x2_mul(x, f64x2_splat(DIAGONAL_X));
-        let y_ = f64x2_mul(y, f64x2_splat(DIAGONAL_Y));
-        [x, y, f64x2_add(x_, y_), f64x2_sub(x_, y_)]
-    }
-
-    /// [`super::portable::make_batch`], two lines at a time.
-    #[inline(always)]
-    pub(super) fn make_batch(
-        batch: [&Line; LANES],
-        dt: f64,
-        along: usize,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-    ) {
-        for pair in 0..LANES / 2 {
-            let (l, m) = (batch[2 * pair], batch[2 * pair + 1]);
-            let (ax, ay) = (f64x2(l.p1.x, m.p1.x), f64x2(l.p1.y, m.p1.y));
-            let (bx, by) = (f64x2(l.p2.x, m.p2.x), f64x2(l.p2.y, m.p2.y));
-            let (vx, vy) = (f64x2(l.v.x, m.v.x), f64x2(l.v.y, m.v.y));
-            let dt = f64x2_splat(dt);
-            let (dx, dy) = (f64x2_mul(vx, dt), f64x2_mul(vy, dt));
-            let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
-            let zero = f64x2_splat(0.0);
-            let (mut lo, mut hi) = ([zero; DIRECTIONS], [zero; DIRECTIONS]);
-            for r in 0..DIRECTIONS {
-                lo[r] = f64x2_add(min(a[r], b[r]), min(d[r], zero));
-                hi[r] = f64x2_add(max(a[r], b[r]), max(d[r], zero));
-            }
-            let magnitude = max(max(f64x2_neg(lo[0]), hi[0]), max(f64x2_neg(lo[1]), hi[1]));
-            let sum = f64x2_add(
-                f64x2_add(f64x2_add(f64x2_add(f64x2_add(ax, ay), bx), by), vx),
-                vy,
-            );
-            let pad = f64x2_add(f64x2_mul(magnitude, f64x2_splat(PAD)), f64x2_splat(1e-12));
-            let pad_diagonal = f64x2_mul(f64x2_splat(DIAGONAL_X + DIAGONAL_Y), pad);
-            let pads = [pad, pad, pad_diagonal, pad_diagonal];
-            let mut low = [zero; DIRECTIONS];
-            let mut high = [zero; DIRECTIONS];
-            for r in 0..DIRECTIONS {
-                low[r] = f32x4_demote_f64x2_zero(f64x2_sub(lo[r], pads[r]));
-                high[r] = f32x4_neg(f32x4_demote_f64x2_zero(f64x2_add(hi[r], pads[r])));
-            }
-            let lanes = |v: v128| [f32x4_extract_lane::<0>(v), f32x4_extract_lane::<1>(v)];
-            let (low, high) = (low.map(lanes), high.map(lanes));
-            let sums = [f64x2_extract_lane::<0>(sum), f64x2_extract_lane::<1>(sum)];
-            let magnitudes = [
-                f64x2_extract_lane::<0>(magnitude),
-                f64x2_extract_lane::<1>(magnitude),
-            ];
-            for k in 0..2 {
-                let hull = &mut hulls[2 * pair + k];
-                for r in 0..DIRECTIONS {
-                    hull[r] = low[r][k];
-                    hull[r + DIRECTIONS] = high[r][k];
-                }
-                let valid = sums[k].is_finite() && magnitudes[k] <= LARGEST;
-                keys[2 * pair + k] = if valid { hull[along] } else { NO_KEY };
-            }
-        }
-    }
-}
-
-#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-use portable::make_batch as portable_batch;
-/// The batch of the platform's vectors where there is one written out,
-/// else [`portable::make_batch`].
-#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-use simd128::make_batch as portable_batch;
 
 /// `min` without NaN handling: one instruction.
 #[inline(always)]
@@ -598,20 +398,59 @@ mod tests {
                 .map(|v| crate::test_util::line((v[0], v[1]), (v[2], v[3]), (v[4], v[5])))
                 .collect();
             let slots: Vec<u32> = (0..lines.len() as u32).rev().collect();
-            let mut hulls = vec![[0.0; 8]; slots.len()];
-            let mut keys = vec![0.0; slots.len()];
+            let n = slots.len();
+            let line = |k: usize| &lines[slots[k] as usize];
+            // What the processor runs, and every lane type this target has.
+            let mut made = Vec::new();
+            let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
             make(&lines, &slots, &mut hulls, &mut keys, along, dt);
-            for (k, &slot) in slots.iter().enumerate() {
-                match of_line(&lines[slot as usize], dt) {
-                    Some(packed) => {
-                        proptest::prop_assert_eq!(
-                            packed.map(f32::to_bits),
-                            hulls[k].map(f32::to_bits)
-                        );
-                        proptest::prop_assert_eq!(keys[k].to_bits(), packed[along].to_bits());
+            made.push(("make", hulls, keys));
+            let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
+            make_each(line, &mut hulls, &mut keys, along, dt, batch_scalar);
+            made.push(("scalar", hulls, keys));
+            let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
+            make_each(line, &mut hulls, &mut keys, along, dt, batch_default);
+            made.push(("default", hulls, keys));
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
+                make_avx2(line, &mut hulls, &mut keys, along, dt);
+                made.push(("avx2", hulls, keys));
+            }
+            for (name, hulls, keys) in &made {
+                for (k, &slot) in slots.iter().enumerate() {
+                    match of_line(&lines[slot as usize], dt) {
+                        Some(packed) => {
+                            proptest::prop_assert_eq!(
+                                packed.map(f32::to_bits),
+                                hulls[k].map(f32::to_bits),
+                                "{}", name
+                            );
+                            proptest::prop_assert_eq!(keys[k].to_bits(), packed[along].to_bits(), "{}", name);
+                        }
+                        None => proptest::prop_assert_eq!(keys[k], NO_KEY, "{}", name),
                     }
-                    None => proptest::prop_assert_eq!(keys[k], NO_KEY),
                 }
+            }
+        }
+    }
+
+    /// [`make_each_avx2`] where the processor has AVX2 (the test checks
+    /// first), through a clone compiled with it.
+    #[cfg(target_arch = "x86_64")]
+    #[multiversion(targets("x86_64+avx2"))]
+    fn make_avx2<'a>(
+        line: impl Fn(usize) -> &'a Line,
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+        along: usize,
+        dt: f64,
+    ) {
+        multiversion::target::match_target! {
+            "x86_64+avx2" => make_each_avx2(line, hulls, keys, along, dt),
+            _ => {
+                let _ = (line, hulls, keys, along, dt);
+                panic!("the test runs this only where the processor has AVX2")
             }
         }
     }

@@ -52,6 +52,7 @@
 pub(crate) mod bands;
 mod boxes;
 pub(crate) mod hull;
+mod lanes;
 pub(crate) mod layout;
 pub(crate) mod plan;
 pub(crate) mod scan;

@@ -159,7 +159,14 @@ fn meet(
 /// ([`blocks::sweep_box`]), which on `koch` and `mit` cuts the sweep by a
 /// sixth, and the rest one at a time; in a `dense` scene every box takes
 /// them eight at a time (see `DENSE` in the parent module).
-#[multiversion(targets("x86_64+avx2+popcnt+bmi1"))]
+#[cfg_attr(
+    not(screensaver_baseline),
+    multiversion(targets("x86_64+avx2+popcnt+bmi1"))
+)]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2+popcnt+bmi1"), dispatcher = "static")
+)]
 pub(crate) fn sweep(
     keys: &[f32],
     hulls: &[Packed],

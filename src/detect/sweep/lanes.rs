@@ -1,0 +1,513 @@
+//! Four `f64` lanes, one type per target, for the hull batch
+//! ([`super::hull`]), which is written once over them: the gather of four
+//! lines' coordinates into lanes, the elementary operations, and the
+//! scatter of four hulls' bounds out of them. Each operation is the IEEE
+//! operation on every lane (`min(a, b)` is `a < b ? a : b`, `max(a, b)`
+//! is `a > b ? a : b`, conversions to `f32` round to nearest), so every
+//! type gives the same bits as the others and as one line made alone.
+//!
+//! - [`Avx2`]: one 256-bit register (x86-64 with AVX2, chosen at start);
+//! - [`Sse2`]: one 128-bit register, two lines at a time (every x86-64
+//!   processor), through `safe_arch`;
+//! - [`Simd128`]: two of WebAssembly's 128-bit vectors;
+//! - [`Scalar`]: plain values, for the other targets (the compiler turns
+//!   them into what vectors the target has).
+
+use super::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
+use crate::line::Line;
+
+/// Each line's `[p1.x, p1.y, p2.x, p2.y]`.
+#[inline(always)]
+fn row(l: &Line) -> [f64; 4] {
+    [l.p1.x, l.p1.y, l.p2.x, l.p2.y]
+}
+
+/// Writes four lines' hulls and keys from their `f32` bounds by
+/// direction: `low[r]` and `high[r]` (already negated) hold the four
+/// lines' bounds along direction `r`; a line's key is its low bound along
+/// `along` where bit `k` of `valid` is set, else [`NO_KEY`].
+#[inline(always)]
+fn store_bounds(
+    low: [[f32; LANES]; DIRECTIONS],
+    high: [[f32; LANES]; DIRECTIONS],
+    valid: u32,
+    along: usize,
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+) {
+    for k in 0..LANES {
+        for r in 0..DIRECTIONS {
+            hulls[k][r] = low[r][k];
+            hulls[k][r + DIRECTIONS] = high[r][k];
+        }
+        keys[k] = if valid & (1 << k) != 0 {
+            low[along][k]
+        } else {
+            NO_KEY
+        };
+    }
+}
+
+/// Plain values, for targets without a lane type of their own.
+#[derive(Clone, Copy)]
+#[cfg_attr(
+    any(
+        target_arch = "x86_64",
+        all(target_arch = "wasm32", target_feature = "simd128")
+    ),
+    allow(dead_code)
+)]
+pub(super) struct Scalar([f64; LANES]);
+
+#[cfg_attr(
+    any(
+        target_arch = "x86_64",
+        all(target_arch = "wasm32", target_feature = "simd128")
+    ),
+    allow(dead_code)
+)]
+impl Scalar {
+    /// Lines a batch takes.
+    pub const WIDTH: usize = LANES;
+
+    #[inline(always)]
+    fn map2(self, o: Self, f: impl Fn(f64, f64) -> f64) -> Self {
+        Self(std::array::from_fn(|k| f(self.0[k], o.0[k])))
+    }
+    #[inline(always)]
+    pub fn splat(x: f64) -> Self {
+        Self([x; LANES])
+    }
+    #[inline(always)]
+    pub fn gather(v: [f64; LANES]) -> Self {
+        Self(v)
+    }
+    #[inline(always)]
+    pub fn points(batch: [&Line; LANES]) -> [Self; 4] {
+        let rows = batch.map(row);
+        std::array::from_fn(|c| Self(std::array::from_fn(|k| rows[k][c])))
+    }
+    #[inline(always)]
+    pub fn add(self, o: Self) -> Self {
+        self.map2(o, |a, b| a + b)
+    }
+    #[inline(always)]
+    pub fn sub(self, o: Self) -> Self {
+        self.map2(o, |a, b| a - b)
+    }
+    #[inline(always)]
+    pub fn mul(self, o: Self) -> Self {
+        self.map2(o, |a, b| a * b)
+    }
+    #[inline(always)]
+    pub fn min(self, o: Self) -> Self {
+        self.map2(o, |a, b| if a < b { a } else { b })
+    }
+    #[inline(always)]
+    pub fn max(self, o: Self) -> Self {
+        self.map2(o, |a, b| if a > b { a } else { b })
+    }
+    #[inline(always)]
+    pub fn neg(self) -> Self {
+        Self(self.0.map(|a| -a))
+    }
+    /// Bit `k` set where lane `k` of `sum` is finite and of `magnitude` at
+    /// most `largest`.
+    #[inline(always)]
+    pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
+        (0..LANES).fold(0, |bits, k| {
+            let ok = sum.0[k].is_finite() && magnitude.0[k] <= largest;
+            bits | (u32::from(ok) << k)
+        })
+    }
+    /// Writes the four lines' hulls (`low[r]` rounded to `f32`, `high[r]`
+    /// rounded and negated) and keys (see [`store_bounds`]).
+    #[inline(always)]
+    pub fn store(
+        low: [Self; DIRECTIONS],
+        high: [Self; DIRECTIONS],
+        valid: u32,
+        along: usize,
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+    ) {
+        let low = low.map(|v| v.0.map(|x| x as f32));
+        let high = high.map(|v| v.0.map(|x| -(x as f32)));
+        store_bounds(low, high, valid, along, hulls, keys);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(super) use x86::{Avx2, Sse2};
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use super::{row, Line, Packed, DIRECTIONS, LANES, NO_KEY};
+    use safe_arch::{
+        add_m128d, bitand_m128d, bitxor_m128, bitxor_m128d, cmp_le_mask_m128d, cmp_lt_mask_m128d,
+        convert_to_m128_from_m128d, m128, m128d, max_m128d, min_m128d, move_high_low_m128,
+        move_low_high_m128, move_mask_m128d, mul_m128d, set_splat_m128, set_splat_m128d, sub_m128d,
+        unpack_high_m128, unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
+    };
+    use std::arch::x86_64::{
+        __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_cvtpd_ps, _mm256_max_pd,
+        _mm256_min_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_set1_pd,
+        _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd, _CMP_LE_OQ,
+        _CMP_LT_OQ,
+    };
+
+    /// `f64` with every bit but the sign: `x & ABS` is `|x|`.
+    const ABS: f64 = f64::from_bits(!(1u64 << 63));
+
+    /// Four rows of four `f32` turned into four columns: the transpose
+    /// both lane types scatter their hulls with.
+    #[inline(always)]
+    fn columns(r: [m128; 4]) -> [m128; 4] {
+        let (t0, t1) = (unpack_low_m128(r[0], r[1]), unpack_low_m128(r[2], r[3]));
+        let (t2, t3) = (unpack_high_m128(r[0], r[1]), unpack_high_m128(r[2], r[3]));
+        [
+            move_low_high_m128(t0, t1),
+            move_high_low_m128(t1, t0),
+            move_low_high_m128(t2, t3),
+            move_high_low_m128(t3, t2),
+        ]
+    }
+
+    /// Writes four hulls and keys from their bounds by direction, as `f32`
+    /// rows of four lines (`high` negated already): see
+    /// [`super::store_bounds`].
+    #[inline(always)]
+    fn scatter(
+        low: [m128; DIRECTIONS],
+        high: [m128; DIRECTIONS],
+        valid: u32,
+        along: usize,
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+    ) {
+        let key: [f32; LANES] = low[along].into();
+        let (low, high) = (columns(low), columns(high));
+        for k in 0..LANES {
+            let (l, h): ([f32; 4], [f32; 4]) = (low[k].into(), high[k].into());
+            hulls[k] = [l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]];
+            keys[k] = if valid & (1 << k) != 0 {
+                key[k]
+            } else {
+                NO_KEY
+            };
+        }
+    }
+
+    /// Four lanes in one AVX2 register. Its operations are compiled with
+    /// AVX2 and called only from code compiled with it.
+    #[derive(Clone, Copy)]
+    pub struct Avx2(__m256d);
+
+    impl Avx2 {
+        /// Lines a batch takes.
+        pub const WIDTH: usize = LANES;
+
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn splat(x: f64) -> Self {
+            Self(_mm256_set1_pd(x))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn gather(v: [f64; LANES]) -> Self {
+            Self(bytemuck::cast(v))
+        }
+        /// Rows `p1.x p1.y p2.x p2.y`, one a line, turned into columns.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn points(batch: [&Line; LANES]) -> [Self; 4] {
+            let r: [__m256d; 4] = batch.map(|l| bytemuck::cast(row(l)));
+            let (t0, t1) = (
+                _mm256_unpacklo_pd(r[0], r[1]),
+                _mm256_unpackhi_pd(r[0], r[1]),
+            );
+            let (t2, t3) = (
+                _mm256_unpacklo_pd(r[2], r[3]),
+                _mm256_unpackhi_pd(r[2], r[3]),
+            );
+            [
+                Self(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                Self(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                Self(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                Self(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+            ]
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn add(self, o: Self) -> Self {
+            Self(_mm256_add_pd(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn sub(self, o: Self) -> Self {
+            Self(_mm256_sub_pd(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn mul(self, o: Self) -> Self {
+            Self(_mm256_mul_pd(self.0, o.0))
+        }
+        /// `a < b ? a : b` in every lane, as `vminpd` is.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn min(self, o: Self) -> Self {
+            Self(_mm256_min_pd(self.0, o.0))
+        }
+        /// `a > b ? a : b` in every lane, as `vmaxpd` is.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn max(self, o: Self) -> Self {
+            Self(_mm256_max_pd(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn neg(self) -> Self {
+            Self(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)))
+        }
+        /// Finite (NaN and infinities fail) and within the largest.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
+            let abs = _mm256_and_pd(sum.0, _mm256_set1_pd(ABS));
+            let finite = _mm256_cmp_pd::<_CMP_LT_OQ>(abs, _mm256_set1_pd(f64::INFINITY));
+            let within = _mm256_cmp_pd::<_CMP_LE_OQ>(magnitude.0, _mm256_set1_pd(largest));
+            _mm256_movemask_pd(_mm256_and_pd(finite, within)) as u32
+        }
+        /// Writes the hulls and keys (see [`super::store_bounds`]); each
+        /// conversion rounds to nearest, as `as f32` does.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn store(
+            low: [Self; DIRECTIONS],
+            high: [Self; DIRECTIONS],
+            valid: u32,
+            along: usize,
+            hulls: &mut [Packed],
+            keys: &mut [f32],
+        ) {
+            let sign = set_splat_m128(-0.0);
+            let mut l = [sign; DIRECTIONS];
+            let mut h = [sign; DIRECTIONS];
+            for r in 0..DIRECTIONS {
+                l[r] = m128(_mm256_cvtpd_ps(low[r].0));
+                h[r] = bitxor_m128(m128(_mm256_cvtpd_ps(high[r].0)), sign);
+            }
+            scatter(l, h, valid, along, hulls, keys);
+        }
+    }
+
+    /// Two lanes in one SSE2 register, which every x86-64 processor has
+    /// (through `safe_arch`, whose operations are there without `unsafe`
+    /// wherever the build's target has SSE2). Two lines at a time, so that
+    /// a batch's values fit the sixteen registers.
+    #[derive(Clone, Copy)]
+    pub struct Sse2(m128d);
+
+    impl Sse2 {
+        /// Lines a batch takes.
+        pub const WIDTH: usize = 2;
+
+        #[inline(always)]
+        pub fn splat(x: f64) -> Self {
+            Self(set_splat_m128d(x))
+        }
+        #[inline(always)]
+        pub fn gather(v: [f64; 2]) -> Self {
+            Self(m128d::from(v))
+        }
+        /// Rows `p1.x p1.y` and `p2.x p2.y` of two lines turned into
+        /// columns.
+        #[inline(always)]
+        pub fn points(batch: [&Line; 2]) -> [Self; 4] {
+            let r = batch.map(|l| {
+                let v = row(l);
+                [m128d::from([v[0], v[1]]), m128d::from([v[2], v[3]])]
+            });
+            [
+                Self(unpack_low_m128d(r[0][0], r[1][0])),
+                Self(unpack_high_m128d(r[0][0], r[1][0])),
+                Self(unpack_low_m128d(r[0][1], r[1][1])),
+                Self(unpack_high_m128d(r[0][1], r[1][1])),
+            ]
+        }
+        #[inline(always)]
+        pub fn add(self, o: Self) -> Self {
+            Self(add_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn sub(self, o: Self) -> Self {
+            Self(sub_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn mul(self, o: Self) -> Self {
+            Self(mul_m128d(self.0, o.0))
+        }
+        /// `a < b ? a : b` in every lane, as `minpd` is.
+        #[inline(always)]
+        pub fn min(self, o: Self) -> Self {
+            Self(min_m128d(self.0, o.0))
+        }
+        /// `a > b ? a : b` in every lane, as `maxpd` is.
+        #[inline(always)]
+        pub fn max(self, o: Self) -> Self {
+            Self(max_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn neg(self) -> Self {
+            Self(bitxor_m128d(self.0, set_splat_m128d(-0.0)))
+        }
+        /// Finite (NaN and infinities fail) and within the largest.
+        #[inline(always)]
+        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
+            let abs = bitand_m128d(sum.0, set_splat_m128d(ABS));
+            let finite = cmp_lt_mask_m128d(abs, set_splat_m128d(f64::INFINITY));
+            let within = cmp_le_mask_m128d(magnitude.0, set_splat_m128d(largest));
+            move_mask_m128d(bitand_m128d(finite, within)) as u32
+        }
+        /// Writes the two lines' hulls and keys (see
+        /// [`super::store_bounds`]); each conversion rounds to nearest, as
+        /// `as f32` does.
+        #[inline(always)]
+        pub fn store(
+            low: [Self; DIRECTIONS],
+            high: [Self; DIRECTIONS],
+            valid: u32,
+            along: usize,
+            hulls: &mut [Packed],
+            keys: &mut [f32],
+        ) {
+            let sign = set_splat_m128(-0.0);
+            let l = low.map(|v| convert_to_m128_from_m128d(v.0));
+            let h = high.map(|v| bitxor_m128(convert_to_m128_from_m128d(v.0), sign));
+            // Each register holds a direction's bound of the two lines in
+            // its low half: interleaved by pairs of directions, then each
+            // line's four taken together.
+            let half = |v: [m128; DIRECTIONS]| {
+                let (a, b) = (unpack_low_m128(v[0], v[1]), unpack_low_m128(v[2], v[3]));
+                [move_low_high_m128(a, b), move_high_low_m128(b, a)]
+            };
+            let (l4, h4) = (half(l), half(h));
+            let key: [f32; 4] = l[along].into();
+            for k in 0..2 {
+                let (lo, hi): ([f32; 4], [f32; 4]) = (l4[k].into(), h4[k].into());
+                hulls[k] = [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]];
+                keys[k] = if valid & (1 << k) != 0 {
+                    key[k]
+                } else {
+                    NO_KEY
+                };
+            }
+        }
+    }
+}
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+pub(super) use wasm::Simd128;
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+mod wasm {
+    use super::{row, store_bounds, Line, Packed, DIRECTIONS, LANES};
+    use core::arch::wasm32::{
+        f32x4_demote_f64x2_zero, f32x4_extract_lane, f64x2, f64x2_add, f64x2_extract_lane,
+        f64x2_mul, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat, f64x2_sub, v128,
+    };
+
+    /// Four lanes in two of WebAssembly's 128-bit vectors.
+    #[derive(Clone, Copy)]
+    pub struct Simd128([v128; 2]);
+
+    impl Simd128 {
+        /// Lines a batch takes.
+        pub const WIDTH: usize = LANES;
+
+        #[inline(always)]
+        fn map2(self, o: Self, f: impl Fn(v128, v128) -> v128) -> Self {
+            Self([f(self.0[0], o.0[0]), f(self.0[1], o.0[1])])
+        }
+        #[inline(always)]
+        fn lanes(self) -> [f64; LANES] {
+            let [a, b] = self.0;
+            [
+                f64x2_extract_lane::<0>(a),
+                f64x2_extract_lane::<1>(a),
+                f64x2_extract_lane::<0>(b),
+                f64x2_extract_lane::<1>(b),
+            ]
+        }
+        #[inline(always)]
+        pub fn splat(x: f64) -> Self {
+            Self([f64x2_splat(x); 2])
+        }
+        #[inline(always)]
+        pub fn gather(v: [f64; LANES]) -> Self {
+            Self([f64x2(v[0], v[1]), f64x2(v[2], v[3])])
+        }
+        #[inline(always)]
+        pub fn points(batch: [&Line; LANES]) -> [Self; 4] {
+            let rows = batch.map(row);
+            std::array::from_fn(|c| Self::gather(std::array::from_fn(|k| rows[k][c])))
+        }
+        #[inline(always)]
+        pub fn add(self, o: Self) -> Self {
+            self.map2(o, f64x2_add)
+        }
+        #[inline(always)]
+        pub fn sub(self, o: Self) -> Self {
+            self.map2(o, f64x2_sub)
+        }
+        #[inline(always)]
+        pub fn mul(self, o: Self) -> Self {
+            self.map2(o, f64x2_mul)
+        }
+        /// `a < b ? a : b` (`pmin(x, y)` is `y < x ? y : x`).
+        #[inline(always)]
+        pub fn min(self, o: Self) -> Self {
+            self.map2(o, |a, b| f64x2_pmin(b, a))
+        }
+        /// `a > b ? a : b` (`pmax(x, y)` is `x < y ? y : x`).
+        #[inline(always)]
+        pub fn max(self, o: Self) -> Self {
+            self.map2(o, |a, b| f64x2_pmax(b, a))
+        }
+        #[inline(always)]
+        pub fn neg(self) -> Self {
+            Self(self.0.map(f64x2_neg))
+        }
+        #[inline(always)]
+        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
+            let (sum, magnitude) = (sum.lanes(), magnitude.lanes());
+            (0..LANES).fold(0, |bits, k| {
+                let ok = sum[k].is_finite() && magnitude[k] <= largest;
+                bits | (u32::from(ok) << k)
+            })
+        }
+        /// Writes the hulls and keys (see [`super::store_bounds`]); each
+        /// conversion rounds to nearest, as `as f32` does.
+        #[inline(always)]
+        pub fn store(
+            low: [Self; DIRECTIONS],
+            high: [Self; DIRECTIONS],
+            valid: u32,
+            along: usize,
+            hulls: &mut [Packed],
+            keys: &mut [f32],
+        ) {
+            let f32s = |v: Self| -> [f32; LANES] {
+                let [a, b] = v.0.map(f32x4_demote_f64x2_zero);
+                [
+                    f32x4_extract_lane::<0>(a),
+                    f32x4_extract_lane::<1>(a),
+                    f32x4_extract_lane::<0>(b),
+                    f32x4_extract_lane::<1>(b),
+                ]
+            };
+            let (low, high) = (low.map(f32s), high.map(|v| f32s(v).map(|x| -x)));
+            store_bounds(low, high, valid, along, hulls, keys);
+        }
+    }
+}
