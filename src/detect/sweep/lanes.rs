@@ -454,15 +454,15 @@ mod wasm {
         }
         #[inline(always)]
         pub fn add(self, o: Self) -> Self {
-            self.map2(o, f64x2_add)
+            self.map2(o, |a, b| f64x2_add(a, b))
         }
         #[inline(always)]
         pub fn sub(self, o: Self) -> Self {
-            self.map2(o, f64x2_sub)
+            self.map2(o, |a, b| f64x2_sub(a, b))
         }
         #[inline(always)]
         pub fn mul(self, o: Self) -> Self {
-            self.map2(o, f64x2_mul)
+            self.map2(o, |a, b| f64x2_mul(a, b))
         }
         /// `a < b ? a : b` (`pmin(x, y)` is `y < x ? y : x`).
         #[inline(always)]
@@ -476,7 +476,7 @@ mod wasm {
         }
         #[inline(always)]
         pub fn neg(self) -> Self {
-            Self(self.0.map(f64x2_neg))
+            Self(self.0.map(|a| f64x2_neg(a)))
         }
         #[inline(always)]
         pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
@@ -498,7 +498,7 @@ mod wasm {
             keys: &mut [f32],
         ) {
             let f32s = |v: Self| -> [f32; LANES] {
-                let [a, b] = v.0.map(f32x4_demote_f64x2_zero);
+                let [a, b] = v.0.map(|x| f32x4_demote_f64x2_zero(x));
                 [
                     f32x4_extract_lane::<0>(a),
                     f32x4_extract_lane::<1>(a),
