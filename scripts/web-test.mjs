@@ -6,7 +6,7 @@
 // WEB_TEST_ONLY=REGEX runs only the checks whose names it matches.
 //
 //   node scripts/web-test.mjs DIST_DIR NATIVE_BINARY
-import { execFileSync } from "node:child_process";
+import { execFileSync, spawnSync } from "node:child_process";
 import { readFileSync, existsSync, mkdtempSync, mkdirSync, writeFileSync, rmSync } from "node:fs";
 import { join, dirname, resolve } from "node:path";
 import { tmpdir } from "node:os";
@@ -416,6 +416,20 @@ await check("the results block is opaque over the lines", async () => {
   if (below.tinted < 100) throw new Error(`the check needs lines under the block: ${JSON.stringify(below)}`);
   if (inside.tinted > 0) throw new Error(`a red line shows through the block: ${JSON.stringify(inside)}`);
   return `${inside.all} pixels inside, none red; ${below.tinted} red below`;
+});
+
+await check("a bad detector in the URL lists the detectors as the command line does", async () => {
+  await open("?detector=magic");
+  const shown = await until("the problem shown", async () => {
+    const t = await textOf("error");
+    return t && t.includes("detector=magic") ? t : null;
+  }, 10);
+  // The command line's list, in the one order of the library's detectors.
+  const message = spawnSync(native, ["1", "--detector", "magic"], { encoding: "utf8" }).stderr;
+  const list = /expected one of: ([a-z, ]+)/.exec(message)?.[1];
+  if (!list) throw new Error(`no list in the command line's message: ${message}`);
+  if (!shown.includes(`expected one of ${list}`)) throw new Error(`${shown} against the command line's ${list}`);
+  return list;
 });
 
 await check("a bad URL parameter is named on the page, and the page runs the built-in scene", async () => {

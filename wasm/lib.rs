@@ -29,12 +29,12 @@ fn set_text(text: String) {
     TEXT.with(|t| *t.borrow_mut() = text);
 }
 
+/// The detector numbered `code`: its place in [`DetectorKind::ALL`], the
+/// one list of detectors (the page numbers them the same way); the default
+/// for any other number.
 fn detector(code: u32) -> DetectorKind {
-    match code {
-        0 => DetectorKind::Sweep,
-        1 => DetectorKind::Quadtree,
-        _ => DetectorKind::Brute,
-    }
+    let all = DetectorKind::ALL;
+    all.get(code as usize).copied().unwrap_or(DetectorKind::DEFAULT)
 }
 
 fn start(scene: &Scene, code: u32, input: String) -> i32 {
@@ -76,7 +76,8 @@ pub unsafe extern "C" fn ss_free(at: *mut u8, len: usize) {
 }
 
 /// Starts a world from the scene text in `text[..len]` (named `name` in
-/// errors) with detector `code` (0 sweep, 1 quadtree, 2 all pairs). 0 on
+/// errors) with detector `code` (its place in `DetectorKind::ALL`: 0 all
+/// pairs, 1 quadtree, 2 sweep). 0 on
 /// success; otherwise the error message is the text.
 ///
 /// # Safety
@@ -129,6 +130,14 @@ pub extern "C" fn ss_built_in(code: u32) -> i32 {
 #[no_mangle]
 pub extern "C" fn ss_kinds() {
     let names: Vec<&str> = SceneKind::ALL.iter().map(|k| k.name()).collect();
+    set_text(names.join(","));
+}
+
+/// Makes the text the names of the detectors, in the order their numbers
+/// go (`DetectorKind::ALL`'s), separated by commas.
+#[no_mangle]
+pub extern "C" fn ss_detectors() {
+    let names: Vec<&str> = DetectorKind::ALL.iter().map(|k| k.name()).collect();
     set_text(names.join(","));
 }
 

@@ -10,7 +10,6 @@ import { instantiate, put, text } from "./module.js";
 const SMOOTH_UP_TO = 5000; // larger scenes are drawn by the project's rasteriser
 const RED = "rgb(170, 20, 20)";
 const GRAY = "rgb(150, 150, 150)";
-const DETECTORS = ["sweep", "quadtree", "brute"]; // in the module's numbering
 const MAX_LINES = 1_000_000;
 const MAX_CYCLE = 86400; // seconds, a day, as the command line
 const STEP_BUDGET_MS = 14; // time for steps in one picture at `max` speed
@@ -23,6 +22,7 @@ const ctx = canvas.getContext("2d", { alpha: false });
 
 let ss; // this thread's instance of the module: kind names, drawing
 let kinds; // the generated scenes' kinds, in the module's order
+let detectors; // the detectors' names, in the module's numbering
 const worker = new Worker(new URL("worker.js", import.meta.url), { type: "module" });
 const state = {
   // { type: "built-in" } | { type: "generated", kind, kindGiven, lines, seed }
@@ -78,7 +78,7 @@ function ask(request) {
 async function startWorld(scene, settings = {}) {
   state.starting = true;
   const forWorker = scene.type === "generated" ? { ...scene, kindIndex: kinds.indexOf(scene.kind) } : scene;
-  const detector = DETECTORS.indexOf(state.detector);
+  const detector = detectors.indexOf(state.detector);
   const answer = await ask({ type: "start", scene: forWorker, detector });
   state.starting = false;
   if (answer.error !== undefined) {
@@ -483,8 +483,8 @@ async function fromUrl() {
   state.hud = ["1", "true", "yes", ""].includes(p.get("hud"));
   state.cycle = number("cycle", 0, MAX_CYCLE, false) ?? 0;
   const detector = p.get("detector") ?? "sweep";
-  if (DETECTORS.includes(detector)) state.detector = detector;
-  else problems.push(`detector=${detector}: expected one of ${DETECTORS.join(", ")}`);
+  if (detectors.includes(detector)) state.detector = detector;
+  else problems.push(`detector=${detector}: expected one of ${detectors.join(", ")}`);
 
   let kind = p.get("kind");
   if (kind !== null && !kinds.includes(kind)) {
@@ -523,6 +523,8 @@ async function main() {
   ss = await instantiate();
   ss.ss_kinds();
   kinds = text(ss).split(",");
+  ss.ss_detectors();
+  detectors = text(ss).split(",");
   for (const kind of kinds) $("kind").add(new Option(kind, kind));
   const { scene, problems, sceneRead } = await fromUrl();
   const settings = { firstGenerated: scene.type === "generated" ? scene : null, sceneIndex: 0 };

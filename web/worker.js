@@ -5,7 +5,7 @@
 // next is stepped.
 //
 // Requests: { type: "start", id, scene, detector } (the detector's number:
-//           0 sweep, 1 quadtree, 2 all pairs),
+//           its place in DetectorKind::ALL: 0 all pairs, 1 quadtree, 2 sweep),
 //           { type: "run", id, steps, budgetMs, width, height, checkDeath }
 //           { type: "report", id, frames, seconds }.
 // Answers carry the request's id.
