@@ -16,6 +16,21 @@
 use super::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
 use crate::line::Line;
 
+/// Methods `name(self, o)` of a lane type over one register, each the
+/// operation `op` on every lane, with the attributes given.
+#[cfg(target_arch = "x86_64")]
+macro_rules! lanewise {
+    ($attrs:tt $($name:ident => $op:path),* $(,)?) => {
+        $(lanewise!(@one $attrs $name $op);)*
+    };
+    (@one [$($attr:meta),*] $name:ident $op:path) => {
+        $(#[$attr])*
+        pub fn $name(self, o: Self) -> Self {
+            Self($op(self.0, o.0))
+        }
+    };
+}
+
 /// Each line's `[p1.x, p1.y, p2.x, p2.y]`.
 #[inline(always)]
 fn row(l: &Line) -> [f64; 4] {
@@ -237,33 +252,12 @@ mod x86 {
                 Self(_mm256_permute2f128_pd::<0x31>(t1, t3)),
             ]
         }
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn add(self, o: Self) -> Self {
-            Self(_mm256_add_pd(self.0, o.0))
-        }
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn sub(self, o: Self) -> Self {
-            Self(_mm256_sub_pd(self.0, o.0))
-        }
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn mul(self, o: Self) -> Self {
-            Self(_mm256_mul_pd(self.0, o.0))
-        }
-        /// `a < b ? a : b` in every lane, as `vminpd` is.
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn min(self, o: Self) -> Self {
-            Self(_mm256_min_pd(self.0, o.0))
-        }
-        /// `a > b ? a : b` in every lane, as `vmaxpd` is.
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn max(self, o: Self) -> Self {
-            Self(_mm256_max_pd(self.0, o.0))
-        }
+        // `vminpd` is `a < b ? a : b` in every lane, `vmaxpd` `a > b ? a : b`.
+        lanewise!(
+            [inline, target_feature(enable = "avx2")]
+            add => _mm256_add_pd, sub => _mm256_sub_pd, mul => _mm256_mul_pd,
+            min => _mm256_min_pd, max => _mm256_max_pd,
+        );
         #[inline]
         #[target_feature(enable = "avx2")]
         pub fn neg(self) -> Self {
@@ -335,28 +329,12 @@ mod x86 {
                 Self(unpack_high_m128d(r[0][1], r[1][1])),
             ]
         }
-        #[inline(always)]
-        pub fn add(self, o: Self) -> Self {
-            Self(add_m128d(self.0, o.0))
-        }
-        #[inline(always)]
-        pub fn sub(self, o: Self) -> Self {
-            Self(sub_m128d(self.0, o.0))
-        }
-        #[inline(always)]
-        pub fn mul(self, o: Self) -> Self {
-            Self(mul_m128d(self.0, o.0))
-        }
-        /// `a < b ? a : b` in every lane, as `minpd` is.
-        #[inline(always)]
-        pub fn min(self, o: Self) -> Self {
-            Self(min_m128d(self.0, o.0))
-        }
-        /// `a > b ? a : b` in every lane, as `maxpd` is.
-        #[inline(always)]
-        pub fn max(self, o: Self) -> Self {
-            Self(max_m128d(self.0, o.0))
-        }
+        // `minpd` is `a < b ? a : b` in every lane, `maxpd` `a > b ? a : b`.
+        lanewise!(
+            [inline(always)]
+            add => add_m128d, sub => sub_m128d, mul => mul_m128d,
+            min => min_m128d, max => max_m128d,
+        );
         #[inline(always)]
         pub fn neg(self) -> Self {
             Self(bitxor_m128d(self.0, set_splat_m128d(-0.0)))
