@@ -405,6 +405,10 @@ impl Job {
         }
         let mut started = self.start()?;
         let first_step = started.world.steps();
+        if let Some(path) = &self.resume {
+            let (path, step) = (path.clone(), first_step);
+            progress.note(Note::Resumed { path, step });
+        }
         started.world.set_timing(self.stats);
         self.check_outputs()?;
         let cycling = self.cycles();
@@ -439,10 +443,6 @@ impl Job {
             });
         }
         let verified = finished.world.steps() - first_step;
-        if let Some(path) = &self.resume {
-            let (path, step) = (path.clone(), first_step);
-            progress.note(Note::Resumed { path, step });
-        }
         if let Some((slivers, first_sliver)) = finished.slivers {
             progress.note(Note::Verified {
                 steps: verified,
