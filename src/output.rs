@@ -123,9 +123,10 @@ fn kind(path: &Path) -> Kind {
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) enum FileIdentity {
     /// A file that exists: its device and inode.
+    #[cfg(unix)]
     Inode(u64, u64),
-    /// A file not made yet (or a system without inodes): its folder with
-    /// links followed, and its name.
+    /// A file not made yet, or on a system without inodes: its path with
+    /// links followed (its folder's, for a file not made yet).
     Path(PathBuf),
 }
 
@@ -141,6 +142,10 @@ pub(crate) fn identity(path: &Path) -> Option<FileIdentity> {
     if let Ok(m) = std::fs::metadata(&target) {
         use std::os::unix::fs::MetadataExt;
         return Some(FileIdentity::Inode(m.dev(), m.ino()));
+    }
+    #[cfg(not(unix))]
+    if let Ok(path) = std::fs::canonicalize(&target) {
+        return Some(FileIdentity::Path(path));
     }
     let folder = folder(&target);
     let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());

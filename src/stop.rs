@@ -2,8 +2,13 @@
 //! run to stop at the end of the current step (so that its results are
 //! printed and its files written whole); a second one ends the process at
 //! once, removing the temporary files of outputs being written.
+//!
+//! On Windows the same holds for the console's events: Ctrl-C and
+//! Ctrl-Break are [`Signal::Interrupt`], the console closing (and logoff
+//! and shutdown) [`Signal::Terminate`] (the `windows` module below).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
+#[cfg(unix)]
 use std::sync::Mutex;
 
 /// The signals that stop a run.
@@ -26,6 +31,7 @@ impl Signal {
 
     /// The exit status of a process that stopped on this signal (128 plus
     /// the signal's number, as shells report it).
+    #[cfg(unix)]
     pub fn exit_status(self) -> u8 {
         128 + self.number() as u8
     }
@@ -41,12 +47,14 @@ impl Signal {
     /// the signal, as if it had never been caught, and a shell reports
     /// [`Signal::exit_status`]. For the end of a run the signal stopped,
     /// once its results are out.
+    #[cfg(unix)]
     pub fn end_process(self) -> ! {
         // Failing that, the status a shell would report.
         let _ = signal_hook::low_level::emulate_default_handler(self.number());
         std::process::exit(i32::from(self.exit_status()))
     }
 
+    #[cfg(unix)]
     fn number(self) -> i32 {
         match self {
             Signal::Interrupt => signal_hook::consts::SIGINT,
@@ -56,6 +64,7 @@ impl Signal {
 
     /// The signal of this number (SIGTERM's, or else SIGINT: the only two
     /// the handlers take).
+    #[cfg(unix)]
     fn from_number(number: i32) -> Signal {
         if number == signal_hook::consts::SIGTERM {
             Signal::Terminate
@@ -65,10 +74,12 @@ impl Signal {
     }
 }
 
-/// The number of the first signal received (0 for none).
+/// The number of the first signal received (0 for none; on Windows,
+/// 1 + the [`Signal`]'s index).
 static RECEIVED: AtomicUsize = AtomicUsize::new(0);
 
 /// Whether the handlers are installed.
+#[cfg(unix)]
 static INSTALLED: Mutex<bool> = Mutex::new(false);
 
 impl Signal {
@@ -88,6 +99,7 @@ impl Signal {
 /// that a second one can remove the temporary files of outputs being
 /// written ([`crate::output::remove_temporaries`]) before the process
 /// ends with the usual status.
+#[cfg(unix)]
 fn install() -> std::io::Result<()> {
     let mut installed = INSTALLED.lock().unwrap_or_else(|e| e.into_inner());
     if *installed {
@@ -115,9 +127,105 @@ fn install() -> std::io::Result<()> {
 }
 
 /// The signal that asked the run to stop, if one has.
+#[cfg(unix)]
 pub fn requested() -> Option<Signal> {
     match RECEIVED.load(Ordering::Relaxed) as i32 {
         0 => None,
         n => Some(Signal::from_number(n)),
     }
 }
+
+/// Windows has no SIGINT or SIGTERM to catch: its console calls a handler
+/// routine, on a thread of its own, for Ctrl-C, Ctrl-Break, the console
+/// window closing, logoff and shutdown. `ctrlc` wraps the same routine
+/// with no `unsafe` of ours, but its routine returns at once without
+/// saying which event came, and for a console close Windows ends the
+/// process as soon as the routine returns: the results block and the
+/// files would race the end. This routine waits instead (Windows allows a
+/// few seconds) until the run, stopped after its step, ends the process.
+#[cfg(windows)]
+mod windows {
+    use super::{Ordering, Signal, RECEIVED};
+    use windows_sys::core::BOOL;
+    use windows_sys::Win32::Foundation::TRUE;
+    use windows_sys::Win32::System::Console::{
+        SetConsoleCtrlHandler, CTRL_BREAK_EVENT, CTRL_C_EVENT,
+    };
+
+    /// What a process ended by a console event reports when nothing
+    /// handles the event (Windows' default routine exits with it): a
+    /// parent (`cmd`, PowerShell) sees the same end as if the event had
+    /// not been caught.
+    const STATUS_CONTROL_C_EXIT: u32 = 0xC000_013A;
+
+    impl Signal {
+        /// Ends the process as Windows' own handling of the console event
+        /// would have, with `STATUS_CONTROL_C_EXIT`. For the end of a run
+        /// the event stopped, once its results are out.
+        pub fn end_process(self) -> ! {
+            std::process::exit(STATUS_CONTROL_C_EXIT as i32)
+        }
+
+        /// What [`RECEIVED`] holds for this signal (0 is none).
+        fn code(self) -> usize {
+            match self {
+                Signal::Interrupt => 1,
+                Signal::Terminate => 2,
+            }
+        }
+    }
+
+    unsafe extern "system" fn routine(event: u32) -> BOOL {
+        let signal = match event {
+            CTRL_C_EVENT | CTRL_BREAK_EVENT => Signal::Interrupt,
+            // The console closing, logoff, shutdown.
+            _ => Signal::Terminate,
+        };
+        if RECEIVED
+            .compare_exchange(0, signal.code(), Ordering::Relaxed, Ordering::Relaxed)
+            .is_err()
+        {
+            crate::output::remove_temporaries();
+            signal.end_process();
+        }
+        if signal == Signal::Terminate {
+            // Returning would let Windows end the process now; the run
+            // ends it once its results are out (or Windows does, when its
+            // grace period runs out).
+            loop {
+                std::thread::park();
+            }
+        }
+        TRUE
+    }
+
+    /// Installs the routine. Registering it twice would call it twice per
+    /// event, so later calls do nothing.
+    pub(super) fn install() -> std::io::Result<()> {
+        static INSTALLED: std::sync::Once = std::sync::Once::new();
+        let mut result = Ok(());
+        INSTALLED.call_once(|| {
+            // SAFETY: `routine` is a handler routine as the console
+            // expects it (`extern "system"`, one u32 in, a BOOL out) that
+            // lives as long as the program.
+            if unsafe { SetConsoleCtrlHandler(Some(routine), TRUE) } == 0 {
+                result = Err(std::io::Error::last_os_error());
+            }
+        });
+        result
+    }
+
+    /// The event that asked the run to stop, if one has.
+    pub fn requested() -> Option<Signal> {
+        match RECEIVED.load(Ordering::Relaxed) {
+            0 => None,
+            1 => Some(Signal::Interrupt),
+            _ => Some(Signal::Terminate),
+        }
+    }
+}
+
+#[cfg(windows)]
+use windows::install;
+#[cfg(windows)]
+pub use windows::requested;
