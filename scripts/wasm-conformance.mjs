@@ -43,7 +43,11 @@ function load(bytes, name, detector) {
   if (status !== 0) throw new Error(text());
 }
 
-const DETECTORS = [["sweep", 0], ["brute", 2]];
+// The detectors checked, with the numbers the module gives them.
+ss.ss_detectors();
+const numbered = text().split(",");
+const DETECTORS = ["sweep", "brute"].map((name) => [name, numbered.indexOf(name)]);
+if (DETECTORS.some(([, code]) => code < 0)) throw new Error(`the module's detectors: ${numbered}`);
 const BRUTE_MOST_LINES = 900;
 let passed = 0;
 let failed = 0;

@@ -65,13 +65,16 @@ const ALONE = `
   (async () => {
     const ss = (await WebAssembly.instantiateStreaming(fetch("screensaver.wasm"), {})).instance.exports;
     const p = new URLSearchParams(query);
+    ss.ss_detectors();
+    const names = new TextDecoder().decode(new Uint8Array(ss.memory.buffer, ss.ss_text_ptr(), ss.ss_text_len()));
+    const sweep = names.split(",").indexOf("sweep");
     if (p.has("scene")) {
       const bytes = new Uint8Array(await (await fetch(p.get("scene"))).arrayBuffer());
       const at = ss.ss_alloc(bytes.length);
       new Uint8Array(ss.memory.buffer, at, bytes.length).set(bytes);
-      ss.ss_load(at, bytes.length, at, 0, 0);
+      ss.ss_load(at, bytes.length, at, 0, sweep);
     } else {
-      ss.ss_generate(0, Number(p.get("lines")), Number(p.get("seed")), 0, 0);
+      ss.ss_generate(0, Number(p.get("lines")), Number(p.get("seed")), 0, sweep);
     }
     const started = performance.now();
     ss.ss_step(steps);
