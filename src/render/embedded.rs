@@ -76,7 +76,7 @@ struct Opened {
 /// Connects to the display and checks the window `target` names: that it
 /// exists and that its pixels are 24-bit true colour.
 fn open(target: Target) -> Result<Opened, String> {
-    super::window::check_display()?;
+    super::window::display_named()?;
     let (conn, screen_number) =
         x11rb::connect(None).map_err(|e| format!("cannot reach the X display: {e}"))?;
     let screen = &conn.setup().roots[screen_number];

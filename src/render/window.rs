@@ -74,17 +74,25 @@ pub struct Options {
     pub pace: Pace,
 }
 
-/// Fails, with a message that says what to do, when there is plainly no
-/// display to open a window on.
+/// Fails, with a message that says what to do, when there is no display
+/// to open a window on or it does not answer: a connection is made and
+/// dropped, so that a run reports it before it prints anything.
 pub fn check_display() -> Result<(), String> {
-    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
-    if set("DISPLAY") {
-        // A connection made and dropped: a display that does not answer is
-        // reported before the run prints anything.
-        x11rb::connect(None)
+    display_named()?;
+    match std::env::var_os("DISPLAY").is_some_and(|v| !v.is_empty()) {
+        true => x11rb::connect(None)
             .map(drop)
-            .map_err(|_| unreachable_display())
-    } else if set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
+            .map_err(|_| unreachable_display()),
+        false => Ok(()),
+    }
+}
+
+/// Fails, with a message that says what to do, when no display is named
+/// at all; the caller connects next and reports a display that does not
+/// answer.
+pub(super) fn display_named() -> Result<(), String> {
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    if set("DISPLAY") || set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
         Ok(())
     } else {
         Err("cannot open a window: no display (DISPLAY is not set); \
@@ -107,7 +115,7 @@ fn unreachable_display() -> String {
 /// window is closed or a signal stops it. Fails with a message when no
 /// window can be opened.
 pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), String> {
-    check_display()?;
+    display_named()?;
     let event_loop = EventLoop::new().map_err(|_| unreachable_display())?;
     let run = Simulation::start(scenes, options.pace);
     let mut app = App {
