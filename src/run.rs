@@ -108,7 +108,7 @@ pub enum RunError {
 /// The time now, where there is a clock to read: std's `Instant` panics in
 /// WebAssembly without a host, so a run there (the web page's, which times
 /// itself) reports no time.
-fn clock() -> Option<Instant> {
+pub(crate) fn clock() -> Option<Instant> {
     (!cfg!(all(target_arch = "wasm32", target_os = "unknown"))).then(Instant::now)
 }
 

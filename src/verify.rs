@@ -7,8 +7,9 @@
 use crate::detect::{Brute, Detector};
 use crate::line::{Line, DT};
 use crate::narrow::Event;
+use crate::run::clock;
 use crate::World;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// The first step at which a detector's events differed from the oracle's.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -127,12 +128,6 @@ impl Verifier {
             found: found.into_owned(),
         })
     }
-}
-
-/// The time now, where there is a clock (none in WebAssembly without a
-/// host, where `Instant` panics).
-fn clock() -> Option<Instant> {
-    (!cfg!(all(target_arch = "wasm32", target_os = "unknown"))).then(Instant::now)
 }
 
 #[cfg(test)]
