@@ -87,10 +87,16 @@ pub struct Resolver {
 
 impl Resolver {
     /// Resolves `events` (sorted by [`Event::order_key`]) on `lines`. Given
-    /// a `grain`, a step of at least that many events is resolved in waves,
-    /// those of at least a quarter of it on the current rayon pool.
-    pub fn resolve_all(&mut self, lines: &mut [Line], events: &[Event], grain: Option<usize>) {
-        let Some(grain) = grain.filter(|&g| events.len() >= g.max(1)) else {
+    /// a `team`, a step of at least `grain` events is resolved in waves,
+    /// those of at least a quarter of `grain` shared among the team.
+    pub fn resolve_all(
+        &mut self,
+        lines: &mut [Line],
+        events: &[Event],
+        grain: usize,
+        team: Option<&Team>,
+    ) {
+        let Some(team) = team.filter(|_| events.len() >= grain.max(1)) else {
             resolve_each(lines, events);
             return;
         };
@@ -98,39 +104,34 @@ impl Resolver {
         let grouped = take(&mut self.grouped);
         for w in 1..self.starts.len() - 1 {
             let wave = &grouped[self.starts[w]..self.starts[w + 1]];
-            self.resolve_wave(lines, wave, grain);
+            match wave.len() >= (grain / 4).max(1) {
+                true => self.resolve_wave(team, lines, wave),
+                false => resolve_each(lines, wave),
+            }
         }
         self.grouped = grouped;
     }
 
-    /// Resolves `wave`, events that share no line, in any order: on the
-    /// current rayon pool when it holds at least a quarter of `grain`.
-    fn resolve_wave(&mut self, lines: &mut [Line], wave: &[Event], grain: usize) {
-        if wave.len() < (grain / 4).max(1) {
-            resolve_each(lines, wave);
-            return;
-        }
-        use rayon::prelude::*;
+    /// Resolves `wave`, events that share no line, in any order, on `team`:
+    /// each piece works out the new velocities of a run of events, which
+    /// are then set in turn.
+    fn resolve_wave(&mut self, team: &Team, lines: &mut [Line], wave: &[Event]) {
         self.velocities.resize(wave.len(), Default::default());
+        let chunk = WAVE_CHUNK.max(wave.len().div_ceil(team::MAX_PIECES));
+        let pieces = wave.len().div_ceil(chunk);
         let shared: &[Line] = lines;
-        wave.par_chunks(WAVE_CHUNK)
-            .zip(self.velocities.par_chunks_mut(WAVE_CHUNK))
-            .for_each_init(
-                || Vec::with_capacity(WAVE_CHUNK),
-                |pairs, (events, out)| {
-                    // Copy the lines first, in a loop whose scattered reads
-                    // can all be in flight at once.
-                    pairs.clear();
-                    pairs.extend(
-                        events
-                            .iter()
-                            .map(|e| (shared[e.first as usize], shared[e.second as usize])),
-                    );
-                    for ((v, (l1, l2)), e) in out.iter_mut().zip(pairs.iter()).zip(events) {
-                        *v = respond(l1, l2, e.kind);
-                    }
-                },
-            );
+        let outs = team::Parts::new(self.velocities[..wave.len()].chunks_mut(chunk));
+        team.run_pieces(pieces, &|k| {
+            let events = &wave[k * chunk..((k + 1) * chunk).min(wave.len())];
+            // Copy the lines first, in a loop whose scattered reads can all
+            // be in flight at once.
+            let pairs: Vec<(Line, Line)> = (events.iter())
+                .map(|e| (shared[e.first as usize], shared[e.second as usize]))
+                .collect();
+            for ((v, (l1, l2)), e) in outs.take(k).iter_mut().zip(&pairs).zip(events) {
+                *v = respond(l1, l2, e.kind);
+            }
+        });
         for (e, &(v1, v2)) in wave.iter().zip(&self.velocities) {
             lines[e.first as usize].v = v1;
             lines[e.second as usize].v = v2;
@@ -139,7 +140,8 @@ impl Resolver {
 
     /// Resolves `events` as a detector found them, in any order, naming
     /// lines by place in `lines`; `by_id` holds the same events naming the
-    /// lines by id. Given a `grain`, as [`Resolver::resolve_all`] does.
+    /// lines by id. The tied events are resolved as
+    /// [`Resolver::resolve_all`] resolves them, with `grain` and `team`.
     ///
     /// An event whose lines take part in no other event commutes with
     /// every other, so those (most) are resolved as found, at once, in the
@@ -150,8 +152,7 @@ impl Resolver {
     /// would leave them, without a sort of every event or a read of the
     /// lines in the order of their ids.
     ///
-    /// Given a `team`, the free events (when there are many, and not so
-    /// many that the grain sends them to the pool) are resolved in place,
+    /// Given a `team`, the free events (when there are many) are resolved in place,
     /// each by the member whose share of the lines (as
     /// [`team::split_mut`] splits them) holds both its lines; the few
     /// whose lines lie in two shares after, on this thread.
@@ -160,7 +161,7 @@ impl Resolver {
         lines: &mut [Line],
         events: &[Event],
         by_id: &[Event],
-        grain: Option<usize>,
+        grain: usize,
         team: Option<&Team>,
     ) {
         debug_assert_eq!(events.len(), by_id.len());
@@ -187,11 +188,8 @@ impl Resolver {
             (shares[e.first as usize], shares[e.second as usize]) = (0, 0);
         }
         let shares = Schedule::resolution_shares(free.len(), self.team_min);
-        match (grain, team) {
-            (Some(grain), _) if free.len() >= (grain / 4).max(1) => {
-                self.resolve_wave(lines, &free, grain)
-            }
-            (_, Some(team)) if shares => self.resolve_by_share(team, lines, &free),
+        match team {
+            Some(team) if shares => self.resolve_by_share(team, lines, &free),
             _ => resolve_each(lines, &free),
         }
         // Pairs are unique, so an unstable sort gives the one sorted order.
@@ -199,7 +197,7 @@ impl Resolver {
         // The free events' buffer, now for the tied ones in order.
         free.clear();
         free.extend(tied.iter().map(|t| t.1));
-        self.resolve_all(lines, &free, grain);
+        self.resolve_all(lines, &free, grain, team);
         (self.free, self.tied) = (free, tied);
     }
 
@@ -479,7 +477,7 @@ mod tests {
         sort_unique(&mut events);
         let expected = one_by_one(&lines, &events);
         let mut got = lines;
-        Resolver::default().resolve_all(&mut got, &events, None);
+        Resolver::default().resolve_all(&mut got, &events, 1, None);
         assert!(velocity_bits(&got) == velocity_bits(&expected));
         assert_ne!(got[0].v, Vec2::new(0.1, 0.0), "the first line was resolved");
     }
@@ -487,8 +485,9 @@ mod tests {
     proptest::proptest! {
         /// Events found in any order on lines stored in any order leave
         /// every line exactly as resolving them one by one in id order
-        /// does, however they chain, on one thread or several (a rayon
-        /// pool, with a grain; a team, sharing every step's free events).
+        /// does, however they chain, on one thread or several (a team,
+        /// sharing every step's free events, and the tied ones in waves
+        /// from `grain` events).
         #[test]
         fn found_events_resolve_like_the_plain_loop(
             lines in proptest::collection::vec(
@@ -497,7 +496,7 @@ mod tests {
             ),
             pairs in proptest::collection::vec((0u32..40, 0u32..40, 0u8..3), 0..200),
             stride in 1u32..40,
-            grain in proptest::option::of(1usize..8),
+            grain in 1usize..8,
             team in proptest::option::of(2usize..5),
         ) {
             let (lines, mut by_id) = lines_and_events(&lines, &pairs);
@@ -525,15 +524,12 @@ mod tests {
                 })
                 .collect();
             let mut stored: Vec<Line> = ids.iter().map(|&id| lines[id as usize]).collect();
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap();
             let team = team.map(|threads| Team::new(threads).unwrap());
             let mut resolver = Resolver {
                 team_min: Some(1),
                 ..Resolver::default()
             };
-            pool.install(|| {
-                resolver.resolve_found(&mut stored, &found, &by_id, grain, team.as_ref())
-            });
+            resolver.resolve_found(&mut stored, &found, &by_id, grain, team.as_ref());
             let mut got = lines.clone();
             for (k, &id) in ids.iter().enumerate() {
                 got[id as usize] = stored[k];
@@ -556,10 +552,10 @@ mod tests {
         ) {
             let (lines, events) = lines_and_events(&lines, &pairs);
             let expected = one_by_one(&lines, &events);
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let team = Team::new(threads).unwrap();
             let mut got = lines;
             let mut resolver = Resolver::default();
-            pool.install(|| resolver.resolve_all(&mut got, &events, Some(grain)));
+            resolver.resolve_all(&mut got, &events, grain, Some(&team));
             proptest::prop_assert_eq!(velocity_bits(&got), velocity_bits(&expected));
         }
     }

@@ -22,10 +22,12 @@ impl Schedule {
     /// the lines it reads next.
     pub const MOVE_FROM: usize = 2048;
 
-    /// Grains of work up to which the world's own phases (moving the
-    /// lines, resolving the events) go to the team rather than rayon's
-    /// pool: 4,194,304 lines at the default grain. With a grain of a few
-    /// lines (as in tests) they go to the pool.
+    /// Grains of work (in lines) up to which the world moves the lines in
+    /// one share per thread: 4,194,304 lines at the default grain. Past it
+    /// the lines go in pieces of a grain, claimed by whichever thread is
+    /// free, so that a thread held up by another program leaves its part
+    /// to the others; below it a share per thread reads lines that stay in
+    /// one core's cache from step to step.
     pub const TEAM_GRAINS: usize = 256;
 
     /// Free events (see [`crate::response::Resolver::resolve_found`]) a
@@ -58,15 +60,23 @@ impl Schedule {
     }
 
     /// Whether the world's phases over `lines` lines go to the team: from
-    /// [`Schedule::MOVE_FROM`] (or [`Schedule::SWEEP_FROM`] once they are
-    /// in the detector's order) up to [`Schedule::TEAM_GRAINS`] grains of
-    /// `grain`.
-    pub fn world_shares(lines: usize, in_detector_order: bool, grain: usize) -> bool {
+    /// [`Schedule::MOVE_FROM`], or [`Schedule::SWEEP_FROM`] once they are
+    /// in the detector's order.
+    pub fn world_shares(lines: usize, in_detector_order: bool) -> bool {
         let least = match in_detector_order {
             true => Self::SWEEP_FROM,
             false => Self::MOVE_FROM,
         };
-        (least..Self::TEAM_GRAINS.saturating_mul(grain)).contains(&lines)
+        lines >= least
+    }
+
+    /// The pieces the world moves `lines` lines in on a team of `threads`
+    /// (see [`Schedule::TEAM_GRAINS`]).
+    pub fn world_pieces(lines: usize, grain: usize, threads: usize) -> usize {
+        match lines < Self::TEAM_GRAINS.saturating_mul(grain.max(1)) {
+            true => threads,
+            false => (lines / grain.max(1)).clamp(threads, crate::team::MAX_PIECES),
+        }
     }
 
     /// Whether the team resolves `free` events that share no line.
@@ -102,12 +112,13 @@ mod tests {
     fn the_thresholds_split_where_they_say() {
         assert!(!Schedule::sweep_shares(383) && Schedule::sweep_shares(384));
         let grain = 16_384;
-        assert!(!Schedule::world_shares(2047, false, grain));
-        assert!(Schedule::world_shares(2048, false, grain));
-        assert!(Schedule::world_shares(384, true, grain));
-        assert!(
-            !Schedule::world_shares(256 * grain, true, grain),
-            "the pool's"
+        assert!(!Schedule::world_shares(2047, false));
+        assert!(Schedule::world_shares(2048, false) && Schedule::world_shares(384, true));
+        assert_eq!(Schedule::world_pieces(256 * grain - 1, grain, 2), 2);
+        assert_eq!(Schedule::world_pieces(256 * grain, grain, 2), 256);
+        assert_eq!(
+            Schedule::world_pieces(1 << 30, 1, 2),
+            crate::team::MAX_PIECES
         );
         assert!(!Schedule::resolution_shares(127, None) && Schedule::resolution_shares(128, None));
         assert!(Schedule::resolution_shares(1, Some(1)));

@@ -97,7 +97,7 @@ impl Storage {
         lines: &mut [Line],
         resolver: &mut Resolver,
         by_id: &[Event],
-        grain: Option<usize>,
+        grain: usize,
         team: Option<&Team>,
     ) {
         resolver.resolve_found(lines, &self.slot_events, by_id, grain, team);
@@ -248,7 +248,7 @@ mod tests {
         assert_eq!(events, vec![e(4, 5), e(1, 3), e(0, 4)]);
         // Line 4 meets 0 and then 5, in the order of their ids.
         let mut resolver = Resolver::default();
-        storage.resolve(&mut stored, &mut resolver, &events, None, None);
+        storage.resolve(&mut stored, &mut resolver, &events, 1, None);
         let mut sorted = events.clone();
         sorted.sort_unstable_by_key(Event::order_key);
         for e in &sorted {

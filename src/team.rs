@@ -284,8 +284,14 @@ impl Team {
     /// [`Team::run`] of a job whose pieces each count something: returns
     /// the sum of the counts (the same in any order).
     pub fn run_sum(&self, job: &(dyn Fn(usize) -> u64 + Sync)) -> u64 {
+        self.run_pieces_sum(self.threads(), job)
+    }
+
+    /// [`Team::run_pieces`] of a job whose pieces each count something:
+    /// returns the sum of the counts (the same in any order).
+    pub fn run_pieces_sum(&self, pieces: usize, job: &(dyn Fn(usize) -> u64 + Sync)) -> u64 {
         let sum = AtomicU64::new(0);
-        self.run(&|k| {
+        self.run_pieces(pieces, &|k| {
             sum.fetch_add(job(k), Ordering::Relaxed);
         });
         sum.into_inner()

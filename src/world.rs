@@ -42,10 +42,8 @@ pub struct World {
     /// The smallest piece of work handed to a thread, in lines or events.
     grain: usize,
     timing: Option<PhaseTimes>,
-    /// The threads a step runs on, when more than one.
-    pool: Option<rayon::ThreadPool>,
-    /// The same number of threads as a team, for the sweep's phases, the
-    /// move and the resolution, at every size from a few thousand lines.
+    /// The threads a step runs on, when more than one: every parallel
+    /// phase, the detector's and the world's, runs on this team.
     team: Option<Arc<Team>>,
     /// The lines' ids by slot (see [`crate::storage`]): `lines` holds
     /// them by slot, in id order until the detector asks for its own.
@@ -102,7 +100,6 @@ impl World {
             resolver: Resolver::default(),
             grain: DEFAULT_GRAIN,
             timing: None,
-            pool: None,
             team: None,
             storage,
         }
@@ -138,48 +135,36 @@ impl World {
         Ok(world)
     }
 
-    /// Runs steps on `threads` threads (1: on the calling thread, with no
-    /// pool): the world's own phases and the detector's alike. Results are the same for any
-    /// number of threads.
+    /// Runs steps on `threads` threads (1: on the calling thread alone):
+    /// the world's own phases and the detector's alike, on one team.
+    /// Results are the same for any number of threads.
     pub fn set_threads(&mut self, threads: usize) -> Result<(), ThreadsError> {
-        self.pool = if threads > 1 {
-            Some(
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .map_err(|e| ThreadsError {
-                        threads,
-                        reason: e.to_string(),
-                    })?,
-            )
-        } else {
-            None
+        let team = match threads > 1 {
+            true => Some(Arc::new(Team::new(threads).map_err(|e| ThreadsError {
+                threads,
+                reason: e.to_string(),
+            })?)),
+            false => None,
         };
-        // The same number of threads as a team, for the sweep's phases,
-        // which the pool's hand-offs and chunks serve less well; without one
-        // (threads could not be started) the sweep runs on this thread.
-        let team = (threads > 1)
-            .then(|| Team::new(threads).ok().map(Arc::new))
-            .flatten();
         if let Some(team) = &team {
             team.set_timing(self.timing.is_some());
         }
-        self.detector.set_threads(threads, team.clone());
+        self.detector.set_threads(team.clone());
         self.team = team;
         Ok(())
     }
 
-    /// Sets the smallest piece of work the steps' own phases (sorting and
-    /// resolving events, moving lines, checking walls) hand to a thread:
-    /// `grain` events, or four times as many lines. The detector has its
-    /// own setting.
+    /// Sets the smallest piece of work the steps' own phases (resolving
+    /// events in waves, moving lines and checking walls in a large scene)
+    /// hand to a thread: `grain` events, or as many lines. The detector
+    /// has its own setting.
     pub fn set_grain(&mut self, grain: usize) {
         self.grain = grain.max(1);
     }
 
     /// Threads a step runs on.
     pub fn threads(&self) -> usize {
-        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
+        self.team.as_ref().map_or(1, |t| t.threads())
     }
 
     /// A world built from a scene (window coordinates converted to box
@@ -293,18 +278,6 @@ impl World {
 
     /// Runs one step: detect, resolve in `(first, second)` order, move, walls.
     pub fn step(&mut self) {
-        match self.pool.take() {
-            Some(pool) => {
-                pool.install(|| self.step_here(true));
-                self.pool = Some(pool);
-            }
-            None => self.step_here(false),
-        }
-    }
-
-    /// [`World::step`] on the current thread, or on the current rayon pool
-    /// where it pays if `parallel`.
-    fn step_here(&mut self, parallel: bool) {
         let t0 = self.timing.map(|_| Instant::now());
 
         // While the lines are in id order, slots are ids: the detector
@@ -323,33 +296,32 @@ impl World {
         let t1 = self.lap(t0, |t, d| t.detect += d);
         if reordered {
             self.storage.name_by_id(&mut self.events);
-        } else if parallel && self.events.len() >= self.grain {
-            // Pairs are unique, so an unstable sort gives the one order.
-            use rayon::slice::ParallelSliceMut;
-            self.events.par_sort_unstable_by_key(Event::order_key);
         } else {
+            // Pairs are unique, so an unstable sort gives the one order.
             self.events.sort_unstable_by_key(Event::order_key);
         }
         self.counters.line += self.events.len() as u64;
-        let grain = parallel.then_some(self.grain);
-        // The team, where the schedule shares the world's phases
-        // (`Schedule::world_shares`): it moves the lines and resolves the
-        // events, as the pool's pieces of one grain can fall unevenly to
-        // the threads (docs/DESIGN.md, "Tried and dropped").
+        // The team (a handle of its own: `self` is borrowed mutably below),
+        // for the world's phases where the schedule shares them.
         let n = self.lines.len();
-        // (A handle of its own: `self` is borrowed mutably below.)
-        let shares = Schedule::world_shares(n, reordered, self.grain);
-        let team = (self.team.clone()).filter(|_| shares);
-        let team = team.as_deref();
+        let team = self.team.clone();
+        let shared = team
+            .as_deref()
+            .filter(|_| Schedule::world_shares(n, reordered));
         match reordered {
             true => (self.storage).resolve(
                 &mut self.lines,
                 &mut self.resolver,
                 &self.events,
-                grain,
-                team,
+                self.grain,
+                shared,
             ),
-            false => (self.resolver).resolve_all(&mut self.lines, &self.events, grain),
+            false => (self.resolver).resolve_all(
+                &mut self.lines,
+                &self.events,
+                self.grain,
+                team.as_deref(),
+            ),
         }
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
@@ -357,21 +329,15 @@ impl World {
         // is moved, then checked, as the contract orders (the wall check
         // reads only the line's own new position).
         // The wall counter is a sum, the same in any order.
-        let parallel = parallel && n >= 4 * self.grain;
         let hits = if let Some(order) = self.detector.reorder() {
             // The lines stored in the detector's order as they move (see
             // `crate::storage`), a share per member of the team.
-            (self.storage).advance_in_order(&mut self.lines, &order, team)
-        } else if let Some(team) = team {
-            // A share of the lines (by slot) per member of the team.
-            let shares = crate::team::split_mut(&mut self.lines, team.threads());
-            team.run_sum(&|k| advance_and_bounce(shares.take(k)))
-        } else if parallel {
-            use rayon::prelude::*;
-            self.lines
-                .par_chunks_mut(self.grain)
-                .map(advance_and_bounce)
-                .sum()
+            (self.storage).advance_in_order(&mut self.lines, &order, shared)
+        } else if let Some(team) = shared {
+            // The lines (by slot) in as many pieces as the schedule says.
+            let pieces = Schedule::world_pieces(n, self.grain, team.threads());
+            let parts = crate::team::split_mut(&mut self.lines, pieces);
+            team.run_pieces_sum(pieces, &|k| advance_and_bounce(parts.take(k)))
         } else {
             advance_and_bounce(&mut self.lines)
         };
@@ -422,36 +388,23 @@ impl World {
     }
 
     /// Runs up to `n` steps, calling `after_step` after each; it may stop
-    /// the run early. The whole run happens inside the thread pool, which
-    /// spares each step the hand-off to the pool that [`World::step`] pays.
+    /// the run early. The team is woken first, so that its members are
+    /// spinning when the first step hands them work.
     pub fn run_with<B>(
         &mut self,
         n: u64,
-        mut after_step: impl FnMut(&mut World) -> std::ops::ControlFlow<B> + Send,
-    ) -> Option<B>
-    where
-        B: Send,
-    {
-        let mut run = |world: &mut World, parallel: bool| {
-            if let Some(team) = &world.team {
-                team.wake();
-            }
-            for _ in 0..n {
-                world.step_here(parallel);
-                if let std::ops::ControlFlow::Break(b) = after_step(world) {
-                    return Some(b);
-                }
-            }
-            None
-        };
-        match self.pool.take() {
-            Some(pool) => {
-                let outcome = pool.install(|| run(self, true));
-                self.pool = Some(pool);
-                outcome
-            }
-            None => run(self, false),
+        mut after_step: impl FnMut(&mut World) -> std::ops::ControlFlow<B>,
+    ) -> Option<B> {
+        if let Some(team) = &self.team {
+            team.wake();
         }
+        for _ in 0..n {
+            self.step();
+            if let std::ops::ControlFlow::Break(b) = after_step(self) {
+                return Some(b);
+            }
+        }
+        None
     }
 
     fn lap(

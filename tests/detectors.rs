@@ -219,7 +219,8 @@ fn thousands_of_lines_agree_with_the_oracle() {
 /// The sweep in bands over many steps, event for event with the oracle:
 /// boxes moving between bands and the layout kept from step to step, on
 /// one thread and on teams of two and three; with a grain of a few lines
-/// (the world's own phases on rayon's pool) for 130 steps.
+/// (the world's move in pieces of a few lines, claimed by whichever
+/// thread is free, and the tied events in waves) for 130 steps.
 #[test]
 fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
     use screensaver::generate::{generate, SceneKind};

@@ -55,7 +55,8 @@ fn any_thread_count_gives_the_same_bits() {
 }
 
 /// The sweep shares its phases among the team at this size with the
-/// default grain, and on rayon's pool with a grain of a few hundred lines.
+/// default grain, and moves the lines in pieces of a few hundred lines
+/// (claimed by whichever thread is free) with a grain of that size.
 #[test]
 fn the_sweep_gives_the_same_bits_on_any_thread_count() {
     let run = |threads, grain| {

@@ -84,13 +84,11 @@ pub trait Detector: Send {
     /// without phases.
     fn set_timing(&mut self, _on: bool) {}
 
-    /// Tells the detector the threads the world steps with
-    /// ([`World::set_threads`](crate::World::set_threads) calls it): how
-    /// many the step's rayon pool has, to split large phases over, and the
-    /// team of as many threads (`None`: one thread), for phases too small
-    /// for the pool's hand-offs. Detectors that do not split their work
-    /// ignore it.
-    fn set_threads(&mut self, _threads: usize, _team: Option<std::sync::Arc<crate::team::Team>>) {}
+    /// Hands the detector the team the world steps with
+    /// ([`World::set_threads`](crate::World::set_threads) calls it; `None`:
+    /// one thread), to split its large phases among. Detectors that do not
+    /// split their work ignore it.
+    fn set_threads(&mut self, _team: Option<std::sync::Arc<crate::team::Team>>) {}
 
     /// The time spent in each of the detector's own phases since timing was
     /// turned on, by name, in the order they run; together they make up

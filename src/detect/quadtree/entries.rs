@@ -5,16 +5,7 @@
 //! jump far).
 
 use super::grid::{Cells, LEVEL_MASK};
-
-/// Where a sort runs: on the calling thread, or split over the current
-/// rayon pool.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Threads {
-    /// On the calling thread.
-    One,
-    /// Split over the current rayon pool.
-    Pool,
-}
+use crate::team::{self, Parts, Team};
 
 /// A line in the tree: its key and its cells.
 #[derive(Clone, Copy, Debug, Default)]
@@ -144,17 +135,22 @@ impl Entries {
     /// step to the next, so the entries are mostly in order already: with
     /// few out of place they are fixed by insertion; with more, the ones out
     /// of place are taken out, sorted on their own and merged back, in time
-    /// close to linear; only a scramble gets a full sort (on all threads,
-    /// if `parallel`).
-    pub fn sort(&mut self, threads: Threads) {
-        let parallel = threads == Threads::Pool;
+    /// close to linear; only a scramble gets a full sort. Given a `team`,
+    /// the passes over every entry are shared among it.
+    pub fn sort(&mut self, team: Option<&Team>) {
         let n = self.list.len();
         let descent = |w: &[Entry]| w[1].key < w[0].key;
-        let descents = if parallel {
-            use rayon::prelude::*;
-            self.list.par_windows(2).filter(|w| descent(w)).count()
-        } else {
-            self.list.windows(2).filter(|w| descent(w)).count()
+        let descents = match team {
+            Some(team) => {
+                let list = &self.list;
+                let threads = team.threads();
+                team.run_sum(&|k| {
+                    let mine = team::share(n.saturating_sub(1), threads, k);
+                    let windows = list[mine.start..(mine.end + 1).min(n)].windows(2);
+                    windows.filter(|w| descent(w)).count() as u64
+                }) as usize
+            }
+            None => self.list.windows(2).filter(|w| descent(w)).count(),
         };
         if descents == 0 {
             return;
@@ -163,15 +159,12 @@ impl Entries {
             return;
         }
         if descents <= n / 8 {
-            self.merge_out_of_place(threads);
+            self.merge_out_of_place(team);
             return;
         }
-        if parallel {
-            use rayon::slice::ParallelSliceMut;
-            self.list.par_sort_unstable_by_key(|e| e.key);
-        } else {
-            radsort::sort_by_key(&mut self.list, |e| e.key);
-        }
+        // A scramble (the first step, or lines thrown far): rare enough
+        // to sort on this thread.
+        radsort::sort_by_key(&mut self.list, |e| e.key);
     }
 
     /// Takes the entries out of place out of the way, sorts them and merges
@@ -182,14 +175,9 @@ impl Entries {
     /// entries that is below the previous run's last, so that the kept
     /// entries of all runs, in turn, are in order. The entries moved aside
     /// are sorted and merged with the kept ones, each run's part on its own.
-    fn merge_out_of_place(&mut self, threads: Threads) {
-        let parallel = threads == Threads::Pool;
+    fn merge_out_of_place(&mut self, team: Option<&Team>) {
         let n = self.list.len();
-        let tasks = if parallel {
-            4 * rayon::current_num_threads()
-        } else {
-            1
-        };
+        let tasks = team.map_or(1, |team| 4 * team.threads());
         let chunk = n.div_ceil(tasks).max(1);
         let runs = n.div_ceil(chunk);
         self.runs.resize_with(runs, SortRun::default);
@@ -215,13 +203,13 @@ impl Entries {
             }
         };
         let runs = &mut self.runs[..runs];
-        if parallel {
-            use rayon::prelude::*;
-            entries
-                .par_chunks(chunk)
-                .zip(runs.par_iter_mut())
-                .enumerate()
-                .for_each(|(c, (part, run))| split(c * chunk, part, run));
+        if let Some(team) = team {
+            let pieces = runs.len();
+            let parts = Parts::new(runs.iter_mut());
+            team.run_pieces(pieces, &|c| {
+                let part = &entries[c * chunk..((c + 1) * chunk).min(n)];
+                split(c * chunk, part, parts.take(c));
+            });
         } else {
             for (c, (part, run)) in entries.chunks(chunk).zip(runs.iter_mut()).enumerate() {
                 split(c * chunk, part, run);
@@ -241,12 +229,7 @@ impl Entries {
                 last = e.key;
             }
         }
-        if parallel {
-            use rayon::slice::ParallelSliceMut;
-            movers.par_sort_unstable_by_key(|e| e.key);
-        } else {
-            radsort::sort_by_key(movers, |e| e.key);
-        }
+        radsort::sort_by_key(movers, |e| e.key);
 
         // Each run's part of the output: its kept entries and the movers
         // below the next run's first kept entry.
@@ -270,11 +253,13 @@ impl Entries {
         }
         let merge =
             |(kept, movers, out): (&[Entry], &[Entry], &mut [Entry])| merge_into(kept, movers, out);
-        if parallel {
-            use rayon::prelude::*;
-            parts.into_par_iter().for_each(merge);
-        } else {
-            parts.into_iter().for_each(merge);
+        match team {
+            Some(team) => {
+                let pieces = parts.len();
+                let parts = Parts::new(parts);
+                team.run_pieces(pieces, &|k| merge(parts.take(k)));
+            }
+            None => parts.into_iter().for_each(merge),
         }
     }
 }
@@ -305,13 +290,13 @@ mod tests {
             list: (0..1000u64).map(jumped).collect(),
             ..Entries::default()
         };
-        entries.sort(Threads::One);
+        entries.sort(None);
         assert_eq!(
             entries.list.iter().map(|e| e.key).collect::<Vec<_>>(),
             expected
         );
         entries.list = (0..1000u64).map(jumped).collect();
-        entries.sort(Threads::Pool);
+        entries.sort(Some(&Team::new(3).unwrap()));
         assert_eq!(
             entries.list.iter().map(|e| e.key).collect::<Vec<_>>(),
             expected
@@ -322,17 +307,16 @@ mod tests {
             list: reversed,
             ..Entries::default()
         };
-        entries.sort(Threads::One);
+        entries.sort(None);
         assert!(entries.list.windows(2).all(|w| w[0].key <= w[1].key));
     }
 
     /// Sets the entries to `make(0..n)` in place (in runs of
-    /// `chunk` on the current rayon pool, if given), as the detector does,
-    /// and sorts them.
+    /// `chunk` on `team`, if given), as the detector does, and sorts them.
     fn refill(
         entries: &mut Entries,
         n: usize,
-        chunk: Option<usize>,
+        team: Option<(&Team, usize)>,
         make: impl Fn(usize) -> Entry + Sync,
     ) {
         let fill = |first: usize, mut run: Refill<'_>| {
@@ -340,23 +324,16 @@ mod tests {
                 run.set(k, make(first + k));
             }
         };
-        match chunk {
-            Some(chunk) => {
-                use rayon::prelude::*;
-                entries
-                    .refill_in_place(n)
-                    .chunks(chunk)
-                    .into_par_iter()
-                    .enumerate()
-                    .for_each(|(c, run)| fill(c * chunk, run));
+        match team {
+            Some((team, chunk)) => {
+                let runs = entries.refill_in_place(n).chunks(chunk);
+                let pieces = runs.len();
+                let runs = Parts::new(runs);
+                team.run_pieces(pieces, &|c| fill(c * chunk, runs.take(c)));
             }
             None => fill(0, entries.refill_in_place(n)),
         }
-        entries.sort(if chunk.is_some() {
-            Threads::Pool
-        } else {
-            Threads::One
-        });
+        entries.sort(team.map(|(team, _)| team));
     }
 
     proptest::proptest! {
@@ -386,9 +363,9 @@ mod tests {
             // Lines added since the last refill have no place to keep.
             keys.extend(&added);
             let n = keys.len();
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-            let chunk = (threads > 1).then_some(64);
-            pool.install(|| refill(&mut entries, n, chunk, |i| mk(keys[i], i)));
+            let team = Team::new(threads).unwrap();
+            let shared = (threads > 1).then_some((&team, 64));
+            refill(&mut entries, n, shared, |i| mk(keys[i], i));
             let got: Vec<u64> = entries.list.iter().map(|e| e.key).collect();
             let mut expected = keys.clone();
             expected.sort_unstable();

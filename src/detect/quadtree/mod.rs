@@ -22,8 +22,10 @@ use super::swept::{swept_box, test_pair, test_wild, PairCounts, SweptBox};
 use super::{Detector, DetectorStats};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::narrow::Event;
-use entries::{Entry, Refill, Threads};
+use crate::team::{Parts, Team, MAX_PIECES};
+use entries::{Entry, Refill};
 use grid::{Cells, Grid};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 use tree::Tree;
 
@@ -72,7 +74,8 @@ type Clock = PhaseClock<{ Phase::ALL.len() }>;
 #[derive(Debug)]
 pub struct Quadtree {
     tree: Tree,
-    threads: usize,
+    /// The team to split large phases over (none: one thread).
+    team: Option<Arc<Team>>,
     grain: usize,
     grid: Grid,
     /// Every line's id, in the order slots are filled.
@@ -257,13 +260,13 @@ fn union(a: Option<SweptBox>, b: Option<SweptBox>) -> Option<SweptBox> {
 impl Quadtree {
     /// A quadtree tuned by `config`: its leaves hold at most
     /// `config.leaf_size` lines (at least 1) unless `config.max_depth` (at
-    /// most 15, the grid's finest level) stops the splitting. With
-    /// `config.threads` above 1 it splits its work on the current rayon
-    /// pool, in pieces of at least `config.grain` lines.
+    /// most 15, the grid's finest level) stops the splitting. Given a team
+    /// ([`Detector::set_threads`]), it splits its work among it, in pieces
+    /// of at least `config.grain` lines.
     pub fn new(config: &super::DetectorConfig) -> Self {
         Self {
             tree: Tree::new(config.leaf_size, config.max_depth),
-            threads: config.threads.max(1),
+            team: None,
             grain: config.grain.max(1),
             grid: Grid::over(&SweptBox {
                 min_x: BOX_MIN,
@@ -281,10 +284,6 @@ impl Quadtree {
             stats: DetectorStats::default(),
             clock: None,
         }
-    }
-
-    fn parallel(&self) -> bool {
-        self.threads > 1
     }
 
     /// With timing on, adds the time since the last lap to `phase`.
@@ -308,18 +307,21 @@ impl Quadtree {
         let chunk = self.parallel_chunk(n);
         let grid = (self.grid, self.tree.max_depth());
         let refill = self.tree.entries.refill_in_place(n);
-        let bounds = if let Some(chunk) = chunk {
-            use rayon::prelude::*;
-            self.order
-                .par_chunks(chunk)
-                .zip(self.slots.par_chunks_mut(chunk))
-                .zip(refill.chunks(chunk))
-                .zip(self.boxed.par_chunks_mut(chunk))
-                .enumerate()
-                .map(|(c, (((ids, slots), refill), boxed))| {
-                    fill_run(c * chunk, ids, lines, slots, refill, grid, boxed, dt)
-                })
-                .reduce(|| None, union)
+        let bounds = if let (Some(chunk), Some(team)) = (chunk, self.team.as_deref()) {
+            // A piece per chunk of slots, each with its own runs to fill.
+            let pieces = n.div_ceil(chunk);
+            let order = &self.order;
+            let slots = Parts::new(self.slots.chunks_mut(chunk));
+            let refills = Parts::new(refill.chunks(chunk));
+            let boxed = Parts::new(self.boxed.chunks_mut(chunk));
+            let mut unions = vec![None; pieces];
+            let outs = Parts::new(unions.iter_mut());
+            team.run_pieces(pieces, &|c| {
+                let ids = &order[c * chunk..((c + 1) * chunk).min(n)];
+                let (slots, refill, boxed) = (slots.take(c), refills.take(c), boxed.take(c));
+                *outs.take(c) = fill_run(c * chunk, ids, lines, slots, refill, grid, boxed, dt);
+            });
+            unions.into_iter().fold(None, union)
         } else {
             fill_run(
                 0,
@@ -368,14 +370,19 @@ impl Quadtree {
     fn reorder(&mut self) {
         // Slot `s` holds line `order[s]`: a small array to read, nearly in
         // order, where the slots themselves would be a large one.
-        let parallel = self.parallel_chunk(self.tree.entries.list.len()).is_some();
+        let chunk = self.parallel_chunk(self.tree.entries.list.len());
         let (order, entries) = (&self.order, &self.tree.entries.list);
         let id = |e: &Entry| order[e.cells.id as usize];
         let next = &mut self.next_order;
         next.clear();
-        if parallel {
-            use rayon::prelude::*;
-            next.par_extend(entries.par_iter().map(id));
+        if let (Some(chunk), Some(team)) = (chunk, self.team.as_deref()) {
+            next.resize(entries.len(), 0);
+            let parts = Parts::new(next.chunks_mut(chunk));
+            team.run_pieces(entries.len().div_ceil(chunk), &|c| {
+                let mine = parts.take(c);
+                let from = &entries[c * chunk..c * chunk + mine.len()];
+                mine.iter_mut().zip(from).for_each(|(to, e)| *to = id(e));
+            });
         } else {
             next.extend(entries.iter().map(id));
         }
@@ -384,9 +391,9 @@ impl Quadtree {
     }
 
     /// The chunk size to split `n` items' work into, if it is worth
-    /// splitting.
+    /// splitting (at most [`MAX_PIECES`] chunks).
     fn parallel_chunk(&self, n: usize) -> Option<usize> {
-        (self.parallel() && n >= 2 * self.grain).then_some(self.grain)
+        (self.team.is_some() && n >= 2 * self.grain).then(|| self.grain.max(n.div_ceil(MAX_PIECES)))
     }
 
     /// Builds the tree over this step's swept hulls (whose union is
@@ -409,15 +416,16 @@ impl Quadtree {
             self.lap(Phase::Fill);
         }
         let n = self.slots.len();
-        self.tree.entries.sort(match self.parallel_chunk(n) {
-            Some(_) => Threads::Pool,
-            None => Threads::One,
-        });
+        let team = self.team.as_deref();
+        self.tree
+            .entries
+            .sort(team.filter(|_| self.parallel_chunk(n).is_some()));
         self.tree.entries.list.truncate(n - self.unboxed.len());
         self.lap(Phase::Sort);
         let mut collector =
             EventCollector::new(&self.slots, &self.order, dt, std::mem::take(events));
-        self.tree.pairs(&mut collector, self.threads, self.grain);
+        self.tree
+            .pairs(&mut collector, self.team.as_deref(), self.grain);
         let found;
         (*events, found) = collector.finish();
         counts.add(&found);
@@ -459,8 +467,8 @@ impl Detector for Quadtree {
         self.clock = on.then(Clock::new);
     }
 
-    fn set_threads(&mut self, threads: usize, _team: Option<std::sync::Arc<crate::team::Team>>) {
-        self.threads = threads.max(1);
+    fn set_threads(&mut self, team: Option<Arc<Team>>) {
+        self.team = team;
     }
 
     fn phase_times(&self) -> Vec<(&'static str, Duration)> {

@@ -36,6 +36,7 @@
 use super::entries::Entries;
 use super::grid::GRID_LEVELS;
 use super::walk::{Collector, Scratch, Walk, WalkCounts};
+use crate::team::Team;
 
 /// The quadtree over a set of lines: their entries in key order and the
 /// buffers of the walks, reused from call to call.
@@ -70,12 +71,13 @@ impl Tree {
     }
 
     /// Hands `collector` once every pair of lines whose cells overlap
-    /// (entries must be sorted), on up to `threads` threads for trees of
-    /// at least `grain` lines (see [`Walk::new`]).
-    pub fn pairs<C: Collector>(&mut self, collector: &mut C, threads: usize, grain: usize) {
+    /// (entries must be sorted), shared among `team` for trees of at least
+    /// `grain` lines (see [`Walk::new`]).
+    pub fn pairs<C: Collector>(&mut self, collector: &mut C, team: Option<&Team>, grain: usize) {
         let entries = &self.entries.list;
+        let threads = team.map_or(1, Team::threads);
         let walk = Walk::new(entries, self.leaf_size, self.max_depth, threads, grain);
-        let counts = walk.run(&mut self.scratch, collector);
+        let counts = walk.run(&mut self.scratch, collector, team);
         self.counts.add(&counts);
     }
 }

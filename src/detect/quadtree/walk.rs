@@ -6,6 +6,7 @@
 
 use super::entries::Entry;
 use super::grid::{Block, Cells, GRID_LEVELS, LEVEL_BITS};
+use crate::team::{Parts, Team, MAX_PIECES};
 
 /// Where a walk's pairs go. Parallel walks give each task a fresh
 /// collector ([`Collector::fork`]) and merge them back in tree order
@@ -89,8 +90,7 @@ impl<'t> Walk<'t> {
     /// A walk over `entries` (sorted) of a tree whose leaves hold at most
     /// `leaf_size` lines unless `max_depth` stops the splitting. With
     /// `threads` above 1 and at least `grain` lines, subtrees are walked in
-    /// parallel on the current rayon pool, none smaller than `grain / 16`
-    /// lines.
+    /// tasks (see [`Walk::run`]), none smaller than `grain / 16` lines.
     pub(super) fn new(
         entries: &'t [Entry],
         leaf_size: usize,
@@ -117,16 +117,128 @@ impl<'t> Walk<'t> {
     }
 
     /// Hands `collector` once every pair of lines whose cells overlap;
-    /// returns what the walk did.
-    pub(super) fn run<C: Collector>(&self, scratch: &mut Scratch, collector: &mut C) -> WalkCounts {
+    /// returns what the walk did. Given a `team` and a tree large enough,
+    /// the walk is split into tasks that the team's threads claim.
+    pub(super) fn run<C: Collector>(
+        &self,
+        scratch: &mut Scratch,
+        collector: &mut C,
+        team: Option<&Team>,
+    ) -> WalkCounts {
         scratch.active.clear();
         scratch.counts = WalkCounts::default();
         let n = self.entries.len();
-        if n > 0 {
-            self.visit(scratch, collector, 0, n, 0, Block::root(), 0);
+        match team.filter(|_| self.parallel_min > 0) {
+            _ if n == 0 => {}
+            Some(team) => self.run_shared(team, scratch, collector),
+            None => self.visit(scratch, collector, 0, n, 0, Block::root(), 0),
         }
         scratch.counts
     }
+
+    /// The walk as tasks on `team`: the nodes too large for one task are
+    /// visited here, each handing its own misfits' pairs and its children
+    /// on as tasks; each task gets its own buffers and collector, merged
+    /// back in the tasks' order.
+    fn run_shared<C: Collector>(&self, team: &Team, scratch: &mut Scratch, collector: &mut C) {
+        let mut tasks = Vec::new();
+        let root = Task {
+            lo: 0,
+            hi: self.entries.len(),
+            level: 0,
+            block: Block::root(),
+            active: Vec::new(),
+            whole: true,
+        };
+        self.plan(&mut scratch.counts, &mut tasks, root);
+        for batch in tasks.chunks(MAX_PIECES) {
+            let mut done: Vec<Option<(Scratch, C)>> = batch.iter().map(|_| None).collect();
+            let outs = Parts::new(done.iter_mut());
+            let forks = Parts::new(batch.iter().map(|_| collector.fork()));
+            team.run_pieces(batch.len(), &|k| {
+                let (task, mut collector) = (&batch[k], forks.take(k));
+                let mut sub = Scratch {
+                    active: task.active.clone(),
+                    ..Scratch::default()
+                };
+                match task.whole {
+                    true => self.visit(
+                        &mut sub,
+                        &mut collector,
+                        task.lo,
+                        task.hi,
+                        task.level,
+                        task.block,
+                        0,
+                    ),
+                    false => {
+                        node_pairs(&mut sub, &mut collector, 0, &self.entries[task.lo..task.hi])
+                    }
+                }
+                *outs.take(k) = Some((sub, collector));
+            });
+            for (sub, sub_collector) in done.into_iter().flatten() {
+                scratch.counts.add(&sub.counts);
+                collector.join(sub_collector);
+            }
+        }
+    }
+
+    /// Splits the node `task` names into tasks: whole if it is small
+    /// enough (or a leaf), else its own misfits' pairs and its children's
+    /// tasks, counting the node here.
+    fn plan(&self, counts: &mut WalkCounts, tasks: &mut Vec<Task>, task: Task) {
+        let (lo, hi, level) = (task.lo, task.hi, task.level);
+        let leaf = hi - lo <= self.leaf_size || level >= self.max_depth;
+        let mid = if leaf {
+            hi
+        } else {
+            lo + self.misfits_end(lo, hi, level)
+        };
+        if leaf || hi - mid < self.parallel_min {
+            tasks.push(task);
+            return;
+        }
+        counts.nodes += 1;
+        counts.deepest = counts.deepest.max(level);
+        let mut reaching = task.active;
+        if mid > lo {
+            tasks.push(Task {
+                hi: mid,
+                active: reaching.clone(),
+                whole: false,
+                ..task
+            });
+        }
+        reaching.extend(self.entries[lo..mid].iter().map(|e| e.cells));
+        let bounds = self.child_runs(mid, hi, level);
+        for c in (0..4).filter(|&c| bounds[c] < bounds[c + 1]) {
+            let block = task.block.child(c);
+            let mut active = reaching.clone();
+            retain_from(&mut active, 0, |it| it.overlaps_block(&block));
+            let child = Task {
+                lo: bounds[c],
+                hi: bounds[c + 1],
+                level: level + 1,
+                block,
+                active,
+                whole: true,
+            };
+            self.plan(counts, tasks, child);
+        }
+    }
+}
+
+/// A piece of a shared walk: the subtree of `entries[lo..hi]` at `level`
+/// covering `block` (`whole`), or a node's own misfits there, with the
+/// misfits from above that reach it.
+struct Task {
+    lo: usize,
+    hi: usize,
+    level: u32,
+    block: Block,
+    active: Vec<Cells>,
+    whole: bool,
 }
 
 impl Walk<'_> {
@@ -160,70 +272,27 @@ impl Walk<'_> {
         scratch
             .active
             .extend(self.entries[lo..mid].iter().map(|e| e.cells));
-        let reaching = |active: &[Cells], child: &Block| -> Vec<Cells> {
-            let mut reaching = active.to_vec();
-            retain_from(&mut reaching, 0, |it| it.overlaps_block(child));
-            reaching
-        };
-
-        if self.parallel_min > 0 && hi - mid >= self.parallel_min {
-            // Each child a task with its own buffers and collector; results
-            // merged back in child order.
-            use rayon::prelude::*;
-            let tasks: Vec<(usize, usize, Block, Vec<Cells>, C)> = (0..4)
-                .filter(|&c| bounds[c] < bounds[c + 1])
-                .map(|c| {
-                    let child = block.child(c);
-                    let active = reaching(&scratch.active[active_lo..own_hi], &child);
-                    (bounds[c], bounds[c + 1], child, active, collector.fork())
-                })
-                .collect();
-            let done: Vec<(Scratch, C)> = tasks
-                .into_par_iter()
-                .map(|(c_lo, c_hi, child, active, mut sub_collector)| {
-                    let mut sub = Scratch {
-                        active,
-                        ..Scratch::default()
-                    };
-                    self.visit(
-                        &mut sub,
-                        &mut sub_collector,
-                        c_lo,
-                        c_hi,
-                        level + 1,
-                        child,
-                        0,
-                    );
-                    (sub, sub_collector)
-                })
-                .collect();
-            for (sub, sub_collector) in done {
-                scratch.counts.add(&sub.counts);
-                collector.join(sub_collector);
+        for c in 0..4 {
+            let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
+            if c_lo == c_hi {
+                continue;
             }
-        } else {
-            for c in 0..4 {
-                let (c_lo, c_hi) = (bounds[c], bounds[c + 1]);
-                if c_lo == c_hi {
-                    continue;
-                }
-                let child = block.child(c);
-                let child_active = scratch.active.len();
-                scratch.active.extend_from_within(active_lo..own_hi);
-                retain_from(&mut scratch.active, child_active, |it| {
-                    it.overlaps_block(&child)
-                });
-                self.visit(
-                    scratch,
-                    collector,
-                    c_lo,
-                    c_hi,
-                    level + 1,
-                    child,
-                    child_active,
-                );
-                scratch.active.truncate(child_active);
-            }
+            let child = block.child(c);
+            let child_active = scratch.active.len();
+            scratch.active.extend_from_within(active_lo..own_hi);
+            retain_from(&mut scratch.active, child_active, |it| {
+                it.overlaps_block(&child)
+            });
+            self.visit(
+                scratch,
+                collector,
+                c_lo,
+                c_hi,
+                level + 1,
+                child,
+                child_active,
+            );
+            scratch.active.truncate(child_active);
         }
         scratch.active.truncate(own_hi - (mid - lo));
     }

@@ -456,7 +456,7 @@ impl Detector for Sweep {
         self.clock = on.then(Clock::new);
     }
 
-    fn set_threads(&mut self, _threads: usize, team: Option<Arc<Team>>) {
+    fn set_threads(&mut self, team: Option<Arc<Team>>) {
         self.team = team.unwrap_or_default();
     }
 
@@ -483,7 +483,7 @@ mod tests {
             .collect();
         let mut events = Vec::new();
         let mut sweep = Sweep::default();
-        sweep.set_threads(2, Some(Arc::new(Team::new(2).expect("a team"))));
+        sweep.set_threads(Some(Arc::new(Team::new(2).expect("a team"))));
         sweep.detect(&lines, 0.5, &mut events);
         let steps: Vec<u64> = (0..40u64).filter(|_| sweep.reorder().is_some()).collect();
         let every = Schedule::STORE_EVERY;
