@@ -91,7 +91,7 @@ impl Vec2 {
 
     /// The fast path of [`Vec2::angle_difference_sign`]: `None` where it
     /// cannot be sure.
-    #[inline]
+    #[inline(always)]
     fn angle_order_fast(self, other: Self) -> Option<f64> {
         // The platform's atan2 is not correctly rounded: only ours may be
         // told apart by order alone.

@@ -37,7 +37,11 @@ impl Event {
 /// The contract's `intersect(l1, l2, dt)`: whether and how `l1` and `l2`
 /// meet in the next `dt`, holding `l1` still and sweeping `l2` by the
 /// relative velocity. The caller passes the line with the smaller id as `l1`.
-#[inline]
+///
+/// Always inlined: the exact test of every broad phase calls it once per
+/// pair that passes the prefilter, and as a call its arguments and the
+/// prefilter's results go through memory.
+#[inline(always)]
 pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
     let rel = l2.v - l1.v;
     let q1 = l2.p1 + rel * dt;

@@ -10,6 +10,8 @@ use crate::detect::swept::{test_ordered, PairCounts};
 use crate::line::{read_ahead, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::Event;
 use multiversion::multiversion;
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::_mm256_set1_ps;
 
 /// The exact test of the pairs a sweep finds, appending to `events` and
 /// counting in `counts`.
@@ -154,11 +156,10 @@ fn meet(
 /// Returns the pairs met (the candidates).
 ///
 /// Compiled for the baseline and for AVX2, chosen when the program
-/// starts. The baseline takes one candidate at a time; with AVX2 a box
-/// with two candidates or more takes them eight at a time
-/// ([`blocks::sweep_box`]), which on `koch` and `mit` cuts the sweep by a
-/// sixth, and the rest one at a time; in a `dense` scene every box takes
-/// them eight at a time (see `DENSE` in the parent module).
+/// starts; the scan is written once ([`sweep_with`]) over the masks of a
+/// block of eight boxes, which AVX2 makes in a few instructions
+/// ([`blocks`]), WebAssembly's SIMD in a few more, and the rest lane by
+/// lane ([`masks`]).
 #[cfg_attr(
     not(screensaver_baseline),
     multiversion(targets("x86_64+avx2+popcnt+bmi1"))
@@ -175,30 +176,66 @@ pub(crate) fn sweep(
     dense: bool,
     found: &mut Vec<(u32, u32)>,
 ) -> u64 {
-    let mut candidates = 0;
-    let from = multiversion::target::match_target! {
+    multiversion::target::match_target! {
         "x86_64+avx2+popcnt+bmi1" => {
-            // In a dense scene every box with a whole block after it takes
-            // one, with no branch on how many candidates it has.
-            let whole = range.end.min(keys.len().saturating_sub(8));
-            let mut i = range.start;
-            while dense && i < whole {
-                let hull = &hulls[i];
-                let end = hi(hull, along).min(f32::MAX);
-                let reach = reach(hull);
-                let start = blocks::sweep_box(keys, hulls, i, i + 1, end, &reach, found, &mut candidates);
-                let met = meet((keys, hulls), start, end, &reach, |j| found.push((i as u32, j)));
-                candidates += (met - start) as u64;
-                i += 1;
-            }
-            i
+            let masks = |end, reach: &Packed| {
+                let (end8, reach8) = (_mm256_set1_ps(end), bytemuck::cast(*reach));
+                move |k8: &[f32; BLOCK], h8: &[Packed; BLOCK]| {
+                    (blocks::within(k8, end8), blocks::overlapping(h8, reach8))
+                }
+            };
+            sweep_with(keys, hulls, range, along, dense, found, masks, true)
         }
-        _ => {
-            let _ = dense;
-            range.start
-        }
-    };
-    for i in from..range.end {
+        _ => sweep_with(keys, hulls, range, along, dense && DENSE_WITHOUT_AVX2, found, masks, false),
+    }
+}
+
+/// Whether a dense scene is scanned a block at a time where the processor
+/// lacks AVX2: where the block's masks take a few vector instructions
+/// (WebAssembly's SIMD) it pays as it does with AVX2, one lane at a time
+/// (x86-64's baseline, other targets) it does not (docs/PERFORMANCE.md,
+/// "The dense scan without AVX2").
+const DENSE_WITHOUT_AVX2: bool = cfg!(all(target_arch = "wasm32", target_feature = "simd128"));
+
+/// Boxes compared at a time by a block.
+const BLOCK: usize = 8;
+
+/// [`sweep`], given `masks(end, reach)`, which makes a box's masks of a
+/// block, `(keys, hulls)` to `(within, overlapping)`: bit `k` of the first
+/// set where `keys[k] <= end`, of the second where `hulls[k]` overlaps the
+/// box whose reach is `reach`. In a `dense` scene (see
+/// `DENSE` in the parent module) every box meets its candidates a block at
+/// a time, with no branch on how many it has; otherwise a box does so from
+/// two candidates on if `blocks_from_two`, and one at a time below.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn sweep_with<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
+    keys: &[f32],
+    hulls: &[Packed],
+    range: std::ops::Range<usize>,
+    along: usize,
+    dense: bool,
+    found: &mut Vec<(u32, u32)>,
+    masks: impl Fn(f32, &Packed) -> M,
+    blocks_from_two: bool,
+) -> u64 {
+    let mut candidates = 0;
+    // In a dense scene every box with a whole block after it takes one.
+    let whole = range.end.min(keys.len().saturating_sub(BLOCK));
+    let mut i = range.start;
+    while dense && i < whole {
+        let hull = &hulls[i];
+        let end = hi(hull, along).min(f32::MAX);
+        let reach = reach(hull);
+        let block = masks(end, &reach);
+        let start = sweep_box((keys, hulls), i, i + 1, found, &mut candidates, &block);
+        let met = meet((keys, hulls), start, end, &reach, |j| {
+            found.push((i as u32, j))
+        });
+        candidates += (met - start) as u64;
+        i += 1;
+    }
+    for i in i..range.end {
         let hull = &hulls[i];
         // Keys are at most f32::MAX, so a box reaching to +inf still
         // stops at the sentinel.
@@ -209,16 +246,13 @@ pub(crate) fn sweep(
             continue;
         }
         let reach = reach(hull);
-        let j = multiversion::target::match_target! {
-            "x86_64+avx2+popcnt+bmi1" => {
-                // A box with a single candidate is quicker one at a time.
-                if keys.get(i + 2).is_some_and(|&k| k <= end) {
-                    blocks::sweep_box(keys, hulls, i, i + 1, end, &reach, found, &mut candidates)
-                } else {
-                    i + 1
-                }
+        // A box with a single candidate is quicker one at a time.
+        let j = match blocks_from_two && keys.get(i + 2).is_some_and(|&k| k <= end) {
+            true => {
+                let block = masks(end, &reach);
+                sweep_box((keys, hulls), i, i + 1, found, &mut candidates, &block)
             }
-            _ => { i + 1 }
+            false => i + 1,
         };
         let met = meet((keys, hulls), j, end, &reach, |j| found.push((i as u32, j)));
         candidates += (met - j) as u64;
@@ -226,65 +260,112 @@ pub(crate) fn sweep(
     candidates
 }
 
-/// The sweep of one box eight boxes at a time, with AVX2.
+/// Sweeps box `i` against the boxes from `j` on, eight at a time: all
+/// eight keys are compared with its end and all eight hulls with its reach
+/// at once (`masks`, see [`sweep_with`]), and only the run of boxes from the
+/// first whose keys lie within the extent counts (past a band's sentinel
+/// the next band's keys start low again). The scan then ends with one
+/// branch that no predictor foresees per box, after one block for most
+/// boxes, instead of a branch per candidate. Returns the box to go on from
+/// one at a time: the end of the scan, or a box too near the end of the
+/// arrays for a whole block.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn sweep_box(
+    (keys, hulls): (&[f32], &[Packed]),
+    i: usize,
+    mut j: usize,
+    found: &mut Vec<(u32, u32)>,
+    candidates: &mut u64,
+    masks: &impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32),
+) -> usize {
+    while let (Some(k8), Some(h8)) = (keys.get(j..j + BLOCK), hulls.get(j..j + BLOCK)) {
+        let k8: &[f32; BLOCK] = k8.try_into().expect("a block of keys");
+        let h8: &[Packed; BLOCK] = h8.try_into().expect("a block of hulls");
+        let (within, overlapping) = masks(k8, h8);
+        // The run of ones from the lowest bit.
+        let run = (!within & within.wrapping_add(1)).wrapping_sub(1);
+        *candidates += u64::from(run.count_ones());
+        let mut hits = overlapping & run;
+        while hits != 0 {
+            found.push((i as u32, (j + hits.trailing_zeros() as usize) as u32));
+            hits &= hits - 1;
+        }
+        if run != (1 << BLOCK) - 1 {
+            // Past the run: the box that ends the scan.
+            return j + run.count_ones() as usize;
+        }
+        j += BLOCK;
+    }
+    j
+}
+
+/// The masks of a block (see [`sweep_with`]) with WebAssembly's 128-bit
+/// vectors: each hull's lanes beyond reach (NaN too) from two comparisons,
+/// packed to bytes as the AVX2 masks pack them, and a hull within reach
+/// exactly when its four bytes are zero.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+#[inline(always)]
+fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32) {
+    use core::arch::wasm32::{
+        f32x4, f32x4_le, f32x4_splat, i16x8_narrow_i32x4, i32x4_bitmask, i32x4_eq, i32x4_splat,
+        i8x16_narrow_i16x8, v128, v128_not, v128_or,
+    };
+    let half = |v: &[f32], k: usize| f32x4(v[k], v[k + 1], v[k + 2], v[k + 3]);
+    let end4 = f32x4_splat(end);
+    let (reach_lo, reach_hi) = (half(reach, 0), half(reach, 4));
+    move |keys, hulls| {
+        let within = |k| u32::from(i32x4_bitmask(f32x4_le(half(keys, k), end4)));
+        // Not at most (NaN too): beyond reach.
+        let beyond = |k: usize| -> v128 {
+            let lo = f32x4_le(half(&hulls[k], 0), reach_lo);
+            let hi = f32x4_le(half(&hulls[k], 4), reach_hi);
+            v128_or(v128_not(lo), v128_not(hi))
+        };
+        let quad = |k: usize| {
+            let low = i16x8_narrow_i32x4(beyond(k), beyond(k + 1));
+            let high = i16x8_narrow_i32x4(beyond(k + 2), beyond(k + 3));
+            let bytes = i8x16_narrow_i16x8(low, high);
+            u32::from(i32x4_bitmask(i32x4_eq(bytes, i32x4_splat(0))))
+        };
+        (within(0) | within(4) << 4, quad(0) | quad(4) << 4)
+    }
+}
+
+/// The masks of a block (see [`sweep_with`]) one lane at a time, for
+/// targets without a lane type of their own here.
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+#[inline(always)]
+fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32) {
+    let reach = *reach;
+    move |k8, h8| {
+        let (mut within, mut overlapping) = (0, 0);
+        for k in 0..BLOCK {
+            within |= u32::from(k8[k] <= end) << k;
+            overlapping |= u32::from(overlaps(&h8[k], &reach)) << k;
+        }
+        (within, overlapping)
+    }
+}
+
+/// The masks of a block (see [`sweep_with`]) with AVX2.
 #[cfg(target_arch = "x86_64")]
 mod blocks {
-    use super::Packed;
+    use super::{Packed, BLOCK};
     use std::arch::x86_64::{
         __m256, __m256i, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps,
         _mm256_cmpeq_epi32, _mm256_movemask_ps, _mm256_or_si256, _mm256_packs_epi16,
-        _mm256_packs_epi32, _mm256_permute2x128_si256, _mm256_set1_ps, _mm256_setzero_si256,
-        _CMP_LE_OQ, _CMP_NLE_UQ,
+        _mm256_packs_epi32, _mm256_permute2x128_si256, _mm256_setzero_si256, _CMP_LE_OQ,
+        _CMP_NLE_UQ,
     };
 
-    /// Boxes compared at a time.
-    const BLOCK: usize = 8;
-
-    /// Sweeps box `i` against the boxes from `j` on, eight at a time: all
-    /// eight keys are compared with `end` in one instruction and all eight
-    /// hulls with `reach`, and only the run of boxes from the first whose
-    /// keys lie within the extent counts (past a band's sentinel the next
-    /// band's keys start low again). The scan then ends with one branch
-    /// that no predictor foresees per box, after one block for most boxes,
-    /// instead of a branch per candidate. Returns the box to go on from
-    /// one at a time: the end of the scan, or a box too near the end of
-    /// the arrays for a whole block.
+    /// Which of eight keys are at most `end8`'s: bit `k` for `keys[k]`,
+    /// in one comparison.
     #[inline]
     #[target_feature(enable = "avx2")]
-    #[allow(clippy::too_many_arguments)]
-    pub(super) fn sweep_box(
-        keys: &[f32],
-        hulls: &[Packed],
-        i: usize,
-        mut j: usize,
-        end: f32,
-        reach: &Packed,
-        found: &mut Vec<(u32, u32)>,
-        candidates: &mut u64,
-    ) -> usize {
-        let end8 = _mm256_set1_ps(end);
-        let reach8: __m256 = bytemuck::cast(*reach);
-        while let (Some(k8), Some(h8)) = (keys.get(j..j + BLOCK), hulls.get(j..j + BLOCK)) {
-            let k8: [f32; BLOCK] = k8.try_into().expect("a block of keys");
-            let k8: __m256 = bytemuck::cast(k8);
-            let within = _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(k8, end8)) as u32;
-            // The run of ones from the lowest bit.
-            let run = (!within & within.wrapping_add(1)).wrapping_sub(1);
-            let h8: &[Packed; BLOCK] = h8.try_into().expect("a block of hulls");
-            let overlapping = overlapping(h8, reach8);
-            *candidates += u64::from(run.count_ones());
-            let mut hits = overlapping & run;
-            while hits != 0 {
-                found.push((i as u32, (j + hits.trailing_zeros() as usize) as u32));
-                hits &= hits - 1;
-            }
-            if run != (1 << BLOCK) - 1 {
-                // Past the run: the box that ends the scan.
-                return j + run.count_ones() as usize;
-            }
-            j += BLOCK;
-        }
-        j
+    pub(super) fn within(keys: &[f32; BLOCK], end8: __m256) -> u32 {
+        let k8: __m256 = bytemuck::cast(*keys);
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(k8, end8)) as u32
     }
 
     /// Which of eight hulls overlap the box whose reach is `reach8`: bit
@@ -325,7 +406,8 @@ mod tests {
     use super::*;
 
     proptest::proptest! {
-        /// Sorted boxes swept dense (eight at a time) and sparse meet the
+        /// Sorted boxes swept dense (eight at a time, by AVX2's masks and
+        /// by the target's own) and sparse meet the
         /// same candidates and find every overlapping pair, each once, as
         /// the all-pairs loop does: with NaN in any lane but those along
         /// the sweep too.
@@ -351,22 +433,27 @@ mod tests {
             hulls.sort_by(|a, b| a[along].total_cmp(&b[along]));
             let (found, met) = swept_sparse_and_dense(&hulls, along);
             proptest::prop_assert_eq!(met[0], met[1]);
+            proptest::prop_assert_eq!(met[0], met[2]);
             proptest::prop_assert_eq!(&found[0], &found[1]);
+            proptest::prop_assert_eq!(&found[0], &found[2]);
             proptest::prop_assert_eq!(&found[1], &all_overlapping(&hulls));
         }
     }
 
     /// The pairs `hulls` (sorted by key along `along`) swept sparse and
-    /// dense find, each list sorted, and the candidates each met.
-    fn swept_sparse_and_dense(hulls: &[Packed], along: usize) -> ([Vec<(u32, u32)>; 2], [u64; 2]) {
+    /// dense find, each list sorted, and the candidates each met: dense as
+    /// the processor's scan does it, and a block at a time by this
+    /// target's own masks, whether or not its scan uses them.
+    fn swept_sparse_and_dense(hulls: &[Packed], along: usize) -> ([Vec<(u32, u32)>; 3], [u64; 3]) {
         let keys: Vec<f32> = hulls.iter().map(|h| h[along]).collect();
-        let mut found = [Vec::new(), Vec::new()];
-        let mut met = [0, 0];
-        for dense in [false, true] {
-            let out = &mut found[usize::from(dense)];
-            met[usize::from(dense)] = sweep(&keys, hulls, 0..keys.len(), along, dense, out);
-            out.sort_unstable();
+        let mut found = [Vec::new(), Vec::new(), Vec::new()];
+        let mut met = [0, 0, 0];
+        for (k, dense) in [false, true].into_iter().enumerate() {
+            met[k] = sweep(&keys, hulls, 0..keys.len(), along, dense, &mut found[k]);
         }
+        let all = 0..keys.len();
+        met[2] = sweep_with(&keys, hulls, all, along, true, &mut found[2], masks, true);
+        found.iter_mut().for_each(|f| f.sort_unstable());
         (found, met)
     }
 
