@@ -70,8 +70,8 @@ impl SweptBox {
 }
 
 /// `min` without NaN handling: one instruction. Callers rule NaN out.
-#[inline]
-fn min(a: f64, b: f64) -> f64 {
+#[inline(always)]
+pub(crate) fn min(a: f64, b: f64) -> f64 {
     if a < b {
         a
     } else {
@@ -80,8 +80,8 @@ fn min(a: f64, b: f64) -> f64 {
 }
 
 /// `max` without NaN handling: one instruction. Callers rule NaN out.
-#[inline]
-fn max(a: f64, b: f64) -> f64 {
+#[inline(always)]
+pub(crate) fn max(a: f64, b: f64) -> f64 {
     if a > b {
         a
     } else {
@@ -133,31 +133,120 @@ pub const LARGEST: f64 = 1e30;
 /// reaches beyond `LARGEST` (1e30).
 #[inline]
 pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
-    // The sum is NaN or infinite if any input is (or, harmlessly, if it
-    // overflows: the line turns wild). Past this test nothing is NaN, so
-    // the cheap min and max are exact.
-    let sum = line.p1.x + line.p1.y + line.p2.x + line.p2.y + line.v.x + line.v.y;
-    let c = corners(line, dt);
-    let ([min_x, max_x, min_y, max_y], magnitude) = extent(&c);
-    if !(sum.is_finite() && magnitude <= LARGEST) {
-        return None;
+    let (lo, hi) = hull_bounds(line, dt)?;
+    Some(SweptBox {
+        min_x: lo[0],
+        min_y: lo[1],
+        min_u: lo[2],
+        min_w: lo[3],
+        max_x: hi[0],
+        max_y: hi[1],
+        max_u: hi[2],
+        max_w: hi[3],
+    })
+}
+
+/// A line's padded swept hull as its least and greatest values along `x`,
+/// `y`, `u` and `w`, `None` when it is not finite or reaches beyond
+/// [`LARGEST`]: [`padded_hull!`] on one line.
+#[inline(always)]
+pub(crate) fn hull_bounds(line: &Line, dt: f64) -> Option<([f64; 4], [f64; 4])> {
+    let (p1, p2, v) = (line.p1, line.p2, line.v);
+    let point = [p1.x, p1.y, p2.x, p2.y].map(One);
+    let (low, high, sum, magnitude) = padded_hull!(One, point, One(v.x), One(v.y), dt);
+    (sum.0.is_finite() && magnitude.0 <= LARGEST).then(|| (low.map(|l| l.0), high.map(|h| h.0)))
+}
+
+/// The padded swept hull of lines, written once over a lane type `$L`
+/// whose lanes are lines (one value of each line a lane; [`One`] for a
+/// line alone, the sweep's batches for four): given `[p1.x, p1.y, p2.x,
+/// p2.y]`, `v.x`, `v.y` and `dt`, gives the least and greatest values
+/// along `x`, `y`, `u` and `w`, padded, and the sum of the line's values
+/// and its magnitude, from which the caller tells whether the hull holds
+/// (the sum finite, the magnitude at most [`LARGEST`]). Every lane type
+/// performs the same operations in the same order, so each gives the
+/// same bits.
+///
+/// The corners one step ahead are the corners now moved by `d = v dt`:
+/// along `x` and `y` the extremes are found before adding `d` (rounding
+/// is monotone, so this is exactly the corners' extent); along the
+/// diagonals the sums differ from the corners' by a rounding, which the
+/// pad covers many times over. NaN anywhere makes the sum NaN, an
+/// infinite value makes it infinite or NaN; past that test every `min`
+/// and `max` (`a < b ? a : b`, `a > b ? a : b`) is exact.
+macro_rules! padded_hull {
+    ($L:ty, $point:expr, $vx:expr, $vy:expr, $dt:expr) => {{
+        use $crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
+        type L = $L;
+        let [ax, ay, bx, by]: [L; 4] = $point;
+        let (vx, vy): (L, L) = ($vx, $vy);
+        let dt = L::splat($dt);
+        let (dx, dy) = (vx.mul(dt), vy.mul(dt));
+        // A point's values along the four directions.
+        let project = |x: L, y: L| -> [L; 4] {
+            let (x_, y_) = (x.mul(L::splat(DIAGONAL_X)), y.mul(L::splat(DIAGONAL_Y)));
+            [x, y, x_.add(y_), x_.sub(y_)]
+        };
+        let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
+        // Plain loops: `array::from_fn` over closures is left as a call,
+        // compiled without a batch's target features (docs/DESIGN.md,
+        // "Tried and dropped").
+        let zero = L::splat(0.0);
+        let (mut lo, mut hi) = ([zero; 4], [zero; 4]);
+        for r in 0..4 {
+            lo[r] = a[r].min(b[r]).add(d[r].min(zero));
+            hi[r] = a[r].max(b[r]).add(d[r].max(zero));
+        }
+        let magnitude = (lo[0].neg().max(hi[0])).max(lo[1].neg().max(hi[1]));
+        let sum = ax.add(ay).add(bx).add(by).add(vx).add(vy);
+        // The pad; the diagonals reach (1180 + 800) times the magnitude,
+        // and so does their pad.
+        let pad = magnitude.mul(L::splat(PAD)).add(L::splat(1e-12));
+        let pad_diagonal = L::splat(DIAGONAL_X + DIAGONAL_Y).mul(pad);
+        let pads = [pad, pad, pad_diagonal, pad_diagonal];
+        let (mut low, mut high) = ([zero; 4], [zero; 4]);
+        for r in 0..4 {
+            low[r] = lo[r].sub(pads[r]);
+            high[r] = hi[r].add(pads[r]);
+        }
+        (low, high, sum, magnitude)
+    }};
+}
+pub(crate) use padded_hull;
+
+/// One line's value as a lane type of one lane, for [`padded_hull!`].
+#[derive(Clone, Copy)]
+pub(crate) struct One(pub f64);
+
+impl One {
+    #[inline(always)]
+    pub fn splat(x: f64) -> Self {
+        One(x)
     }
-    let u = c.map(|p| p.x * DIAGONAL_X + p.y * DIAGONAL_Y);
-    let w = c.map(|p| p.x * DIAGONAL_X - p.y * DIAGONAL_Y);
-    let pad = magnitude * PAD + 1e-12;
-    // The diagonals reach (1180 + 800) times the magnitude; so does their pad.
-    let pad_diagonal = (DIAGONAL_X + DIAGONAL_Y) * pad;
-    let b = SweptBox {
-        min_x: min_x - pad,
-        min_y: min_y - pad,
-        min_u: min(min(u[0], u[1]), min(u[2], u[3])) - pad_diagonal,
-        min_w: min(min(w[0], w[1]), min(w[2], w[3])) - pad_diagonal,
-        max_x: max_x + pad,
-        max_y: max_y + pad,
-        max_u: max(max(u[0], u[1]), max(u[2], u[3])) + pad_diagonal,
-        max_w: max(max(w[0], w[1]), max(w[2], w[3])) + pad_diagonal,
-    };
-    Some(b)
+    #[inline(always)]
+    pub fn add(self, o: Self) -> Self {
+        One(self.0 + o.0)
+    }
+    #[inline(always)]
+    pub fn sub(self, o: Self) -> Self {
+        One(self.0 - o.0)
+    }
+    #[inline(always)]
+    pub fn mul(self, o: Self) -> Self {
+        One(self.0 * o.0)
+    }
+    #[inline(always)]
+    pub fn min(self, o: Self) -> Self {
+        One(min(self.0, o.0))
+    }
+    #[inline(always)]
+    pub fn max(self, o: Self) -> Self {
+        One(max(self.0, o.0))
+    }
+    #[inline(always)]
+    pub fn neg(self) -> Self {
+        One(-self.0)
+    }
 }
 
 /// Relative padding of swept boxes: far above the rounding errors of the

@@ -18,7 +18,7 @@
 //! `f32` resolves, which the exact test behind the sweep turns down.
 
 use super::lanes;
-use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
+use crate::detect::swept::{hull_bounds, padded_hull};
 use crate::line::Line;
 use multiversion::multiversion;
 
@@ -39,9 +39,8 @@ pub(crate) const DIRECTIONS: usize = 4;
 /// value finite: the same bound as every detector's.
 pub(crate) use crate::detect::swept::LARGEST;
 
-/// A line's padded swept hull (see [`crate::detect::swept::swept_box`],
-/// whose bounds and padding it repeats) packed; `None` when the line is not
-/// finite or reaches beyond [`LARGEST`].
+/// A line's padded swept hull ([`hull_bounds`]) packed; `None` when the
+/// line is not finite or reaches beyond [`LARGEST`].
 ///
 /// The pad (`2^-20` of the magnitude `m`, and `1e-12`) is far wider than
 /// the rounding to `f32` (`2^-24` of a bound, which is at most about `2m`,
@@ -50,45 +49,7 @@ pub(crate) use crate::detect::swept::LARGEST;
 /// far more than the exact test's rounding errors (near `2^-50 m`).
 #[inline(always)]
 pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
-    let (p1, p2) = (line.p1, line.p2);
-    // The corners one step ahead are the corners now moved by `d`: along
-    // `x` and `y` the extremes are found before adding `d` (rounding is
-    // monotone, so this is exactly the corners' extent); along the
-    // diagonals the sums differ from the corners' by a rounding, which
-    // the pad covers many times over. The four directions are worked as
-    // one array, which the compiler turns into vector operations.
-    let d = line.v * dt;
-    let (a, b, d) = (project(p1.x, p1.y), project(p2.x, p2.y), project(d.x, d.y));
-    let mut lo = [0.0; DIRECTIONS];
-    let mut hi = [0.0; DIRECTIONS];
-    for k in 0..DIRECTIONS {
-        lo[k] = min(a[k], b[k]) + min(d[k], 0.0);
-        hi[k] = max(a[k], b[k]) + max(d[k], 0.0);
-    }
-    let magnitude = max(max(-lo[0], hi[0]), max(-lo[1], hi[1]));
-    // NaN anywhere makes the sum NaN; an infinite coordinate makes it
-    // infinite or NaN; past this test every min and max is exact.
-    let sum = p1.x + p1.y + p2.x + p2.y + line.v.x + line.v.y;
-    if !(sum.is_finite() && magnitude <= LARGEST) {
-        return None;
-    }
-    let pad = magnitude * PAD + 1e-12;
-    // The diagonals reach (1180 + 800) times the magnitude; so does their pad.
-    let pad_diagonal = (DIAGONAL_X + DIAGONAL_Y) * pad;
-    let pads = [pad, pad, pad_diagonal, pad_diagonal];
-    let mut packed = [0.0; 8];
-    for k in 0..DIRECTIONS {
-        packed[k] = (lo[k] - pads[k]) as f32;
-        packed[k + DIRECTIONS] = -(hi[k] + pads[k]) as f32;
-    }
-    Some(packed)
-}
-
-/// A point's coordinates along the four directions `x`, `y`, `u`, `w`.
-#[inline(always)]
-fn project(x: f64, y: f64) -> [f64; DIRECTIONS] {
-    let (x_, y_) = (x * DIAGONAL_X, y * DIAGONAL_Y);
-    [x, y, x_ + y_, x_ - y_]
+    hull_bounds(line, dt).map(|(lo, hi)| pack(lo, hi))
 }
 
 /// Makes the packed hull of each line `slots[k]` into `hulls[k]`, and its
@@ -166,14 +127,13 @@ fn make_each_avx2<'a>(
 /// Lines whose hulls the widest batch makes at once.
 pub(crate) const LANES: usize = 4;
 
-/// The batch: [`of_line`] of a lane type's width of lines at once (up to
-/// [`LANES`]), each value a lane of
-/// a lane type ([`super::lanes`]), the same operations on each line in the
-/// same order. Writes each line's packed hull and key (least value along
-/// `along`, or [`NO_KEY`]). Written once here and stamped out for each
-/// lane type, with the attributes its target needs (a macro rather than a
-/// generic function, so that the AVX2 copy is compiled with AVX2 and calls
-/// the lane type's AVX2 operations without `unsafe`).
+/// The batch: [`padded_hull!`] of a lane type's width of lines at once
+/// (up to [`LANES`]), each value a lane of a lane type
+/// ([`super::lanes`]). Writes each line's packed hull and key (least
+/// value along `along`, or [`NO_KEY`]). Stamped out for each lane type,
+/// with the attributes its target needs (a macro rather than a generic
+/// function, so that the AVX2 copy is compiled with AVX2 and calls the
+/// lane type's AVX2 operations without `unsafe`).
 macro_rules! batch {
     ($(#[$attr:meta])* fn $name:ident($lanes:ty)) => {
         $(#[$attr])*
@@ -185,35 +145,9 @@ macro_rules! batch {
             keys: &mut [f32],
         ) {
             type L = $lanes;
-            let [ax, ay, bx, by] = L::points(batch);
+            let point = L::points(batch);
             let (vx, vy) = (L::gather(batch.map(|l| l.v.x)), L::gather(batch.map(|l| l.v.y)));
-            let dt = L::splat(dt);
-            let (dx, dy) = (vx.mul(dt), vy.mul(dt));
-            // The four directions of each point, as `project` makes them.
-            let project = |x: L, y: L| -> [L; DIRECTIONS] {
-                let (x_, y_) = (x.mul(L::splat(DIAGONAL_X)), y.mul(L::splat(DIAGONAL_Y)));
-                [x, y, x_.add(y_), x_.sub(y_)]
-            };
-            let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
-            // Plain loops: `array::from_fn` over closures is left as a
-            // call, compiled without the batch's target features
-            // (docs/DESIGN.md, "Tried and dropped").
-            let zero = L::splat(0.0);
-            let (mut lo, mut hi) = ([zero; DIRECTIONS], [zero; DIRECTIONS]);
-            for r in 0..DIRECTIONS {
-                lo[r] = a[r].min(b[r]).add(d[r].min(zero));
-                hi[r] = a[r].max(b[r]).add(d[r].max(zero));
-            }
-            let magnitude = (lo[0].neg().max(hi[0])).max(lo[1].neg().max(hi[1]));
-            let sum = ax.add(ay).add(bx).add(by).add(vx).add(vy);
-            let pad = magnitude.mul(L::splat(PAD)).add(L::splat(1e-12));
-            let pad_diagonal = L::splat(DIAGONAL_X + DIAGONAL_Y).mul(pad);
-            let pads = [pad, pad, pad_diagonal, pad_diagonal];
-            let (mut low, mut high) = ([zero; DIRECTIONS], [zero; DIRECTIONS]);
-            for r in 0..DIRECTIONS {
-                low[r] = lo[r].sub(pads[r]);
-                high[r] = hi[r].add(pads[r]);
-            }
+            let (low, high, sum, magnitude) = padded_hull!($lanes, point, vx, vy, dt);
             let valid = L::valid(sum, magnitude, LARGEST);
             L::store(low, high, valid, along, hulls, keys);
         }
@@ -271,26 +205,6 @@ fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
             lo(hull, along)
         }
         None => NO_KEY,
-    }
-}
-
-/// `min` without NaN handling: one instruction.
-#[inline(always)]
-fn min(a: f64, b: f64) -> f64 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-/// `max` without NaN handling: one instruction.
-#[inline(always)]
-fn max(a: f64, b: f64) -> f64 {
-    if a > b {
-        a
-    } else {
-        b
     }
 }
 
