@@ -339,7 +339,7 @@ fn compare_events(
         );
     }
     for e in brute.iter().filter(|e| !fast.contains(e)) {
-        let (l1, l2) = (&before[e.first as usize], &before[e.second as usize]);
+        let (l1, l2) = (&before[e.first.0 as usize], &before[e.second.0 as usize]);
         if crate::narrow::is_sliver(l1, l2, DT) {
             // The documented exception (the contract's last section):
             // counted, and fuzzing goes on past it.
@@ -387,7 +387,7 @@ pub fn step(bytes: &[u8]) {
         }
         for e in events.iter() {
             assert!(
-                e.first < e.second && (e.second as usize) < n,
+                e.first < e.second && (e.second.0 as usize) < n,
                 "step {step}: bad ids in {e:?} among {n} lines"
             );
         }

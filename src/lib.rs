@@ -46,6 +46,7 @@ mod fnv;
 pub mod fuzz_checks;
 pub mod generate;
 pub(crate) mod geometry;
+pub(crate) mod index;
 #[cfg(feature = "window")]
 pub mod job;
 pub(crate) mod line;
@@ -122,6 +123,7 @@ pub(crate) fn plural(n: u64, thing: &str) -> String {
 
 pub use detect::{DetectorConfig, DetectorKind, DetectorStats};
 pub use geometry::Vec2;
+pub use index::{LineId, Slot};
 pub use line::{Color, Line};
 pub use narrow::{intersect, Event, IntersectionKind};
 pub use output::OutputError;

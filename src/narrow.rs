@@ -1,6 +1,7 @@
 //! The narrow phase: the exact test of one pair of lines, `intersect`.
 
 use crate::geometry::{inside_parallelogram, segments_cross, Vec2};
+pub use crate::index::{LineId, Slot};
 use crate::line::Line;
 
 /// How two lines meet during a step.
@@ -14,14 +15,16 @@ pub enum IntersectionKind {
     L2WithL1,
 }
 
-/// A collision found by a detector: the ids of the two lines, lower first,
-/// and how they meet.
+/// A collision: the two lines, the one with the lower id first, and how
+/// they meet. The lines are named by id ([`LineId`], the default, as
+/// every result gives them) or, inside a step, by the slots the world
+/// stores them at ([`Slot`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub struct Event {
-    /// Id of the line with the smaller id.
-    pub first: u32,
-    /// Id of the line with the larger id.
-    pub second: u32,
+pub struct Event<I = LineId> {
+    /// The line with the smaller id.
+    pub first: I,
+    /// The line with the larger id.
+    pub second: I,
     /// How they meet.
     pub kind: IntersectionKind,
 }
@@ -30,7 +33,19 @@ impl Event {
     /// The key events are resolved in: ascending `(first, second)`.
     #[inline]
     pub fn order_key(&self) -> u64 {
-        (u64::from(self.first) << 32) | u64::from(self.second)
+        (u64::from(self.first.0) << 32) | u64::from(self.second.0)
+    }
+}
+
+impl<I> Event<I> {
+    /// The same event with its lines named by `name`.
+    #[inline]
+    pub(crate) fn named<J>(&self, name: impl Fn(&I) -> J) -> Event<J> {
+        Event {
+            first: name(&self.first),
+            second: name(&self.second),
+            kind: self.kind,
+        }
     }
 }
 
@@ -313,8 +328,8 @@ mod tests {
     #[test]
     fn event_order_key_sorts_by_first_then_second() {
         let e = |first, second| Event {
-            first,
-            second,
+            first: LineId(first),
+            second: LineId(second),
             kind: IntersectionKind::L1WithL2,
         };
         assert!(e(1, 9).order_key() < e(2, 3).order_key());

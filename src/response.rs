@@ -1,6 +1,7 @@
 //! Collision response: new velocities for the two lines of one event.
 
 use crate::geometry::{crossing_point, Vec2};
+use crate::index::{Index, Slot};
 use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::{Event, IntersectionKind};
 use crate::schedule::Schedule;
@@ -10,8 +11,8 @@ use std::mem::take;
 /// Applies the response to one event. Only velocities change; positions are
 /// read as they are at the start of the step.
 #[inline]
-pub fn resolve(lines: &mut [Line], event: &Event) {
-    let (i, j) = (event.first as usize, event.second as usize);
+pub fn resolve<I: Index>(lines: &mut [Line], event: &Event<I>) {
+    let (i, j) = (event.first.at(), event.second.at());
     let (v1, v2) = respond(&lines[i], &lines[j], event.kind);
     lines[i].v = v1;
     lines[j].v = v2;
@@ -20,25 +21,22 @@ pub fn resolve(lines: &mut [Line], event: &Event) {
 /// Resolves `events` one after another. In scenes larger than the cache,
 /// the lines of the event [`READ_AHEAD`] places on are read ahead, as the
 /// events' lines lie anywhere in memory.
-fn resolve_each(lines: &mut [Line], events: &[Event]) {
+fn resolve_each(lines: &mut [Line], events: &[Event<Slot>]) {
     resolve_each_in(lines, 0, lines.len(), events);
 }
 
-/// [`resolve_each`] on the lines from `first` on of a scene of `n`
-/// lines, which `lines` holds.
-fn resolve_each_in(lines: &mut [Line], first: usize, n: usize, events: &[Event]) {
+/// [`resolve_each`] on the lines from slot `first` on of a scene of `n`
+/// lines, which `lines` holds (so that the line in slot `s` is at
+/// `lines[s - first]`).
+fn resolve_each_in(lines: &mut [Line], first: usize, n: usize, events: &[Event<Slot>]) {
     let ahead = n >= LARGE_SCENE;
     let first = first as u32;
     for (k, event) in events.iter().enumerate() {
         if let Some(next) = events.get(k + READ_AHEAD).filter(|_| ahead) {
-            read_ahead(&lines[(next.first - first) as usize]);
-            read_ahead(&lines[(next.second - first) as usize]);
+            read_ahead(&lines[(next.first.0 - first) as usize]);
+            read_ahead(&lines[(next.second.0 - first) as usize]);
         }
-        let here = Event {
-            first: event.first - first,
-            second: event.second - first,
-            kind: event.kind,
-        };
+        let here = event.named(|s| Slot(s.0 - first));
         resolve(lines, &here);
     }
 }
@@ -66,7 +64,7 @@ pub struct Resolver {
     /// Where each wave starts in `grouped`, by wave number.
     starts: Vec<usize>,
     /// The events grouped by wave, in order within each wave.
-    grouped: Vec<Event>,
+    grouped: Vec<Event<Slot>>,
     /// A wave's new velocities, by event.
     velocities: Vec<(Vec2, Vec2)>,
     /// Per line: how many of the step's events it takes part in, up to
@@ -74,12 +72,12 @@ pub struct Resolver {
     shares: Vec<u8>,
     /// There, the events that share no line with another, and the others
     /// with their order key by id.
-    free: Vec<Event>,
-    tied: Vec<(u64, Event)>,
+    free: Vec<Event<Slot>>,
+    tied: Vec<(u64, Event<Slot>)>,
     /// There, with a team, the free events whose lines both lie in one
     /// member's share of the lines, by share; and the others.
-    by_share: Vec<Vec<Event>>,
-    across: Vec<Event>,
+    by_share: Vec<Vec<Event<Slot>>>,
+    across: Vec<Event<Slot>>,
     /// Free events a step must have before a team shares them, if not
     /// [`Schedule::RESOLVE_FROM`] (tests share fewer).
     team_min: Option<usize>,
@@ -92,7 +90,7 @@ impl Resolver {
     pub fn resolve_all(
         &mut self,
         lines: &mut [Line],
-        events: &[Event],
+        events: &[Event<Slot>],
         grain: usize,
         team: Option<&Team>,
     ) {
@@ -115,7 +113,7 @@ impl Resolver {
     /// Resolves `wave`, events that share no line, in any order, on `team`:
     /// each piece works out the new velocities of a run of events, which
     /// are then set in turn.
-    fn resolve_wave(&mut self, team: &Team, lines: &mut [Line], wave: &[Event]) {
+    fn resolve_wave(&mut self, team: &Team, lines: &mut [Line], wave: &[Event<Slot>]) {
         self.velocities.resize(wave.len(), Default::default());
         let chunk = WAVE_CHUNK.max(wave.len().div_ceil(team::MAX_PIECES));
         let pieces = wave.len().div_ceil(chunk);
@@ -126,15 +124,15 @@ impl Resolver {
             // Copy the lines first, in a loop whose scattered reads can all
             // be in flight at once.
             let pairs: Vec<(Line, Line)> = (events.iter())
-                .map(|e| (shared[e.first as usize], shared[e.second as usize]))
+                .map(|e| (shared[e.first.at()], shared[e.second.at()]))
                 .collect();
             for ((v, (l1, l2)), e) in outs.take(k).iter_mut().zip(&pairs).zip(events) {
                 *v = respond(l1, l2, e.kind);
             }
         });
         for (e, &(v1, v2)) in wave.iter().zip(&self.velocities) {
-            lines[e.first as usize].v = v1;
-            lines[e.second as usize].v = v2;
+            lines[e.first.at()].v = v1;
+            lines[e.second.at()].v = v2;
         }
     }
 
@@ -159,7 +157,7 @@ impl Resolver {
     pub fn resolve_found(
         &mut self,
         lines: &mut [Line],
-        events: &[Event],
+        events: &[Event<Slot>],
         by_id: &[Event],
         grain: usize,
         team: Option<&Team>,
@@ -169,7 +167,7 @@ impl Resolver {
         shares.resize(lines.len(), 0);
         for e in events {
             for line in [e.first, e.second] {
-                let s = &mut shares[line as usize];
+                let s = &mut shares[line.at()];
                 *s = (*s + 1).min(2);
             }
         }
@@ -177,7 +175,7 @@ impl Resolver {
         free.clear();
         tied.clear();
         for (e, named) in events.iter().zip(by_id) {
-            let (a, b) = (e.first as usize, e.second as usize);
+            let (a, b) = (e.first.at(), e.second.at());
             if shares[a] == 2 || shares[b] == 2 {
                 tied.push((named.order_key(), *e));
             } else {
@@ -185,7 +183,7 @@ impl Resolver {
             }
         }
         for e in events {
-            (shares[e.first as usize], shares[e.second as usize]) = (0, 0);
+            (shares[e.first.at()], shares[e.second.at()]) = (0, 0);
         }
         let shares = Schedule::resolution_shares(free.len(), self.team_min);
         match team {
@@ -203,7 +201,7 @@ impl Resolver {
 
     /// Resolves `free` events, which share no line, on `team`: see
     /// [`Resolver::resolve_found`].
-    fn resolve_by_share(&mut self, team: &Team, lines: &mut [Line], free: &[Event]) {
+    fn resolve_by_share(&mut self, team: &Team, lines: &mut [Line], free: &[Event<Slot>]) {
         let (n, threads) = (lines.len(), team.threads());
         let starts: Vec<usize> = (0..=threads).map(|k| n * k / threads).collect();
         debug_assert!((0..threads).all(|k| starts[k] == team::share(n, threads, k).start));
@@ -212,8 +210,8 @@ impl Resolver {
         self.by_share.iter_mut().for_each(Vec::clear);
         self.across.clear();
         for e in free {
-            let share = share_of(e.first);
-            match share == share_of(e.second) {
+            let share = share_of(e.first.0);
+            match share == share_of(e.second.0) {
                 true => self.by_share[share].push(*e),
                 false => self.across.push(*e),
             }
@@ -229,14 +227,14 @@ impl Resolver {
     /// Sets `grouped` to the events by wave (and in order within each) and
     /// `starts[w]` to where wave `w` begins, for waves 1 and up; `starts`
     /// ends with the total.
-    fn group_by_wave(&mut self, lines: usize, events: &[Event]) {
+    fn group_by_wave(&mut self, lines: usize, events: &[Event<Slot>]) {
         self.line_wave.resize(lines, 0);
         self.wave.clear();
         // Counts per wave, at index wave + 1, turned into starts below.
         self.starts.clear();
         self.starts.resize(2, 0);
         for e in events {
-            let (a, b) = (e.first as usize, e.second as usize);
+            let (a, b) = (e.first.at(), e.second.at());
             let w = 1 + self.line_wave[a].max(self.line_wave[b]);
             self.line_wave[a] = w;
             self.line_wave[b] = w;
@@ -248,8 +246,8 @@ impl Resolver {
             self.starts[slot] += 1;
         }
         for e in events {
-            self.line_wave[e.first as usize] = 0;
-            self.line_wave[e.second as usize] = 0;
+            self.line_wave[e.first.at()] = 0;
+            self.line_wave[e.second.at()] = 0;
         }
         for w in 1..self.starts.len() {
             self.starts[w] += self.starts[w - 1];
@@ -302,6 +300,7 @@ pub fn respond(l1: &Line, l2: &Line, kind: IntersectionKind) -> (Vec2, Vec2) {
 mod tests {
     use super::*;
     use crate::geometry::Vec2;
+    use crate::index::LineId;
     use crate::test_util::line;
 
     #[test]
@@ -365,8 +364,8 @@ mod tests {
             line((0.0, 1.0), (1.0, 1.0), (0.0, -2.0)),
         ];
         let event = Event {
-            first: 0,
-            second: 2,
+            first: LineId(0),
+            second: LineId(2),
             kind: IntersectionKind::L1WithL2,
         };
         resolve(&mut lines, &event);
@@ -406,8 +405,8 @@ mod tests {
             .map(|&(a, b, k)| (a % n, b % n, k))
             .filter(|(a, b, _)| a != b)
             .map(|(a, b, k)| Event {
-                first: a.min(b),
-                second: a.max(b),
+                first: LineId(a.min(b)),
+                second: LineId(a.max(b)),
                 kind: kinds[k as usize],
             })
             .collect();
@@ -419,6 +418,11 @@ mod tests {
     fn sort_unique(events: &mut Vec<Event>) {
         events.sort_unstable_by_key(Event::order_key);
         events.dedup_by_key(|e| e.order_key());
+    }
+
+    /// `events` on lines stored by id, by slot.
+    fn by_slot(events: &[Event]) -> Vec<Event<Slot>> {
+        events.iter().map(|e| e.named(|id| Slot(id.0))).collect()
     }
 
     /// `lines` after resolving `events` one by one.
@@ -462,22 +466,22 @@ mod tests {
             .map(|k| {
                 let (a, b) = ((k * 7919) % n, (k * 104_729 + 13) % n);
                 Event {
-                    first: a.min(b),
-                    second: a.max(b),
+                    first: LineId(a.min(b)),
+                    second: LineId(a.max(b)),
                     kind: kinds[k as usize % 3],
                 }
             })
             .filter(|e| e.first != e.second)
             .chain([Event {
-                first: 0,
-                second: n - 1,
+                first: LineId(0),
+                second: LineId(n - 1),
                 kind: IntersectionKind::L1WithL2,
             }])
             .collect();
         sort_unique(&mut events);
         let expected = one_by_one(&lines, &events);
         let mut got = lines;
-        Resolver::default().resolve_all(&mut got, &events, 1, None);
+        Resolver::default().resolve_all(&mut got, &by_slot(&events), 1, None);
         assert!(velocity_bits(&got) == velocity_bits(&expected));
         assert_ne!(got[0].v, Vec2::new(0.1, 0.0), "the first line was resolved");
     }
@@ -515,13 +519,9 @@ mod tests {
             }
             // Found in another order: the events reversed, by slot.
             by_id.reverse();
-            let found: Vec<Event> = by_id
+            let found: Vec<Event<Slot>> = by_id
                 .iter()
-                .map(|e| Event {
-                    first: slot[e.first as usize],
-                    second: slot[e.second as usize],
-                    kind: e.kind,
-                })
+                .map(|e| e.named(|id| Slot(slot[id.0 as usize])))
                 .collect();
             let mut stored: Vec<Line> = ids.iter().map(|&id| lines[id as usize]).collect();
             let team = team.map(|threads| Team::new(threads).unwrap());
@@ -555,7 +555,7 @@ mod tests {
             let team = Team::new(threads).unwrap();
             let mut got = lines;
             let mut resolver = Resolver::default();
-            resolver.resolve_all(&mut got, &events, grain, Some(&team));
+            resolver.resolve_all(&mut got, &by_slot(&events), grain, Some(&team));
             proptest::prop_assert_eq!(velocity_bits(&got), velocity_bits(&expected));
         }
     }

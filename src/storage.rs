@@ -26,26 +26,25 @@
 //!
 //! [`Detector::reorder`]: crate::detect::Detector::reorder
 
+use crate::detect::Stored;
+use crate::index::{Index, LineId, Slot};
 use crate::line::Line;
 use crate::motion::advance_and_bounce;
 use crate::narrow::Event;
-use crate::response::Resolver;
 use crate::team::{self, Team};
 use std::borrow::Cow;
 
 /// Lines copied and moved at a time (6 KB of them).
 const BLOCK: usize = 128;
 
-/// The slots' ids and the buffers that reorder lines and events.
+/// The slots' ids and the buffers that reorder the lines.
 #[derive(Debug, Default)]
 pub(crate) struct Storage {
     /// The id of the line in each slot.
-    ids: Vec<u32>,
+    ids: Vec<LineId>,
     /// The next order's lines and ids, exchanged with the current ones.
     spare: Vec<Line>,
-    spare_ids: Vec<u32>,
-    /// This step's events by slot, as the detector found them.
-    slot_events: Vec<Event>,
+    spare_ids: Vec<LineId>,
     /// Whether the lines have left id order (a detector's order was
     /// applied).
     reordered: bool,
@@ -55,13 +54,13 @@ impl Storage {
     /// Lines stored in id order: slot `k` holds line `k`, `n` in all.
     pub(crate) fn new(n: usize) -> Self {
         Storage {
-            ids: (0..n as u32).collect(),
+            ids: (0..n as u32).map(LineId).collect(),
             ..Storage::default()
         }
     }
 
     /// The id of the line in each slot.
-    pub(crate) fn ids(&self) -> &[u32] {
+    pub(crate) fn ids(&self) -> &[LineId] {
         &self.ids
     }
 
@@ -71,36 +70,19 @@ impl Storage {
         self.reordered
     }
 
-    /// What the detector is handed: the id of the line in each slot, and
-    /// the events of this step by slot to fill (emptied).
-    pub(crate) fn for_detector(&mut self) -> (&[u32], &mut Vec<Event>) {
-        self.slot_events.clear();
-        (&self.ids, &mut self.slot_events)
+    /// What the detector is handed: `lines`, stored here, with their ids.
+    pub(crate) fn stored<'a>(&'a self, lines: &'a [Line]) -> Stored<'a> {
+        match self.reordered {
+            true => Stored::by_slot(lines, &self.ids),
+            false => Stored::by_id(lines),
+        }
     }
 
-    /// Appends the events the detector found to `events`, naming the
-    /// lines by id, in the order found.
-    pub(crate) fn name_by_id(&self, events: &mut Vec<Event>) {
+    /// Appends `found`, events by slot, to `events`, naming the lines by
+    /// id, in the order found.
+    pub(crate) fn name_by_id(&self, found: &[Event<Slot>], events: &mut Vec<Event>) {
         let ids = &self.ids;
-        events.extend(self.slot_events.iter().map(|e| Event {
-            first: ids[e.first as usize],
-            second: ids[e.second as usize],
-            kind: e.kind,
-        }));
-    }
-
-    /// Resolves the events the detector found on `lines`, by slot, with
-    /// `resolver` (see [`Resolver::resolve_found`]); `by_id` holds them as
-    /// [`Storage::name_by_id`] named them.
-    pub(crate) fn resolve(
-        &self,
-        lines: &mut [Line],
-        resolver: &mut Resolver,
-        by_id: &[Event],
-        grain: usize,
-        team: Option<&Team>,
-    ) {
-        resolver.resolve_found(lines, &self.slot_events, by_id, grain, team);
+        events.extend(found.iter().map(|e| e.named(|s| ids[s.at()])));
     }
 
     /// Moves every line and bounces it off the walls, storing it in the
@@ -114,23 +96,23 @@ impl Storage {
     pub(crate) fn advance_in_order(
         &mut self,
         lines: &mut Vec<Line>,
-        order: &[u32],
+        order: &[Slot],
         team: Option<&Team>,
     ) -> u64 {
         let n = lines.len();
         assert_eq!(order.len(), n, "one slot for every line");
         debug_assert!(is_permutation(order), "every slot once");
         self.spare.resize(n, Line::default());
-        self.spare_ids.resize(n, 0);
+        self.spare_ids.resize(n, LineId::default());
         let (from, from_ids) = (&lines[..], &self.ids[..]);
         // A block at a time, moved while its copies are at hand.
-        let fill = |order: &[u32], to: &mut [Line], to_ids: &mut [u32]| {
+        let fill = |order: &[Slot], to: &mut [Line], to_ids: &mut [LineId]| {
             let mut hits = 0;
             let blocks = order.chunks(BLOCK).zip(to.chunks_mut(BLOCK));
             for ((order, to), to_ids) in blocks.zip(to_ids.chunks_mut(BLOCK)) {
                 for ((&slot, line), id) in order.iter().zip(&mut *to).zip(to_ids) {
-                    *line = from[slot as usize];
-                    *id = from_ids[slot as usize];
+                    *line = from[slot.at()];
+                    *id = from_ids[slot.at()];
                 }
                 hits += advance_and_bounce(to);
             }
@@ -162,18 +144,18 @@ impl Storage {
         }
         let mut out = vec![Line::default(); lines.len()];
         for (line, &id) in lines.iter().zip(&self.ids) {
-            out[id as usize] = *line;
+            out[id.at()] = *line;
         }
         Cow::Owned(out)
     }
 }
 
-/// Whether `order` holds each of `0..order.len()` once.
-fn is_permutation(order: &[u32]) -> bool {
+/// Whether `order` holds each slot of `0..order.len()` once.
+fn is_permutation(order: &[Slot]) -> bool {
     let mut seen = vec![false; order.len()];
     order
         .iter()
-        .all(|&k| !std::mem::replace(&mut seen[k as usize], true))
+        .all(|&k| !std::mem::replace(&mut seen[k.at()], true))
 }
 
 #[cfg(test)]
@@ -207,22 +189,23 @@ mod tests {
             let mut storage = Storage::new(n);
             // Two reorderings in a row: reversed, then odd slots first.
             assert!(!storage.reordered());
-            let order: Vec<u32> = (0..n as u32).rev().collect();
+            let order: Vec<Slot> = (0..n as u32).rev().map(Slot).collect();
             let hits = storage.advance_in_order(&mut stored, &order, team.as_ref());
             assert_eq!(hits, expected_hits);
             assert!(storage.reordered());
-            assert_eq!(storage.ids()[0], n as u32 - 1);
+            assert_eq!(storage.ids()[0], LineId(n as u32 - 1));
             assert_eq!(storage.by_id(&stored)[..], by_id[..]);
-            let order: Vec<u32> = (1..n as u32)
+            let order: Vec<Slot> = (1..n as u32)
                 .step_by(2)
                 .chain((0..n as u32).step_by(2))
+                .map(Slot)
                 .collect();
             storage.advance_in_order(&mut stored, &order, team.as_ref());
             let mut twice = by_id.clone();
             advance_and_bounce(&mut twice);
             assert_eq!(storage.by_id(&stored)[..], twice[..]);
             for (slot, &id) in storage.ids().iter().enumerate() {
-                assert_eq!(stored[slot], twice[id as usize]);
+                assert_eq!(stored[slot], twice[id.at()]);
             }
         }
     }
@@ -232,7 +215,8 @@ mod tests {
         let start = lines(6);
         let mut stored = start.clone();
         let mut storage = Storage::new(6);
-        storage.advance_in_order(&mut stored, &[5, 4, 3, 2, 1, 0], None);
+        let reversed = [5, 4, 3, 2, 1, 0].map(Slot);
+        storage.advance_in_order(&mut stored, &reversed, None);
         let mut by_id = start;
         advance_and_bounce(&mut by_id);
         // Slot k now holds line 5 - k; events name the lower id first.
@@ -242,13 +226,14 @@ mod tests {
             second,
             kind,
         };
-        storage.for_detector().1.extend([e(1, 0), e(4, 2), e(5, 1)]);
+        let found = [e(1, 0), e(4, 2), e(5, 1)].map(|e| e.named(|&s| Slot(s)));
         let mut events = Vec::new();
-        storage.name_by_id(&mut events);
-        assert_eq!(events, vec![e(4, 5), e(1, 3), e(0, 4)]);
+        storage.name_by_id(&found, &mut events);
+        let want = [e(4, 5), e(1, 3), e(0, 4)].map(|e| e.named(|&id| LineId(id)));
+        assert_eq!(events, want);
         // Line 4 meets 0 and then 5, in the order of their ids.
-        let mut resolver = Resolver::default();
-        storage.resolve(&mut stored, &mut resolver, &events, 1, None);
+        let mut resolver = crate::response::Resolver::default();
+        resolver.resolve_found(&mut stored, &found, &events, 1, None);
         let mut sorted = events.clone();
         sorted.sort_unstable_by_key(Event::order_key);
         for e in &sorted {

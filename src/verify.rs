@@ -4,7 +4,8 @@
 //! only by sliver events (the contract's documented exception), which are
 //! counted.
 
-use crate::detect::{Brute, Detector};
+use crate::detect::{Brute, Detector, Findings, Stored};
+use crate::index::{Index, Slot};
 use crate::line::{Line, DT};
 use crate::narrow::Event;
 use crate::run::clock;
@@ -64,7 +65,7 @@ pub(crate) struct Verifier {
 impl Verifier {
     /// A verifier against the all-pairs detector.
     pub fn new() -> Verifier {
-        Verifier::against(Box::new(Brute::default()))
+        Verifier::against(Box::new(Brute))
     }
 
     /// A verifier against `oracle`.
@@ -82,8 +83,11 @@ impl Verifier {
     pub fn before_step(&mut self, world: &World) {
         let started = clock();
         let lines = world.lines().into_owned();
-        let mut events = Vec::new();
-        self.oracle.detect(&lines, DT, &mut events);
+        let mut found = Findings::default();
+        self.oracle.detect(Stored::by_id(&lines), DT, &mut found);
+        // Stored by id: slots are ids.
+        let by_id = |e: &Event<Slot>| e.named(|s| s.as_id());
+        let mut events: Vec<Event> = found.events.iter().map(by_id).collect();
         events.sort_unstable_by_key(Event::order_key);
         self.expected = Some(Expected { events, lines });
         self.time += started.map_or(Duration::ZERO, |s| s.elapsed());
@@ -114,9 +118,8 @@ impl Verifier {
             .filter(|e| !found.contains(e))
             .copied()
             .collect();
-        let sliver = |e: &Event| {
-            crate::narrow::is_sliver(&before[e.first as usize], &before[e.second as usize], DT)
-        };
+        let sliver =
+            |e: &Event| crate::narrow::is_sliver(&before[e.first.at()], &before[e.second.at()], DT);
         if !extra && missing.iter().all(sliver) {
             self.slivers += missing.len() as u64;
             self.first_sliver = self.first_sliver.or(Some((world.steps(), missing[0])));
@@ -125,7 +128,7 @@ impl Verifier {
         Err(Mismatch {
             step: world.steps(),
             expected,
-            found: found.into_owned(),
+            found,
         })
     }
 }
@@ -133,7 +136,6 @@ impl Verifier {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::detect::DetectorStats;
     use crate::line::Color;
     use crate::test_util::line;
     use crate::DetectorKind;
@@ -141,13 +143,7 @@ mod tests {
     /// A detector that never finds anything, to see a mismatch reported.
     struct Blind;
     impl Detector for Blind {
-        fn name(&self) -> &'static str {
-            "blind"
-        }
-        fn detect(&mut self, _: &[Line], _: f64, _: &mut Vec<Event>) {}
-        fn stats(&self) -> DetectorStats {
-            DetectorStats::default()
-        }
+        fn detect(&mut self, _: Stored<'_>, _: f64, _: &mut Findings) {}
     }
 
     /// Runs `steps` steps of `world` checked by `verifier`; the first
@@ -214,7 +210,7 @@ mod tests {
         assert_eq!(
             verifier
                 .first_sliver
-                .map(|(step, e)| (step, e.first, e.second)),
+                .map(|(step, e)| (step, e.first.0, e.second.0)),
             Some((1, 0, 1))
         );
         // A missing event that is no sliver is a mismatch all the same.

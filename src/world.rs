@@ -3,10 +3,12 @@
 
 use crate::checkpoint::{self, Checkpoint};
 pub use crate::counters::Counters;
-use crate::detect::{Detector, DetectorConfig, DetectorKind, DetectorStats, DEFAULT_GRAIN};
+use crate::detect::{
+    Detector, DetectorConfig, DetectorKind, DetectorStats, Findings, PairCounts, DEFAULT_GRAIN,
+};
 use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, DT};
 use crate::motion::advance_and_bounce;
-use crate::narrow::Event;
+use crate::narrow::{Event, Slot};
 use crate::response::Resolver;
 use crate::scene::Scene;
 use crate::schedule::Schedule;
@@ -35,9 +37,18 @@ pub struct World {
     counters: Counters,
     steps: u64,
     detector: Box<dyn Detector>,
-    /// The last step's events by id: sorted in the order of resolution
-    /// while the lines are in id order, else in the order found.
+    /// What the last step's detection found: its events by slot (sorted in
+    /// the order of resolution while the lines are in id order, else in
+    /// the order found).
+    found: Findings,
+    /// Once the lines are in the detector's order, the last step's events
+    /// by id, in the order found; `named` says whether the last step
+    /// named them so (else `found` holds them, slots being ids).
     events: Vec<Event>,
+    named: bool,
+    /// The pair work of every step so far, and the events found.
+    pairs: PairCounts,
+    events_found: u64,
     resolver: Resolver,
     /// The smallest piece of work handed to a thread, in lines or events.
     grain: usize,
@@ -96,7 +107,11 @@ impl World {
             counters: Counters::default(),
             steps: 0,
             detector,
+            found: Findings::default(),
             events: Vec::new(),
+            named: false,
+            pairs: PairCounts::default(),
+            events_found: 0,
             resolver: Resolver::default(),
             grain: DEFAULT_GRAIN,
             timing: None,
@@ -210,7 +225,7 @@ impl World {
         let ids = self.storage.ids();
         (self.lines.iter())
             .zip(ids)
-            .map(move |(line, &id)| (line, self.colors[id as usize]))
+            .map(move |(line, &id)| (line, self.colors[id.0 as usize]))
     }
 
     /// The colour of each line, indexed by id.
@@ -233,21 +248,29 @@ impl World {
         self.detector.as_ref()
     }
 
-    /// The detector's own counters.
+    /// The broad phase's counters: the pairs its detector handed on and
+    /// the events found, with the detector's own.
     pub fn detector_stats(&self) -> DetectorStats {
-        self.detector.stats()
+        DetectorStats {
+            candidate_pairs: self.pairs.candidates,
+            exact_tests: self.pairs.exact,
+            events: self.events_found,
+            ..self.detector.stats()
+        }
     }
 
     /// Events of the last step, sorted in the contract's order of
     /// resolution (ascending ids).
-    pub fn last_events(&self) -> Cow<'_, [Event]> {
-        if !self.storage.reordered() {
-            return Cow::Borrowed(&self.events);
+    pub fn last_events(&self) -> Vec<Event> {
+        if !self.named {
+            // Slots were ids, and the events are sorted already.
+            let by_id = |e: &Event<Slot>| e.named(|s| s.as_id());
+            return self.found.events.iter().map(by_id).collect();
         }
         // Kept in the order found (see `crate::storage`).
         let mut events = self.events.clone();
         events.sort_unstable_by_key(Event::order_key);
-        Cow::Owned(events)
+        events
     }
 
     /// Turns per-phase timing on or off, the detector's own phases included
@@ -280,27 +303,29 @@ impl World {
     pub fn step(&mut self) {
         let t0 = self.timing.map(|_| Instant::now());
 
-        // While the lines are in id order, slots are ids: the detector
-        // reads them as they are, and its events are sorted to be resolved
-        // in order; once they are in its own order, its events by slot are
-        // named by id and resolved as found, without a sort (see
-        // `crate::storage`).
+        // While the lines are in id order, slots are ids: the events are
+        // sorted to be resolved in order; once the lines are in the
+        // detector's order, its events by slot are named by id and
+        // resolved as found, without a sort (see `crate::storage`).
         let reordered = self.storage.reordered();
-        self.events.clear();
-        if reordered {
-            let (ids, found) = self.storage.for_detector();
-            self.detector.detect_stored(&self.lines, ids, DT, found);
-        } else {
-            self.detector.detect(&self.lines, DT, &mut self.events);
-        }
+        self.found.clear();
+        let stored = self.storage.stored(&self.lines);
+        self.detector.detect(stored, DT, &mut self.found);
         let t1 = self.lap(t0, |t, d| t.detect += d);
+        let found = &mut self.found;
+        self.events.clear();
+        self.named = reordered;
         if reordered {
-            self.storage.name_by_id(&mut self.events);
+            self.storage.name_by_id(&found.events, &mut self.events);
         } else {
             // Pairs are unique, so an unstable sort gives the one order.
-            self.events.sort_unstable_by_key(Event::order_key);
+            found
+                .events
+                .sort_unstable_by_key(|e| e.named(|s| s.as_id()).order_key());
         }
-        self.counters.line += self.events.len() as u64;
+        self.pairs.add(&found.counts);
+        self.events_found += found.events.len() as u64;
+        self.counters.line += found.events.len() as u64;
         // The team (a handle of its own: `self` is borrowed mutably below),
         // for the world's phases where the schedule shares them.
         let n = self.lines.len();
@@ -308,20 +333,10 @@ impl World {
         let shared = team
             .as_deref()
             .filter(|_| Schedule::world_shares(n, reordered));
+        let (lines, found) = (&mut self.lines, &self.found.events);
         match reordered {
-            true => (self.storage).resolve(
-                &mut self.lines,
-                &mut self.resolver,
-                &self.events,
-                self.grain,
-                shared,
-            ),
-            false => (self.resolver).resolve_all(
-                &mut self.lines,
-                &self.events,
-                self.grain,
-                team.as_deref(),
-            ),
+            true => (self.resolver).resolve_found(lines, found, &self.events, self.grain, shared),
+            false => (self.resolver).resolve_all(lines, found, self.grain, team.as_deref()),
         }
         let t2 = self.lap(t1, |t, d| t.resolve += d);
 
@@ -424,11 +439,12 @@ mod tests {
     use super::*;
     use crate::detect::Brute;
     use crate::geometry::Vec2;
+    use crate::index::LineId;
     use crate::test_util::line;
 
     fn world(lines: Vec<Line>) -> World {
         let colors = vec![Color::Red; lines.len()];
-        World::new(lines, colors, Box::new(Brute::default()))
+        World::new(lines, colors, Box::new(Brute))
     }
 
     #[test]
@@ -462,7 +478,7 @@ mod tests {
         assert_eq!(w.last_events().len(), 1);
         assert_eq!(
             (w.last_events()[0].first, w.last_events()[0].second),
-            (0, 2)
+            (LineId(0), LineId(2))
         );
         assert_eq!(w.lines()[0].v.x, -0.01);
         assert_eq!(w.lines()[2].v.x, 0.01);

@@ -1,13 +1,20 @@
 //! Broad-phase collision detection: every detector finds exactly the events
 //! the all-pairs loop finds, each by its own route.
 //!
-//! A detector receives the lines at the start of a step and appends one
-//! [`Event`] for every pair whose [`intersect`](crate::narrow::intersect) is
-//! not `None`, in any order; the world sorts and resolves them. The
-//! all-pairs [`Brute`] detector is the oracle the others are tested against.
+//! A detector receives the lines at the start of a step, as the world
+//! stores them ([`Stored`]), and hands every pair it cannot rule out to the
+//! world's sink ([`Findings`]), which tests it exactly and keeps one event
+//! for every pair whose [`intersect`](crate::narrow::intersect) is not
+//! `None`; the world resolves them. The all-pairs [`Brute`] detector is the
+//! oracle the others are tested against.
+//!
+//! Adding a detector: its own folder or file here, and its line in
+//! [`DetectorKind`] (name, constructor, and its place in
+//! [`DetectorKind::ALL`], the one list every front end reads).
 
 mod brute;
 mod clock;
+pub(crate) mod pairs;
 mod quadtree;
 pub(crate) mod sweep;
 pub(crate) mod swept;
@@ -17,13 +24,14 @@ pub use quadtree::{Quadtree, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH
 pub use sweep::Sweep;
 pub use swept::swept_box;
 
-use crate::line::Line;
-use crate::narrow::Event;
+use crate::index::Slot;
+pub(crate) use pairs::{Findings, PairCounts, Stored};
 use std::fmt;
 use std::str::FromStr;
 use std::time::Duration;
 
-/// Counters a detector keeps about its own work, summed over all steps.
+/// Counters of the broad phase's work, summed over all steps: the pair
+/// counts the world's sink keeps, and the tree's own.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct DetectorStats {
     /// Pairs the broad phase looked at (bounding boxes compared).
@@ -39,24 +47,15 @@ pub struct DetectorStats {
 }
 
 /// A broad phase: finds every colliding pair of lines for one step.
-pub trait Detector: Send {
-    /// The name the command line knows this detector by.
-    fn name(&self) -> &'static str;
-
-    /// Appends one event per pair of `lines` whose `intersect(.., dt)` is not
-    /// `None`, with the lower id first, in any order. Must not change any
-    /// line, and must find exactly the all-pairs detector's events.
-    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>);
-
-    /// [`Detector::detect`] on the lines as the world stores them:
-    /// `lines[slot]` is the line with id `ids[slot]`, and each event names
-    /// its lines by slot, the one with the lower id first. A detector that
-    /// never gives a [`Detector::reorder`] is only called with the lines
-    /// in id order (slots are ids), as the default takes them.
-    fn detect_stored(&mut self, lines: &[Line], ids: &[u32], dt: f64, events: &mut Vec<Event>) {
-        debug_assert!(ids.iter().enumerate().all(|(k, &id)| id as usize == k));
-        self.detect(lines, dt, events);
-    }
+pub(crate) trait Detector: Send {
+    /// Hands `found` every pair of `stored`'s lines whose
+    /// `intersect(.., dt)` may not be `None` (to its
+    /// [`Findings::test`], or the exact test alone), and counts the
+    /// candidate pairs it compared ([`Findings::met`]). Must not change any
+    /// line, and must let through every pair the all-pairs detector finds
+    /// an event for. A detector that never gives a
+    /// [`Detector::reorder`] is only handed lines stored by id.
+    fn detect(&mut self, stored: Stored<'_>, dt: f64, found: &mut Findings);
 
     /// Asked once after each step's detection: the order to store the
     /// lines in from the next step on, when it pays for the world to store
@@ -65,12 +64,15 @@ pub trait Detector: Send {
     /// them where they are. The world stores them so before the next
     /// detection; a detector that gives an order has renumbered the slots
     /// it keeps to match (the line at slot `order[k]` is at slot `k`).
-    fn reorder(&mut self) -> Option<Vec<u32>> {
+    fn reorder(&mut self) -> Option<Vec<Slot>> {
         None
     }
 
-    /// What the detector has done so far.
-    fn stats(&self) -> DetectorStats;
+    /// The detector's own counters so far (a tree's nodes and depth); the
+    /// pair counts are the world's. Zero for detectors without a tree.
+    fn stats(&self) -> DetectorStats {
+        DetectorStats::default()
+    }
 
     /// How the detector is working now, in a few words for `--stats` (for
     /// example the direction a sweep runs along); empty if there is nothing
@@ -161,14 +163,14 @@ impl DetectorKind {
     }
 
     /// A fresh detector of this kind with default tuning.
-    pub fn build(self) -> Box<dyn Detector> {
+    pub(crate) fn build(self) -> Box<dyn Detector> {
         self.build_with(&DetectorConfig::default())
     }
 
     /// A fresh detector of this kind with the given tuning.
-    pub fn build_with(self, config: &DetectorConfig) -> Box<dyn Detector> {
+    pub(crate) fn build_with(self, config: &DetectorConfig) -> Box<dyn Detector> {
         match self {
-            DetectorKind::Brute => Box::new(Brute::default()),
+            DetectorKind::Brute => Box::new(Brute),
             DetectorKind::Quadtree => Box::new(Quadtree::new(config)),
             DetectorKind::Sweep => Box::new(Sweep::new(config)),
         }
@@ -197,7 +199,6 @@ mod tests {
     fn names_round_trip() {
         for &kind in DetectorKind::ALL {
             assert_eq!(kind.name().parse::<DetectorKind>(), Ok(kind));
-            assert_eq!(kind.build().name(), kind.name());
         }
         let err = "nope".parse::<DetectorKind>().unwrap_err();
         assert!(err.contains("brute"), "{err}");

@@ -18,7 +18,6 @@
 
 use crate::geometry::Vec2;
 use crate::line::{Line, WINDOW_HEIGHT, WINDOW_WIDTH};
-use crate::narrow::{intersect, may_intersect, Event};
 
 /// A line's padded swept hull, bounded in eight directions: the axes `x`
 /// and `y` and the window's diagonals `u = 1180 x + 800 y` and
@@ -117,7 +116,7 @@ fn extent(c: &[Vec2; 4]) -> ([f64; 4], f64) {
 /// The magnitude of a finite line's coordinates now and one step ahead:
 /// the scale of the prefilter's margin.
 #[inline]
-fn magnitude(line: &Line, dt: f64) -> f64 {
+pub(crate) fn magnitude(line: &Line, dt: f64) -> f64 {
     extent(&corners(line, dt)).1
 }
 
@@ -253,97 +252,6 @@ impl One {
 /// predicates (near `2^-50` of the coordinates), far below any line's size.
 pub const PAD: f64 = 1.0 / 1048576.0;
 
-/// Running totals of a broad phase's pair work.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct PairCounts {
-    /// Pairs whose boxes were compared.
-    pub candidates: u64,
-    /// Pairs handed to `intersect`.
-    pub exact: u64,
-}
-
-impl PairCounts {
-    /// Adds another tally to this one.
-    pub fn add(&mut self, other: &PairCounts) {
-        self.candidates += other.candidates;
-        self.exact += other.exact;
-    }
-}
-
-/// Tests one pair of boxed lines, each with its id, whose hulls overlap:
-/// the cheap prefilter, then the exact test, pushing the event (lower id
-/// first) if there is one.
-#[inline]
-pub fn test_pair(
-    a: (&Line, u32),
-    b: (&Line, u32),
-    dt: f64,
-    events: &mut Vec<Event>,
-    counts: &mut PairCounts,
-) {
-    let ((l1, first), (l2, second)) = if a.1 < b.1 { (a, b) } else { (b, a) };
-    test_ordered(l1, l2, (first, second), dt, events, counts);
-}
-
-/// [`test_pair`] of lines already in order (`l1` has the lower id), the
-/// event labelled `(first, second)`: their ids, or the slots the world
-/// stores them at.
-#[inline]
-pub fn test_ordered(
-    l1: &Line,
-    l2: &Line,
-    (first, second): (u32, u32),
-    dt: f64,
-    events: &mut Vec<Event>,
-    counts: &mut PairCounts,
-) {
-    let bound = max(magnitude(l1, dt), magnitude(l2, dt));
-    if !may_intersect(l1, l2, dt, bound) {
-        return;
-    }
-    counts.exact += 1;
-    if let Some(kind) = intersect(l1, l2, dt) {
-        events.push(Event {
-            first,
-            second,
-            kind,
-        });
-    }
-}
-
-/// Tests every wild line (a finite segment with a non-finite velocity or
-/// box) against every line in `others` and every other wild line, each pair
-/// once, with the exact test alone. Wild lines are rare and short-lived: a
-/// line whose velocity turned NaN is inert a step later.
-pub fn test_wild(
-    lines: &[Line],
-    id_of: impl Fn(u32) -> u32,
-    wild: &[u32],
-    others: impl Iterator<Item = u32> + Clone,
-    dt: f64,
-    events: &mut Vec<Event>,
-    counts: &mut PairCounts,
-) {
-    for (k, &w) in wild.iter().enumerate() {
-        for other in others.clone().chain(wild[k + 1..].iter().copied()) {
-            counts.candidates += 1;
-            counts.exact += 1;
-            let (first, second) = if id_of(w) < id_of(other) {
-                (w, other)
-            } else {
-                (other, w)
-            };
-            if let Some(kind) = intersect(&lines[first as usize], &lines[second as usize], dt) {
-                events.push(Event {
-                    first,
-                    second,
-                    kind,
-                });
-            }
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -395,48 +303,5 @@ mod tests {
                 proptest::prop_assert!(r.min_w < w && w < r.max_w);
             }
         }
-    }
-
-    #[test]
-    fn wild_lines_meet_slotted_and_other_wild_lines_once() {
-        let lines = [
-            line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
-            line((0.6, 0.7), (0.7, 0.6), (0.0, 0.0)),
-            line(
-                (f64::NAN, f64::NAN),
-                (f64::NAN, f64::NAN),
-                (f64::NAN, f64::NAN),
-            ),
-            line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
-        ];
-        assert!(swept_box(&lines[0], 0.5).is_none() && !lines[0].is_inert());
-        assert!(lines[2].is_inert());
-        let (mut events, mut counts) = (Vec::new(), PairCounts::default());
-        test_wild(
-            &lines,
-            |k| k,
-            &[0, 3],
-            [1].into_iter(),
-            0.5,
-            &mut events,
-            &mut counts,
-        );
-        // 0-1, 0-3, 3-1: all three cross now.
-        assert_eq!(counts.exact, 3);
-        events.sort_unstable_by_key(Event::order_key);
-        let pairs: Vec<_> = events.iter().map(|e| (e.first, e.second)).collect();
-        assert_eq!(pairs, vec![(0, 1), (0, 3), (1, 3)]);
-    }
-
-    #[test]
-    fn pairs_are_tested_lower_id_first() {
-        let a = line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0));
-        let b = line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0));
-        let (mut events, mut counts) = (Vec::new(), PairCounts::default());
-        test_pair((&a, 9), (&b, 4), 0.5, &mut events, &mut counts);
-        assert_eq!(counts.exact, 1);
-        assert_eq!((events[0].first, events[0].second), (4, 9));
-        // Roles matter: with id 4 as l1 the event is L1WithL2 from l2's view.
-        assert_eq!(Some(events[0].kind), intersect(&b, &a, 0.5));
     }
 }

@@ -431,7 +431,7 @@ mod tests {
 
     fn world(lines: Vec<Line>) -> World {
         let colors = vec![Color::Red; lines.len()];
-        World::new(lines, colors, Box::new(Brute::default()))
+        World::new(lines, colors, Box::new(Brute))
     }
 
     /// A run of one scene of one moving line for `steps` steps, once the

@@ -18,10 +18,10 @@ mod tree;
 mod walk;
 
 use super::clock::PhaseClock;
-use super::swept::{swept_box, test_pair, test_wild, PairCounts, SweptBox};
-use super::{Detector, DetectorStats};
+use super::swept::{swept_box, SweptBox};
+use super::{Detector, DetectorStats, Findings, Stored};
+use crate::index::{Index, Slot};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
-use crate::narrow::Event;
 use crate::team::{Parts, Team, MAX_PIECES};
 use entries::{Entry, Refill};
 use grid::{Cells, Grid};
@@ -66,10 +66,10 @@ type Clock = PhaseClock<{ Phase::ALL.len() }>;
 
 /// A quadtree broad phase.
 ///
-/// Each step the lines are copied into *slots*, in the order of the last
-/// walk of the tree (boxed lines in key order, then the others), so that
-/// lines near each other in space are near each other in memory: the tree
-/// and the pair test work on slot numbers, and only the one gather per
+/// Each step the lines are copied, in the order of the last walk of the
+/// tree (boxed lines in key order, then the others), so that lines near
+/// each other in space are near each other in memory: the tree and the
+/// pair test work on places in the copies, and only the one gather per
 /// step reads the lines in scattered order.
 #[derive(Debug)]
 pub struct Quadtree {
@@ -78,19 +78,20 @@ pub struct Quadtree {
     team: Option<Arc<Team>>,
     grain: usize,
     grid: Grid,
-    /// Every line's id, in the order slots are filled.
-    order: Vec<u32>,
+    /// Every line's slot in the world's storage, in the order the copies
+    /// are made.
+    order: Vec<Slot>,
     /// Where `reorder` builds the next `order`.
-    next_order: Vec<u32>,
-    /// This step's lines in `order`: slot `s` holds a copy of line
-    /// `order[s]`.
-    slots: Vec<Line>,
-    /// Whether each slot's line has a finite hull and is in the tree.
+    next_order: Vec<Slot>,
+    /// This step's lines in `order`: place `p` holds a copy of the line in
+    /// slot `order[p]`.
+    copies: Vec<Line>,
+    /// Whether each place's line has a finite hull and is in the tree.
     boxed: Vec<bool>,
-    /// Ids of this step's lines that are not boxed: wild, then inert.
-    unboxed: Vec<u32>,
-    /// Ids of this step's wild lines.
-    wild: Vec<u32>,
+    /// Slots of this step's lines that are not boxed: wild, then inert.
+    unboxed: Vec<Slot>,
+    /// Slots of this step's wild lines.
+    wild: Vec<Slot>,
     stats: DetectorStats,
     /// Time per phase, while timing is on.
     clock: Option<Clock>,
@@ -108,61 +109,71 @@ pub const DEFAULT_GRAIN: usize = 16 * 1024;
 /// The sort key given to slots left out of the tree: above every real key.
 const UNBOXED_KEY: u64 = u64::MAX;
 
-/// Collects a walk's pairs into events, testing each pair on the spot.
+/// Hands the world's sink a walk's pairs (places in the copies), a few
+/// at a time.
 struct EventCollector<'a> {
-    slots: &'a [Line],
-    /// Each slot's line id.
-    ids: &'a [u32],
+    copies: &'a [Line],
+    /// Each place's slot in the world's storage.
+    order: &'a [Slot],
+    stored: Stored<'a>,
     dt: f64,
     /// Pairs waiting for their test, in the order they came.
     pending: Vec<(u32, u32)>,
     /// The pending pairs' lines, copied for their test.
-    copies: Vec<(Line, Line)>,
-    events: Vec<Event>,
-    counts: PairCounts,
+    pairs: Vec<(Line, Line)>,
+    found: Findings,
 }
 
 /// Pairs an [`EventCollector`] holds before testing them together.
 const PENDING: usize = 64;
 
 impl<'a> EventCollector<'a> {
-    /// A collector testing pairs of `slots`, whose line ids are `ids`,
-    /// adding to `events`.
-    fn new(slots: &'a [Line], ids: &'a [u32], dt: f64, events: Vec<Event>) -> Self {
+    /// A collector testing pairs of places in `copies`, whose slots are
+    /// `order`, adding to `found`.
+    fn new(
+        copies: &'a [Line],
+        order: &'a [Slot],
+        stored: Stored<'a>,
+        dt: f64,
+        found: Findings,
+    ) -> Self {
         EventCollector {
-            slots,
-            ids,
+            copies,
+            order,
+            stored,
             dt,
             pending: Vec::with_capacity(PENDING),
-            copies: Vec::with_capacity(PENDING),
-            events,
-            counts: PairCounts::default(),
+            pairs: Vec::with_capacity(PENDING),
+            found,
         }
     }
 
-    /// Tests the pending pairs, in order. Their slots are copied first, in
+    /// Tests the pending pairs, in order. Their lines are copied first, in
     /// a loop whose scattered reads can all be in flight at once, where a
     /// test per pair as the walk meets it waits on each of its reads in
     /// turn.
     fn flush(&mut self) {
-        let slots = self.slots;
-        self.copies.clear();
-        self.copies.extend(
+        let copies = self.copies;
+        self.pairs.clear();
+        self.pairs.extend(
             self.pending
                 .iter()
-                .map(|&(a, b)| (slots[a as usize], slots[b as usize])),
+                .map(|&(a, b)| (copies[a as usize], copies[b as usize])),
         );
-        for ((a, b), &(s, t)) in self.copies.iter().zip(&self.pending) {
-            let (a, b) = ((a, self.ids[s as usize]), (b, self.ids[t as usize]));
-            test_pair(a, b, self.dt, &mut self.events, &mut self.counts);
+        for ((a, b), &(p, q)) in self.pairs.iter().zip(&self.pending) {
+            let (s, t) = (self.order[p as usize], self.order[q as usize]);
+            match self.stored.id(s) < self.stored.id(t) {
+                true => self.found.test_ordered(a, b, (s, t), self.dt),
+                false => self.found.test_ordered(b, a, (t, s), self.dt),
+            }
         }
         self.pending.clear();
     }
 
-    /// The events found, once every pending pair is tested.
-    fn finish(mut self) -> (Vec<Event>, PairCounts) {
+    /// What was found, once every pending pair is tested.
+    fn finish(mut self) -> Findings {
         self.flush();
-        (self.events, self.counts)
+        self.found
     }
 }
 
@@ -176,27 +187,26 @@ impl walk::Collector for EventCollector<'_> {
     }
 
     fn fork(&self) -> Self {
-        EventCollector::new(self.slots, self.ids, self.dt, Vec::new())
+        let found = Findings::default();
+        EventCollector::new(self.copies, self.order, self.stored, self.dt, found)
     }
 
     fn join(&mut self, other: Self) {
         // Events stay in the order of the pairs: these, then the other's.
         self.flush();
-        let (mut events, counts) = other.finish();
-        self.events.append(&mut events);
-        self.counts.add(&counts);
+        self.found.append(&mut other.finish());
     }
 }
 
-/// Fills one run of slots (numbered from `first`) with the lines `ids`
-/// names, and their tree entries over `grid` into
+/// Fills one run of places (numbered from `first`) with copies of the
+/// lines in slots `order`, and their tree entries over `grid` into
 /// `refill`; returns the union of the hulls of the boxed ones.
 #[allow(clippy::too_many_arguments)]
 fn fill_run(
     first: usize,
-    ids: &[u32],
+    order: &[Slot],
     lines: &[Line],
-    slots: &mut [Line],
+    copies: &mut [Line],
     mut refill: Refill<'_>,
     (grid, max_depth): (Grid, u32),
     boxed: &mut [bool],
@@ -206,13 +216,13 @@ fn fill_run(
     // Gather a block first, in a loop tight enough to keep many of its
     // scattered reads in flight; then work on the copies in order, while
     // they are still in the nearest cache.
-    for start in (0..ids.len()).step_by(GATHER) {
-        let end = (start + GATHER).min(ids.len());
-        for (slot, &id) in slots[start..end].iter_mut().zip(&ids[start..end]) {
-            *slot = lines[id as usize];
+    for start in (0..order.len()).step_by(GATHER) {
+        let end = (start + GATHER).min(order.len());
+        for (copy, &slot) in copies[start..end].iter_mut().zip(&order[start..end]) {
+            *copy = lines[slot.at()];
         }
         for k in start..end {
-            let hull = swept_box(&slots[k], dt);
+            let hull = swept_box(&copies[k], dt);
             boxed[k] = hull.is_some();
             if let Some(hull) = hull {
                 bounds = Some(bounds.map_or(hull, |b| b.union(&hull)));
@@ -227,9 +237,9 @@ fn fill_run(
 /// Lines the fill gathers at a time (12 KB of them).
 const GATHER: usize = 256;
 
-/// Slot `s`'s tree entry for its hull over `grid`; a slot without one (not
-/// boxed) gets a key past every real one, which sorts it last to be cut
-/// off.
+/// Place `s`'s tree entry for its hull over `grid`; a place without one
+/// (not boxed) gets a key past every real one, which sorts it last to be
+/// cut off.
 #[inline]
 fn entry(grid: &Grid, hull: Option<SweptBox>, s: u32, max_depth: u32) -> Entry {
     match hull {
@@ -277,7 +287,7 @@ impl Quadtree {
             }),
             order: Vec::new(),
             next_order: Vec::new(),
-            slots: Vec::new(),
+            copies: Vec::new(),
             boxed: Vec::new(),
             unboxed: Vec::new(),
             wild: Vec::new(),
@@ -293,33 +303,33 @@ impl Quadtree {
         }
     }
 
-    /// Copies the lines into slots in `order`, makes their tree entries
-    /// over the current grid (left unsorted) and sorts out the wild and
-    /// inert ones. Returns the union of the hulls.
-    fn fill_slots(&mut self, lines: &[Line], dt: f64) -> Option<SweptBox> {
+    /// Copies the lines in `order`, makes their tree entries over the
+    /// current grid (left unsorted) and sorts out the wild and inert ones.
+    /// Returns the union of the hulls.
+    fn fill_copies(&mut self, lines: &[Line], dt: f64) -> Option<SweptBox> {
         let n = lines.len();
         if self.order.len() != n {
             self.order.clear();
-            self.order.extend(0..n as u32);
+            self.order.extend((0..n as u32).map(Slot));
         }
-        self.slots.resize(n, Line::default());
+        self.copies.resize(n, Line::default());
         self.boxed.resize(n, false);
         let chunk = self.parallel_chunk(n);
         let grid = (self.grid, self.tree.max_depth());
         let refill = self.tree.entries.refill_in_place(n);
         let bounds = if let (Some(chunk), Some(team)) = (chunk, self.team.as_deref()) {
-            // A piece per chunk of slots, each with its own runs to fill.
+            // A piece per chunk of places, each with its own runs to fill.
             let pieces = n.div_ceil(chunk);
             let order = &self.order;
-            let slots = Parts::new(self.slots.chunks_mut(chunk));
+            let copies = Parts::new(self.copies.chunks_mut(chunk));
             let refills = Parts::new(refill.chunks(chunk));
             let boxed = Parts::new(self.boxed.chunks_mut(chunk));
             let mut unions = vec![None; pieces];
             let outs = Parts::new(unions.iter_mut());
             team.run_pieces(pieces, &|c| {
-                let ids = &order[c * chunk..((c + 1) * chunk).min(n)];
-                let (slots, refill, boxed) = (slots.take(c), refills.take(c), boxed.take(c));
-                *outs.take(c) = fill_run(c * chunk, ids, lines, slots, refill, grid, boxed, dt);
+                let order = &order[c * chunk..((c + 1) * chunk).min(n)];
+                let (copies, refill, boxed) = (copies.take(c), refills.take(c), boxed.take(c));
+                *outs.take(c) = fill_run(c * chunk, order, lines, copies, refill, grid, boxed, dt);
             });
             unions.into_iter().fold(None, union)
         } else {
@@ -327,7 +337,7 @@ impl Quadtree {
                 0,
                 &self.order,
                 lines,
-                &mut self.slots,
+                &mut self.copies,
                 refill,
                 grid,
                 &mut self.boxed,
@@ -342,10 +352,10 @@ impl Quadtree {
         }
         for (k, &is_boxed) in self.boxed.iter().enumerate() {
             if !is_boxed {
-                let id = self.order[k];
-                self.unboxed.push(id);
-                if !self.slots[k].is_inert() {
-                    self.wild.push(id);
+                let slot = self.order[k];
+                self.unboxed.push(slot);
+                if !self.copies[k].is_inert() {
+                    self.wild.push(slot);
                 }
             }
         }
@@ -353,38 +363,35 @@ impl Quadtree {
     }
 
     /// Tests the wild lines against every boxed line and each other.
-    fn test_wild(&self, lines: &[Line], dt: f64, events: &mut Vec<Event>, counts: &mut PairCounts) {
+    fn test_wild(&self, stored: Stored, dt: f64, found: &mut Findings) {
         if self.wild.is_empty() {
             return;
         }
-        let boxed_ids = self
-            .order
-            .iter()
-            .zip(&self.boxed)
+        let boxed = (self.order.iter().zip(&self.boxed))
             .filter(|(_, &b)| b)
-            .map(|(&id, _)| id);
-        test_wild(lines, |k| k, &self.wild, boxed_ids, dt, events, counts);
+            .map(|(&slot, _)| slot);
+        found.test_wild(stored, &self.wild, boxed, dt);
     }
 
     /// Sets `order` to the tree's order of the boxed slots, then the others.
     fn reorder(&mut self) {
-        // Slot `s` holds line `order[s]`: a small array to read, nearly in
-        // order, where the slots themselves would be a large one.
+        // Place `p` holds the line in slot `order[p]`: a small array to
+        // read, nearly in order, where the copies would be a large one.
         let chunk = self.parallel_chunk(self.tree.entries.list.len());
         let (order, entries) = (&self.order, &self.tree.entries.list);
-        let id = |e: &Entry| order[e.cells.id as usize];
+        let slot = |e: &Entry| order[e.cells.id as usize];
         let next = &mut self.next_order;
         next.clear();
         if let (Some(chunk), Some(team)) = (chunk, self.team.as_deref()) {
-            next.resize(entries.len(), 0);
+            next.resize(entries.len(), Slot::default());
             let parts = Parts::new(next.chunks_mut(chunk));
             team.run_pieces(entries.len().div_ceil(chunk), &|c| {
                 let mine = parts.take(c);
                 let from = &entries[c * chunk..c * chunk + mine.len()];
-                mine.iter_mut().zip(from).for_each(|(to, e)| *to = id(e));
+                mine.iter_mut().zip(from).for_each(|(to, e)| *to = slot(e));
             });
         } else {
-            next.extend(entries.iter().map(id));
+            next.extend(entries.iter().map(slot));
         }
         next.extend_from_slice(&self.unboxed);
         std::mem::swap(&mut self.order, next);
@@ -400,11 +407,10 @@ impl Quadtree {
     /// `bounds`) and tests its pairs.
     fn build_and_walk(
         &mut self,
-        lines: &[Line],
+        stored: Stored,
         bounds: Option<SweptBox>,
         dt: f64,
-        events: &mut Vec<Event>,
-        counts: &mut PairCounts,
+        found: &mut Findings,
     ) {
         let Some(bounds) = bounds else { return };
         if !self.grid.holds(&bounds) {
@@ -412,23 +418,21 @@ impl Quadtree {
             // holds them. Cells clamped at the old grid's edge would still
             // be conservative (clamping keeps order), but would pile up there.
             self.grid = Grid::over(&bounds);
-            self.fill_slots(lines, dt);
+            self.fill_copies(stored.lines, dt);
             self.lap(Phase::Fill);
         }
-        let n = self.slots.len();
+        let n = self.copies.len();
         let team = self.team.as_deref();
         self.tree
             .entries
             .sort(team.filter(|_| self.parallel_chunk(n).is_some()));
         self.tree.entries.list.truncate(n - self.unboxed.len());
         self.lap(Phase::Sort);
-        let mut collector =
-            EventCollector::new(&self.slots, &self.order, dt, std::mem::take(events));
+        let taken = std::mem::take(found);
+        let mut collector = EventCollector::new(&self.copies, &self.order, stored, dt, taken);
         self.tree
             .pairs(&mut collector, self.team.as_deref(), self.grain);
-        let found;
-        (*events, found) = collector.finish();
-        counts.add(&found);
+        *found = collector.finish();
         self.lap(Phase::Walk);
         self.reorder();
         self.lap(Phase::Reorder);
@@ -436,27 +440,19 @@ impl Quadtree {
 }
 
 impl Detector for Quadtree {
-    fn name(&self) -> &'static str {
-        "quadtree"
-    }
-
-    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
-        let before = events.len();
-        let mut counts = PairCounts::default();
+    fn detect(&mut self, stored: Stored<'_>, dt: f64, found: &mut Findings) {
         self.tree.counts = walk::WalkCounts::default();
         if let Some(clock) = &mut self.clock {
             clock.start(Instant::now());
         }
-        let bounds = self.fill_slots(lines, dt);
-        self.test_wild(lines, dt, events, &mut counts);
+        let bounds = self.fill_copies(stored.lines, dt);
+        self.test_wild(stored, dt, found);
         self.lap(Phase::Fill);
-        self.build_and_walk(lines, bounds, dt, events, &mut counts);
+        self.build_and_walk(stored, bounds, dt, found);
         let walk = self.tree.counts;
-        self.stats.candidate_pairs += counts.candidates + walk.candidates;
-        self.stats.exact_tests += counts.exact;
+        found.met(walk.candidates);
         self.stats.nodes += walk.nodes;
         self.stats.max_depth = self.stats.max_depth.max(walk.deepest);
-        self.stats.events += (events.len() - before) as u64;
     }
 
     fn stats(&self) -> DetectorStats {

@@ -7,20 +7,24 @@
 //! apart) it stops after a budget of moves and a radix sort does the job.
 
 use super::hull::{Packed, NO_KEY};
+use crate::index::Slot;
 use crate::team::{self, Team};
 use std::ops::Range;
 use std::sync::atomic::{AtomicBool, Ordering};
+
+/// The slot named by the sentinel after the last box: none.
+pub(crate) const NO_SLOT: Slot = Slot(u32::MAX);
 
 /// Boxes in parallel slices: each box's key, packed hull and slot.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BoxSlice<'a> {
     pub keys: &'a [f32],
     pub hulls: &'a [Packed],
-    pub slots: &'a [u32],
+    pub slots: &'a [Slot],
 }
 
 impl<'a> BoxSlice<'a> {
-    pub(crate) fn new(keys: &'a [f32], hulls: &'a [Packed], slots: &'a [u32]) -> Self {
+    pub(crate) fn new(keys: &'a [f32], hulls: &'a [Packed], slots: &'a [Slot]) -> Self {
         Self { keys, hulls, slots }
     }
 
@@ -40,11 +44,11 @@ impl<'a> BoxSlice<'a> {
 pub(crate) struct BoxSliceMut<'a> {
     pub keys: &'a mut [f32],
     pub hulls: &'a mut [Packed],
-    pub slots: &'a mut [u32],
+    pub slots: &'a mut [Slot],
 }
 
 impl<'a> BoxSliceMut<'a> {
-    pub(crate) fn new(keys: &'a mut [f32], hulls: &'a mut [Packed], slots: &'a mut [u32]) -> Self {
+    pub(crate) fn new(keys: &'a mut [f32], hulls: &'a mut [Packed], slots: &'a mut [Slot]) -> Self {
         Self { keys, hulls, slots }
     }
 
@@ -117,7 +121,7 @@ impl<'a> BoxSliceMut<'a> {
 pub(crate) struct BoxList {
     pub keys: Vec<f32>,
     pub hulls: Vec<Packed>,
-    pub slots: Vec<u32>,
+    pub slots: Vec<Slot>,
     pub ends: Vec<u32>,
 }
 
@@ -134,7 +138,7 @@ impl BoxList {
     }
 
     #[inline]
-    pub(crate) fn push(&mut self, key: f32, hull: Packed, slot: u32, end: u32) {
+    pub(crate) fn push(&mut self, key: f32, hull: Packed, slot: Slot, end: u32) {
         self.keys.push(key);
         self.hulls.push(hull);
         self.slots.push(slot);
@@ -159,7 +163,7 @@ impl BoxList {
     pub(crate) fn resize(&mut self, len: usize) {
         self.keys.resize(len, 0.0);
         self.hulls.resize(len, [0.0; 8]);
-        self.slots.resize(len, 0);
+        self.slots.resize(len, Slot::default());
         self.ends.resize(len, 0);
     }
 
@@ -224,7 +228,7 @@ pub(crate) struct Boxes {
     /// Packed hull (meaningless where the key is [`NO_KEY`]).
     pub hulls: Vec<Packed>,
     /// The line's slot.
-    pub slots: Vec<u32>,
+    pub slots: Vec<Slot>,
     /// Keys and places, and spare arrays, for the radix sort.
     keyed: Vec<(f32, u32)>,
     spare: BoxList,
@@ -234,8 +238,8 @@ impl Boxes {
     /// Resets to the slots `0..n`, in that order, with room for their hulls.
     pub(crate) fn reset(&mut self, n: usize) {
         self.slots.clear();
-        self.slots.extend(0..n as u32);
-        self.slots.push(u32::MAX);
+        self.slots.extend((0..n as u32).map(Slot));
+        self.slots.push(NO_SLOT);
         self.keys.clear();
         self.keys.resize(n + 1, NO_KEY);
         self.hulls.clear();
@@ -246,8 +250,8 @@ impl Boxes {
     pub(crate) fn set_len(&mut self, n: usize) {
         self.keys.resize(n + 1, NO_KEY);
         self.hulls.resize(n + 1, [0.0; 8]);
-        self.slots.resize(n + 1, u32::MAX);
-        (self.keys[n], self.slots[n]) = (NO_KEY, u32::MAX);
+        self.slots.resize(n + 1, NO_SLOT);
+        (self.keys[n], self.slots[n]) = (NO_KEY, NO_SLOT);
     }
 
     /// Boxes held, the sentinel not counted.
@@ -376,15 +380,15 @@ mod tests {
         let n = keys.len();
         assert!(b.keys[..n].windows(2).all(|w| w[0] <= w[1]));
         assert_eq!(b.keys[n], NO_KEY);
-        assert_eq!(b.slots[n], u32::MAX);
+        assert_eq!(b.slots[n], NO_SLOT);
         for k in 0..n {
             // Each box kept its hull and slot together.
-            assert_eq!(b.keys[k], keys[b.slots[k] as usize]);
+            assert_eq!(b.keys[k], keys[b.slots[k].0 as usize]);
             assert!(b.hulls[k][0] == b.keys[k] || b.keys[k] == NO_KEY);
         }
         let mut slots = b.slots[..n].to_vec();
         slots.sort_unstable();
-        assert_eq!(slots, (0..n as u32).collect::<Vec<_>>());
+        assert_eq!(slots, (0..n as u32).map(Slot).collect::<Vec<_>>());
         assert_eq!(b.keys[..n].partition_point(|&k| k != NO_KEY), boxed);
     }
 

@@ -19,6 +19,7 @@
 
 use super::lanes;
 use crate::detect::swept::{hull_bounds, padded_hull};
+use crate::index::Slot;
 use crate::line::Line;
 use multiversion::multiversion;
 
@@ -69,14 +70,14 @@ pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
 )]
 pub(crate) fn make(
     lines: &[Line],
-    slots: &[u32],
+    slots: &[Slot],
     hulls: &mut [Packed],
     keys: &mut [f32],
     along: usize,
     dt: f64,
 ) {
     let n = slots.len().min(hulls.len()).min(keys.len());
-    let line = |k: usize| &lines[slots[k] as usize];
+    let line = |k: usize| &lines[slots[k].0 as usize];
     multiversion::target::match_target! {
         "x86_64+avx2" => make_each_avx2(line, &mut hulls[..n], &mut keys[..n], along, dt),
         _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, batch_default),
@@ -311,9 +312,9 @@ mod tests {
                 .chunks_exact(6)
                 .map(|v| crate::test_util::line((v[0], v[1]), (v[2], v[3]), (v[4], v[5])))
                 .collect();
-            let slots: Vec<u32> = (0..lines.len() as u32).rev().collect();
+            let slots: Vec<Slot> = (0..lines.len() as u32).rev().map(Slot).collect();
             let n = slots.len();
-            let line = |k: usize| &lines[slots[k] as usize];
+            let line = |k: usize| &lines[slots[k].0 as usize];
             // What the processor runs, and every lane type this target has.
             let mut made = Vec::new();
             let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
@@ -333,7 +334,7 @@ mod tests {
             }
             for (name, hulls, keys) in &made {
                 for (k, &slot) in slots.iter().enumerate() {
-                    match of_line(&lines[slot as usize], dt) {
+                    match of_line(&lines[slot.0 as usize], dt) {
                         Some(packed) => {
                             proptest::prop_assert_eq!(
                                 packed.map(f32::to_bits),

@@ -58,17 +58,15 @@ pub(crate) mod plan;
 pub(crate) mod scan;
 
 use super::clock::PhaseClock;
-use super::swept::{test_wild, PairCounts};
-use super::{Detector, DetectorConfig, DetectorStats};
+use super::{Detector, DetectorConfig, Findings, Stored};
+use crate::index::Slot;
 use crate::line::Line;
-use crate::narrow::Event;
 use crate::schedule::Schedule;
 use crate::team::{self, Team};
 use boxes::Boxes;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
 use plan::Plan;
-use scan::Tester;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -122,9 +120,8 @@ pub struct Sweep {
     /// With several bands: where each band starts in `sorted`, its guests,
     /// and the buffers that lay them out.
     layout: Layout,
-    /// Ids of this step's wild lines.
-    wild: Vec<u32>,
-    stats: DetectorStats,
+    /// Slots of this step's wild lines.
+    wild: Vec<Slot>,
     clock: Option<Clock>,
     /// The team that shares the phases ([`Schedule::sweep_shares`]):
     /// the world's, or a team of one.
@@ -213,9 +210,9 @@ impl Sweep {
     /// and [`Detector::detect_stored`]): the boxes (and now and then a
     /// plan), the boxes in order (one band) or laid out band by band, the
     /// sweep, then the wild lines against every box.
-    fn detect_lines(&mut self, stored: Stored, dt: f64, events: &mut Vec<Event>) {
+    fn detect_lines(&mut self, stored: Stored, dt: f64, found: &mut Findings) {
         let lines = stored.lines;
-        let before = events.len();
+        let before = found.counts;
         if let Some(clock) = &mut self.clock {
             clock.start(Instant::now());
         }
@@ -233,28 +230,24 @@ impl Sweep {
         self.lap(HULLS);
 
         let n = lines.len();
-        let (boxed, swept, mut counts) = if self.plan.bands.count > 1 {
-            self.lay_out_and_sweep(stored, dt, events)
+        let (boxed, swept) = if self.plan.bands.count > 1 {
+            self.lay_out_and_sweep(stored, dt, found)
         } else {
             self.layout.forget();
             let boxed = self.sorted.sort(&self.team_for(n));
             self.lap(SORT);
             self.lap(LAYOUT);
-            (boxed, boxed, self.sweep_chunks(stored, dt, boxed, events))
+            self.sweep_chunks(stored, dt, boxed, found);
+            (boxed, boxed)
         };
         let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
         self.wild.clear();
         self.wild
-            .extend(wild.iter().filter(|&&s| !lines[s as usize].is_inert()));
-        let boxed_slots = boxed_slots.iter().copied();
-        let id = |slot| stored.id(slot);
-        test_wild(lines, id, &self.wild, boxed_slots, dt, events, &mut counts);
-        self.dense = counts.candidates as f64 > DENSE * swept as f64;
+            .extend(wild.iter().filter(|&&s| !stored.line(s).is_inert()));
+        found.test_wild(stored, &self.wild, boxed_slots.iter().copied(), dt);
+        let candidates = found.counts.candidates - before.candidates;
+        self.dense = candidates as f64 > DENSE * swept as f64;
         self.lap(SWEEP);
-
-        self.stats.candidate_pairs += counts.candidates;
-        self.stats.exact_tests += counts.exact;
-        self.stats.events += (events.len() - before) as u64;
     }
 
     /// Lays the boxes out in this step's bands and sweeps them, a group of
@@ -266,21 +259,19 @@ impl Sweep {
         &mut self,
         stored: Stored,
         dt: f64,
-        events: &mut Vec<Event>,
-    ) -> (usize, usize, PairCounts) {
+        found: &mut Findings,
+    ) -> (usize, usize) {
         let n = stored.lines.len();
         let bands = self.plan.bands;
         let team = self.team_for(n);
         let groups = team.threads();
         self.lap(SORT);
-        let mut found = std::mem::take(&mut self.chunks);
+        let mut chunks = std::mem::take(&mut self.chunks);
         // A member without a group (fewer bands than threads) finds
         // nothing: every group's findings start empty.
-        found.resize_with(groups.max(found.len()), Chunk::default);
-        for chunk in &mut found[..groups] {
-            chunk.counts = PairCounts::default();
-        }
-        let parts = team::Parts::new(found[..groups].iter_mut());
+        chunks.resize_with(groups.max(chunks.len()), Chunk::default);
+        chunks[..groups].iter_mut().for_each(|c| c.found.clear());
+        let parts = team::Parts::new(chunks[..groups].iter_mut());
         let layout_end = Mutex::new(None);
         let (along, dense) = (self.plan.along, self.dense);
         // The clock is read only when timing (WebAssembly has none).
@@ -290,15 +281,7 @@ impl Sweep {
                 *layout_end.lock().expect("the layout's end") = Some(Instant::now());
             }
             let chunk = parts.take(group.index);
-            let (events, counts) = (&mut chunk.events, &mut chunk.counts);
-            let mut test = Tester {
-                lines: stored,
-                dt,
-                events,
-                counts,
-            };
-            let candidates = scan::sweep_group(&group, along, dense, &mut chunk.pairs, &mut test);
-            chunk.counts.candidates = candidates;
+            scan::sweep_group(&group, along, dense, (stored, dt), chunk);
         };
         let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
@@ -306,10 +289,11 @@ impl Sweep {
             clock.lap_at(LAYOUT, end.unwrap_or_else(Instant::now));
         }
         drop(parts);
-        let mut counts = PairCounts::default();
-        join_findings(&mut found[..groups], events, &mut counts);
-        self.chunks = found;
-        (boxed, boxed + self.layout.guest_count(), counts)
+        chunks[..groups]
+            .iter_mut()
+            .for_each(|c| found.append(&mut c.found));
+        self.chunks = chunks;
+        (boxed, boxed + self.layout.guest_count())
     }
 
     /// Sweeps the boxed lines in one band and tests the pairs whose boxes
@@ -318,13 +302,7 @@ impl Sweep {
     /// they finish one, since some stretches of the order meet far more
     /// pairs than others; the findings put together in chunk order. This
     /// thread alone sweeps it whole.
-    fn sweep_chunks(
-        &mut self,
-        stored: Stored,
-        dt: f64,
-        boxed: usize,
-        events: &mut Vec<Event>,
-    ) -> PairCounts {
+    fn sweep_chunks(&mut self, stored: Stored, dt: f64, boxed: usize, found: &mut Findings) {
         let team = self.team_for(boxed);
         let size = match team.threads() {
             1 => boxed.max(1),
@@ -332,9 +310,9 @@ impl Sweep {
         };
         let chunks = boxed.div_ceil(size);
         let next = AtomicUsize::new(0);
-        let mut found = std::mem::take(&mut self.chunks);
-        found.resize_with(chunks.max(found.len()), Chunk::default);
-        let parts = team::Parts::new(found[..chunks].iter_mut());
+        let mut pieces = std::mem::take(&mut self.chunks);
+        pieces.resize_with(chunks.max(pieces.len()), Chunk::default);
+        let parts = team::Parts::new(pieces[..chunks].iter_mut());
         let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
         team.run(&|_| loop {
             let c = next.fetch_add(1, Ordering::Relaxed);
@@ -342,75 +320,34 @@ impl Sweep {
                 break;
             }
             let chunk = parts.take(c);
-            chunk.counts = PairCounts::default();
+            chunk.found.clear();
             chunk.pairs.clear();
             let range = c * size..((c + 1) * size).min(boxed);
-            let (events, counts) = (&mut chunk.events, &mut chunk.counts);
-            let mut test = Tester {
-                lines: stored,
-                dt,
-                events,
-                counts,
-            };
             let (keys, hulls) = (&sorted.keys[..], &sorted.hulls[..]);
             let candidates = scan::sweep(keys, hulls, range, along, dense, &mut chunk.pairs);
-            test.test(&chunk.pairs, &sorted.slots, &sorted.slots);
-            chunk.counts.candidates = candidates;
+            chunk.found.met(candidates);
+            let slots = &sorted.slots[..];
+            scan::test_pairs(&mut chunk.found, (stored, dt), &chunk.pairs, slots, slots);
         });
         drop(parts);
-        let mut counts = PairCounts::default();
-        join_findings(&mut found[..chunks], events, &mut counts);
-        self.chunks = found;
-        counts
+        pieces[..chunks]
+            .iter_mut()
+            .for_each(|c| found.append(&mut c.found));
+        self.chunks = pieces;
     }
 }
 
-/// The lines as the world stores them: the line in slot `k` has id
-/// `ids[k]`, or id `k` without `ids`.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Stored<'a> {
-    pub lines: &'a [Line],
-    ids: Option<&'a [u32]>,
-}
-
-impl Stored<'_> {
-    /// The id of the line in slot `k`.
-    #[inline(always)]
-    pub(crate) fn id(self, k: u32) -> u32 {
-        self.ids.map_or(k, |ids| ids[k as usize])
-    }
-}
-
-/// One chunk's findings, kept from step to step so that its buffers are
-/// not allocated anew every step.
+/// One piece's findings and the pairs of places it swept, kept from step
+/// to step so that their buffers are not allocated anew every step.
 #[derive(Debug, Default)]
-struct Chunk {
-    events: Vec<Event>,
-    counts: PairCounts,
-    pairs: Vec<(u32, u32)>,
-}
-
-/// Appends each chunk's events to `events` and adds its counts to
-/// `counts`, in chunk order, emptying its events.
-fn join_findings(chunks: &mut [Chunk], events: &mut Vec<Event>, counts: &mut PairCounts) {
-    for chunk in chunks {
-        events.append(&mut chunk.events);
-        counts.add(&chunk.counts);
-    }
+pub(crate) struct Chunk {
+    pub found: Findings,
+    pub pairs: Vec<(u32, u32)>,
 }
 
 impl Detector for Sweep {
-    fn name(&self) -> &'static str {
-        "sweep"
-    }
-
-    fn detect(&mut self, lines: &[Line], dt: f64, events: &mut Vec<Event>) {
-        self.detect_lines(Stored { lines, ids: None }, dt, events);
-    }
-
-    fn detect_stored(&mut self, lines: &[Line], ids: &[u32], dt: f64, events: &mut Vec<Event>) {
-        let ids = Some(ids);
-        self.detect_lines(Stored { lines, ids }, dt, events);
+    fn detect(&mut self, stored: Stored<'_>, dt: f64, found: &mut Findings) {
+        self.detect_lines(stored, dt, found);
     }
 
     /// The boxes' order, band by band, where the lines are read by more
@@ -418,7 +355,7 @@ impl Detector for Sweep {
     /// ([`Schedule::stores_in_order`]), every [`Schedule::STORE_EVERY`]
     /// steps; the boxes then name their lines by their new
     /// slots, which are their places.
-    fn reorder(&mut self) -> Option<Vec<u32>> {
+    fn reorder(&mut self) -> Option<Vec<Slot>> {
         let n = self.sorted.len();
         if !Schedule::stores_in_order(n, self.team.threads()) {
             return None;
@@ -431,13 +368,9 @@ impl Detector for Sweep {
         let slots = &mut self.sorted.slots[..n];
         let order = slots.to_vec();
         for (place, slot) in slots.iter_mut().enumerate() {
-            *slot = place as u32;
+            *slot = Slot(place as u32);
         }
         Some(order)
-    }
-
-    fn stats(&self) -> DetectorStats {
-        self.stats
     }
 
     /// The direction swept along (`x`, `y`, `u` or `w`) and the number of
@@ -481,15 +414,15 @@ mod tests {
                 line((x, y), (x + 0.005, y + 0.005), (0.001, 0.0))
             })
             .collect();
-        let mut events = Vec::new();
+        let mut found = Findings::default();
         let mut sweep = Sweep::default();
         sweep.set_threads(Some(Arc::new(Team::new(2).expect("a team"))));
-        sweep.detect(&lines, 0.5, &mut events);
+        sweep.detect(Stored::by_id(&lines), 0.5, &mut found);
         let steps: Vec<u64> = (0..40u64).filter(|_| sweep.reorder().is_some()).collect();
         let every = Schedule::STORE_EVERY;
         assert_eq!(steps, [0, every, 2 * every]);
         let mut alone = Sweep::default();
-        alone.detect(&lines, 0.5, &mut events);
+        alone.detect(Stored::by_id(&lines), 0.5, &mut found);
         assert!((0..40).all(|_| alone.reorder().is_none()));
     }
 }

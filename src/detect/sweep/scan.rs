@@ -5,84 +5,67 @@
 use super::boxes::BoxSlice;
 use super::hull::{hi, overlaps, reach, Packed};
 use super::layout::GroupView;
-use super::Stored;
-use crate::detect::swept::{test_ordered, PairCounts};
+use super::Chunk;
+use crate::detect::{Findings, Stored};
+use crate::index::Slot;
 use crate::line::{read_ahead, LARGE_SCENE, READ_AHEAD};
-use crate::narrow::Event;
 use multiversion::multiversion;
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::_mm256_set1_ps;
 
-/// The exact test of the pairs a sweep finds, appending to `events` and
-/// counting in `counts`.
-pub(crate) struct Tester<'a> {
-    pub lines: Stored<'a>,
-    pub dt: f64,
-    pub events: &'a mut Vec<Event>,
-    pub counts: &'a mut PairCounts,
-}
-
-impl Tester<'_> {
-    /// Tests the noted `pairs` of places, the first of each pair's slot
-    /// from `first`, the second's from `second`. In scenes larger than the
-    /// cache, each pair's lines are read a few pairs ahead of its test, so
-    /// that their loads wait on memory together (docs/DESIGN.md, "Reading
-    /// ahead").
-    #[inline(always)]
-    pub(crate) fn test(&mut self, pairs: &[(u32, u32)], first: &[u32], second: &[u32]) {
-        let slots = |&(i, j): &(u32, u32)| (first[i as usize], second[j as usize]);
-        if self.lines.lines.len() < LARGE_SCENE {
-            return pairs
-                .iter()
-                .map(slots)
-                .for_each(|(a, b)| self.test_pair(a, b));
-        }
-        for (k, pair) in pairs.iter().enumerate() {
-            if let Some((a, b)) = pairs.get(k + READ_AHEAD).map(slots) {
-                read_ahead(&self.lines.lines[a as usize]);
-                read_ahead(&self.lines.lines[b as usize]);
-            }
-            let (a, b) = slots(pair);
-            self.test_pair(a, b);
-        }
+/// Hands `found` the noted `pairs` of places to test, the first of each
+/// pair's slot from `first`, the second's from `second`. In scenes larger
+/// than the cache, each pair's lines are read a few pairs ahead of its
+/// test, so that their loads wait on memory together (docs/DESIGN.md,
+/// "Reading ahead").
+#[inline(always)]
+pub(crate) fn test_pairs(
+    found: &mut Findings,
+    (stored, dt): (Stored, f64),
+    pairs: &[(u32, u32)],
+    first: &[Slot],
+    second: &[Slot],
+) {
+    let slots = |&(i, j): &(u32, u32)| (first[i as usize], second[j as usize]);
+    if stored.lines.len() < LARGE_SCENE {
+        return (pairs.iter().map(slots)).for_each(|(a, b)| found.test(stored, a, b, dt));
     }
-
-    #[inline(always)]
-    fn test_pair(&mut self, a: u32, b: u32) {
-        let stored = self.lines;
-        let swap = stored.id(a) >= stored.id(b);
-        let (a, b) = if swap { (b, a) } else { (a, b) };
-        let (line_a, line_b) = (&stored.lines[a as usize], &stored.lines[b as usize]);
-        test_ordered(line_a, line_b, (a, b), self.dt, self.events, self.counts);
+    for (k, pair) in pairs.iter().enumerate() {
+        if let Some((a, b)) = pairs.get(k + READ_AHEAD).map(slots) {
+            read_ahead(stored.line(a));
+            read_ahead(stored.line(b));
+        }
+        let (a, b) = slots(pair);
+        found.test(stored, a, b, dt);
     }
 }
 
 /// Sweeps the bands of one group as its member laid it out
 /// ([`GroupView`]): each band's homes among themselves and against its
-/// guests. Tests every pair whose hulls overlap with `test`, once each,
-/// through `pairs`. Returns the candidates met.
+/// guests, the pairs of places noted in `chunk.pairs`, and hands every
+/// pair whose hulls overlap, once each, to `chunk.found` to test on the
+/// lines `stored` holds, counting the candidates met.
 pub(crate) fn sweep_group(
     group: &GroupView,
     along: usize,
     dense: bool,
-    pairs: &mut Vec<(u32, u32)>,
-    test: &mut Tester,
-) -> u64 {
-    let mut candidates = 0;
+    (stored, dt): (Stored, f64),
+    chunk: &mut Chunk,
+) {
+    let (pairs, found) = (&mut chunk.pairs, &mut chunk.found);
     for band in group.bands() {
         let (all, homes, guests) = (group.boxes, group.homes(band), group.guests(band));
         let (keys, hulls) = (&all.keys[..homes.end], &all.hulls[..homes.end]);
         pairs.clear();
-        candidates += sweep(keys, hulls, homes.clone(), along, dense, pairs);
-        test.test(pairs, all.slots, all.slots);
+        found.met(sweep(keys, hulls, homes.clone(), along, dense, pairs));
+        test_pairs(found, (stored, dt), pairs, all.slots, all.slots);
         if guests.len() > 0 {
             pairs.clear();
             let homes = all.at(homes);
-            candidates += sweep_across(homes, guests, along, pairs);
-            test.test(pairs, homes.slots, guests.slots);
+            found.met(sweep_across(homes, guests, along, pairs));
+            test_pairs(found, (stored, dt), pairs, homes.slots, guests.slots);
         }
     }
-    candidates
 }
 
 /// Sweeps a band's homes against its guests (keys and hulls, each sorted
@@ -191,10 +174,11 @@ pub(crate) fn sweep(
 }
 
 /// Whether a dense scene is scanned a block at a time where the processor
-/// lacks AVX2: where the block's masks take a few vector instructions
-/// (WebAssembly's SIMD) it pays as it does with AVX2, one lane at a time
-/// (x86-64's baseline, other targets) it does not (docs/PERFORMANCE.md,
-/// "The dense scan without AVX2").
+/// lacks AVX2: on WebAssembly, whose SIMD makes a block's masks in a few
+/// instructions, it pays as it does with AVX2; on x86-64's baseline even
+/// masks made with SSE2 lost to the single loop, and other targets, whose
+/// masks are made lane by lane, keep the single loop too (docs/DESIGN.md,
+/// "Sweep and prune", the sweep).
 const DENSE_WITHOUT_AVX2: bool = cfg!(all(target_arch = "wasm32", target_feature = "simd128"));
 
 /// Boxes compared at a time by a block.

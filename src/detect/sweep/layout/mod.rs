@@ -332,12 +332,18 @@ fn insert_runs(mut band: BoxSliceMut, stayed: usize, movers: &BoxList, moved: Ra
 mod tests {
     use super::*;
     use crate::detect::sweep::hull::{Packed, NO_KEY};
+    use crate::index::Slot;
     use crate::team::Team;
     use std::sync::Mutex;
 
     fn hull(key: f32, lo_y: f32, hi_y: f32) -> Packed {
         let n = f32::NEG_INFINITY;
         [key, lo_y, n, n, -(key + 1.0), -hi_y, n, n]
+    }
+
+    /// The numbers of `slots`.
+    fn raw(slots: &[Slot]) -> Vec<u32> {
+        slots.iter().map(|s| s.0).collect()
     }
 
     /// Boxes keyed `keys` with spans across y from `ys`, slots from 10.
@@ -347,7 +353,7 @@ mod tests {
         for (k, (&key, &(lo, hi))) in keys.iter().zip(ys).enumerate() {
             b.keys[k] = key;
             b.hulls[k] = hull(key, lo, hi);
-            b.slots[k] = 10 + k as u32;
+            b.slots[k] = Slot(10 + k as u32);
         }
         b
     }
@@ -370,10 +376,10 @@ mod tests {
             let team = Team::new(threads).unwrap();
             assert_eq!(lay_out(&mut b, &bands, &mut layout, &team), 4);
             assert_eq!(layout.starts, vec![0, 2, 4, 5]);
-            assert_eq!(b.slots, vec![11, 10, 14, 12, 13, u32::MAX]);
+            assert_eq!(raw(&b.slots), vec![11, 10, 14, 12, 13, u32::MAX]);
             assert_eq!(b.keys[..4], [0.0, 0.5, 0.1, 0.7]);
-            assert_eq!(layout.guests(0).slots, &[] as &[u32]);
-            assert_eq!(layout.guests(1).slots, &[11]);
+            assert_eq!(raw(layout.guests(0).slots), &[] as &[u32]);
+            assert_eq!(raw(layout.guests(1).slots), &[11]);
             assert_eq!(layout.guest_count(), 1);
         }
     }
@@ -409,7 +415,7 @@ mod tests {
             // in last step's layout order.
             if step > 0 {
                 for k in 0..n {
-                    let id = b.slots[k] as usize - 10;
+                    let id = b.slots[k].0 as usize - 10;
                     if keys[id] != NO_KEY {
                         let shift = if k % 97 == 0 { 0.5 } else { 0.01 };
                         keys[id] = (keys[id] + (rand() - 0.5) * shift).abs();
@@ -445,15 +451,15 @@ mod tests {
                 lay_out(&mut b, &bands, &mut layout, team)
             };
             assert_eq!(boxed, n - no_key);
-            let mut seen: Vec<u32> = b.slots[..n].to_vec();
+            let mut seen: Vec<u32> = raw(&b.slots[..n]);
             seen.sort_unstable();
             assert_eq!(seen, (10..10 + n as u32).collect::<Vec<_>>());
-            assert_eq!(b.slots[n], u32::MAX);
+            assert_eq!(b.slots[n].0, u32::MAX);
             for band in 0..count {
                 let homes = layout.starts[band]..layout.starts[band + 1];
                 assert!(b.keys[homes.clone()].windows(2).all(|w| w[0] <= w[1]));
                 for at in homes {
-                    let id = b.slots[at] as usize - 10;
+                    let id = b.slots[at].0 as usize - 10;
                     assert_eq!(b.keys[at], keys[id]);
                     assert_eq!(bands.of(ys[id].0), band);
                 }
@@ -467,7 +473,7 @@ mod tests {
                     })
                     .map(|id| id as u32 + 10)
                     .collect();
-                let mut got = gi.to_vec();
+                let mut got = raw(gi);
                 want.sort_unstable();
                 got.sort_unstable();
                 assert_eq!(got, want, "step {step}, band {band}");
@@ -502,7 +508,7 @@ mod tests {
                 lay_out(&mut b, &bands, &mut layout, team);
                 // A few boxes move to other bands, one loses its key.
                 for k in 0..n {
-                    let id = b.slots[k] as usize - 10;
+                    let id = b.slots[k].0 as usize - 10;
                     if id % 37 == 0 {
                         let (lo, hi) = (ys[id].0 + 0.25, ys[id].1 + 0.25);
                         b.hulls[k] = hull(b.keys[k], lo.min(0.99), hi.min(0.99));
@@ -550,9 +556,7 @@ mod tests {
                     assert_eq!(homes, b.slots[at], "band {band}");
                     assert_eq!(guests, layout.guests(band).slots, "band {band}");
                 }
-                let guests: Vec<u32> = (0..40)
-                    .flat_map(|g| layout.guests(g).slots.to_vec())
-                    .collect();
+                let guests: Vec<u32> = (0..40).flat_map(|g| raw(layout.guests(g).slots)).collect();
                 laid.push((
                     b.slots.clone(),
                     b.keys.clone(),

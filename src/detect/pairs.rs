@@ -1,0 +1,228 @@
+//! Where a broad phase's pairs go: the lines as the world stores them, and
+//! the sink that tests each candidate pair exactly and keeps what a step
+//! finds. Every detector ends here, so the exact test, its prefilter, the
+//! wild lines' test and the counting are written once.
+
+use super::swept::{magnitude, max};
+use crate::index::{LineId, Slot};
+use crate::line::Line;
+use crate::narrow::{intersect, may_intersect, Event};
+
+/// The lines as the world stores them this step: the line in slot `s` is
+/// `lines[s]`, with id `ids[s]`, or id `s` while they are stored by id.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Stored<'a> {
+    /// The lines by slot.
+    pub lines: &'a [Line],
+    ids: Option<&'a [LineId]>,
+}
+
+impl<'a> Stored<'a> {
+    /// Lines stored by id: slot `s` holds the line with id `s`.
+    pub(crate) fn by_id(lines: &'a [Line]) -> Self {
+        Stored { lines, ids: None }
+    }
+
+    /// Lines stored in any order: slot `s` holds the line with id
+    /// `ids[s]`.
+    pub(crate) fn by_slot(lines: &'a [Line], ids: &'a [LineId]) -> Self {
+        debug_assert_eq!(lines.len(), ids.len());
+        Stored {
+            lines,
+            ids: Some(ids),
+        }
+    }
+
+    /// Whether slots are ids.
+    pub(crate) fn in_id_order(self) -> bool {
+        self.ids.is_none()
+    }
+
+    /// The id of the line in slot `s`.
+    #[inline(always)]
+    pub(crate) fn id(self, s: Slot) -> LineId {
+        self.ids.map_or(LineId(s.0), |ids| ids[s.0 as usize])
+    }
+
+    /// The line in slot `s`.
+    #[inline(always)]
+    pub(crate) fn line(self, s: Slot) -> &'a Line {
+        &self.lines[s.0 as usize]
+    }
+}
+
+/// Running totals of a broad phase's pair work.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PairCounts {
+    /// Pairs whose boxes were compared.
+    pub candidates: u64,
+    /// Pairs handed to `intersect`.
+    pub exact: u64,
+}
+
+impl PairCounts {
+    /// Adds another tally to this one.
+    pub fn add(&mut self, other: &PairCounts) {
+        self.candidates += other.candidates;
+        self.exact += other.exact;
+    }
+}
+
+/// What a step's broad phase, or one piece of it, finds: the events by
+/// slot (the line with the lower id first, in the order found) and the
+/// pair work that found them. The world owns the step's; a detector that
+/// splits its work gives each piece its own and appends them in order.
+#[derive(Debug, Default)]
+pub(crate) struct Findings {
+    /// The events found.
+    pub events: Vec<Event<Slot>>,
+    /// The pair work done.
+    pub counts: PairCounts,
+}
+
+impl Findings {
+    /// Empties the events and the counts, keeping the buffer.
+    pub(crate) fn clear(&mut self) {
+        self.events.clear();
+        self.counts = PairCounts::default();
+    }
+
+    /// Counts `candidates` pairs whose boxes were compared.
+    #[inline]
+    pub(crate) fn met(&mut self, candidates: u64) {
+        self.counts.candidates += candidates;
+    }
+
+    /// Takes in what a piece found after what is here, emptying it.
+    pub(crate) fn append(&mut self, piece: &mut Findings) {
+        self.events.append(&mut piece.events);
+        self.counts.add(&piece.counts);
+        piece.counts = PairCounts::default();
+    }
+
+    /// Tests the pair in slots `a` and `b` of `stored`, whose hulls
+    /// overlap: [`Findings::test_ordered`] with the lower id first.
+    #[inline(always)]
+    pub(crate) fn test(&mut self, stored: Stored, a: Slot, b: Slot, dt: f64) {
+        let (a, b) = match stored.id(a) < stored.id(b) {
+            true => (a, b),
+            false => (b, a),
+        };
+        self.test_ordered(stored.line(a), stored.line(b), (a, b), dt);
+    }
+
+    /// Tests `l1` and `l2` (the lines in slots `first` and `second`, the
+    /// lower id first; copies will do): the cheap prefilter, then the exact
+    /// test, keeping the event if there is one.
+    #[inline]
+    pub(crate) fn test_ordered(
+        &mut self,
+        l1: &Line,
+        l2: &Line,
+        (first, second): (Slot, Slot),
+        dt: f64,
+    ) {
+        let bound = max(magnitude(l1, dt), magnitude(l2, dt));
+        if !may_intersect(l1, l2, dt, bound) {
+            return;
+        }
+        self.exact(l1, l2, (first, second), dt);
+    }
+
+    /// The exact test alone of `l1` and `l2` (as [`Findings::test_ordered`]
+    /// takes them), as the all-pairs loop makes it.
+    #[inline(always)]
+    pub(crate) fn exact(&mut self, l1: &Line, l2: &Line, (first, second): (Slot, Slot), dt: f64) {
+        self.counts.exact += 1;
+        if let Some(kind) = intersect(l1, l2, dt) {
+            self.events.push(Event {
+                first,
+                second,
+                kind,
+            });
+        }
+    }
+
+    /// Tests every wild line (a finite segment with a non-finite velocity or
+    /// box) in `wild` against every line in `others` and every other wild
+    /// line, each pair once, with the exact test alone. Wild lines are rare
+    /// and short-lived: a line whose velocity turned NaN is inert a step
+    /// later.
+    pub(crate) fn test_wild(
+        &mut self,
+        stored: Stored,
+        wild: &[Slot],
+        others: impl Iterator<Item = Slot> + Clone,
+        dt: f64,
+    ) {
+        for (k, &w) in wild.iter().enumerate() {
+            for other in others.clone().chain(wild[k + 1..].iter().copied()) {
+                self.counts.candidates += 1;
+                let (a, b) = match stored.id(w) < stored.id(other) {
+                    true => (w, other),
+                    false => (other, w),
+                };
+                self.exact(stored.line(a), stored.line(b), (a, b), dt);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::narrow::IntersectionKind;
+    use crate::test_util::line;
+
+    #[test]
+    fn a_pair_is_tested_with_the_lower_id_first_whatever_its_slots() {
+        // Slot 0 holds line 9, slot 1 line 4: the event names slot 1 first.
+        let a = line((0.6, 0.6), (0.6, 0.7), (0.01, 0.0));
+        let b = line((0.605, 0.6), (0.605, 0.7), (-0.01, 0.0));
+        let (lines, ids) = ([a, b], [LineId(9), LineId(4)]);
+        let stored = Stored::by_slot(&lines, &ids);
+        let mut found = Findings::default();
+        found.test(stored, Slot(0), Slot(1), 0.5);
+        assert_eq!(found.counts.exact, 1);
+        assert_eq!(
+            found.events,
+            vec![Event {
+                first: Slot(1),
+                second: Slot(0),
+                kind: IntersectionKind::L2WithL1,
+            }]
+        );
+        let mut all = Findings::default();
+        all.append(&mut found);
+        assert_eq!((all.events.len(), found.events.len()), (1, 0));
+        assert_eq!(found.counts, PairCounts::default());
+    }
+
+    #[test]
+    fn wild_lines_meet_the_others_and_each_other_once() {
+        let lines = [
+            line((0.6, 0.6), (0.7, 0.7), (f64::NAN, f64::NAN)),
+            line((0.6, 0.7), (0.7, 0.6), (0.0, 0.0)),
+            line(
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+            ),
+            line((0.65, 0.6), (0.65, 0.7), (f64::NAN, 0.0)),
+        ];
+        assert!(crate::detect::swept_box(&lines[0], 0.5).is_none() && !lines[0].is_inert());
+        assert!(lines[2].is_inert());
+        let mut found = Findings::default();
+        let wild = [Slot(0), Slot(3)];
+        found.test_wild(Stored::by_id(&lines), &wild, [Slot(1)].into_iter(), 0.5);
+        // 0-1, 0-3, 3-1: all three cross now.
+        assert_eq!(found.counts.exact, 3);
+        let mut pairs: Vec<_> = found
+            .events
+            .iter()
+            .map(|e| (e.first.0, e.second.0))
+            .collect();
+        pairs.sort_unstable();
+        assert_eq!(pairs, vec![(0, 1), (0, 3), (1, 3)]);
+    }
+}
