@@ -179,36 +179,38 @@ macro_rules! padded_hull {
         type L = $L;
         let [ax, ay, bx, by]: [L; 4] = $point;
         let (vx, vy): (L, L) = ($vx, $vy);
+        let sum = ax.add(ay).add(bx).add(by).add(vx).add(vy);
         let dt = L::splat($dt);
         let (dx, dy) = (vx.mul(dt), vy.mul(dt));
-        // A point's values along the four directions.
-        let project = |x: L, y: L| -> [L; 4] {
-            let (x_, y_) = (x.mul(L::splat(DIAGONAL_X)), y.mul(L::splat(DIAGONAL_Y)));
-            [x, y, x_.add(y_), x_.sub(y_)]
-        };
-        let (a, b, d) = (project(ax, ay), project(bx, by), project(dx, dy));
-        // Plain loops: `array::from_fn` over closures is left as a call,
-        // compiled without a batch's target features (docs/DESIGN.md,
-        // "Tried and dropped").
         let zero = L::splat(0.0);
-        let (mut lo, mut hi) = ([zero; 4], [zero; 4]);
-        for r in 0..4 {
-            lo[r] = a[r].min(b[r]).add(d[r].min(zero));
-            hi[r] = a[r].max(b[r]).add(d[r].max(zero));
-        }
-        let magnitude = (lo[0].neg().max(hi[0])).max(lo[1].neg().max(hi[1]));
-        let sum = ax.add(ay).add(bx).add(by).add(vx).add(vy);
+        // The extent along a direction of the points `a` and `b` moved by
+        // `d`.
+        let extent = |a: L, b: L, d: L| (a.min(b).add(d.min(zero)), a.max(b).add(d.max(zero)));
+        let (lo_x, hi_x) = extent(ax, bx, dx);
+        let (lo_y, hi_y) = extent(ay, by, dy);
+        let magnitude = (lo_x.neg().max(hi_x)).max(lo_y.neg().max(hi_y));
         // The pad; the diagonals reach (1180 + 800) times the magnitude,
         // and so does their pad.
         let pad = magnitude.mul(L::splat(PAD)).add(L::splat(1e-12));
         let pad_diagonal = L::splat(DIAGONAL_X + DIAGONAL_Y).mul(pad);
-        let pads = [pad, pad, pad_diagonal, pad_diagonal];
-        let (mut low, mut high) = ([zero; 4], [zero; 4]);
-        for r in 0..4 {
-            low[r] = lo[r].sub(pads[r]);
-            high[r] = hi[r].add(pads[r]);
-        }
-        (low, high, sum, magnitude)
+        let (low_x, high_x) = (lo_x.sub(pad), hi_x.add(pad));
+        let (low_y, high_y) = (lo_y.sub(pad), hi_y.add(pad));
+        // A point's values along the diagonals.
+        let project = |x: L, y: L| -> (L, L) {
+            let (x_, y_) = (x.mul(L::splat(DIAGONAL_X)), y.mul(L::splat(DIAGONAL_Y)));
+            (x_.add(y_), x_.sub(y_))
+        };
+        let ((au, aw), (bu, bw), (du, dw)) = (project(ax, ay), project(bx, by), project(dx, dy));
+        let (lo_u, hi_u) = extent(au, bu, du);
+        let (lo_w, hi_w) = extent(aw, bw, dw);
+        let (low_u, high_u) = (lo_u.sub(pad_diagonal), hi_u.add(pad_diagonal));
+        let (low_w, high_w) = (lo_w.sub(pad_diagonal), hi_w.add(pad_diagonal));
+        (
+            [low_x, low_y, low_u, low_w],
+            [high_x, high_y, high_u, high_w],
+            sum,
+            magnitude,
+        )
     }};
 }
 pub(crate) use padded_hull;

@@ -159,59 +159,24 @@ pub(super) use x86::{Avx2, Sse2};
 mod x86 {
     use super::{row, Line, Packed, DIRECTIONS, LANES, NO_KEY};
     use safe_arch::{
-        add_m128d, bitand_m128d, bitxor_m128, bitxor_m128d, cmp_le_mask_m128d, cmp_lt_mask_m128d,
+        add_m128d, bitand_m128, bitand_m128d, bitandnot_m128, bitor_m128, bitxor_m128,
+        bitxor_m128d, cast_to_m128_from_m128d, cmp_le_mask_m128d, cmp_lt_mask_m128d,
         convert_to_m128_from_m128d, m128, m128d, max_m128d, min_m128d, move_high_low_m128,
-        move_low_high_m128, move_mask_m128d, mul_m128d, set_splat_m128, set_splat_m128d, sub_m128d,
-        unpack_high_m128, unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
+        move_low_high_m128, mul_m128d, set_splat_m128, set_splat_m128d, shuffle_abi_f32_all_m128,
+        sub_m128d, unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
     };
     use std::arch::x86_64::{
-        __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_cvtpd_ps, _mm256_max_pd,
-        _mm256_min_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_set1_pd,
-        _mm256_sub_pd, _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd, _CMP_LE_OQ,
+        __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_castpd_si256, _mm256_castps256_ps128,
+        _mm256_castsi256_si128, _mm256_cmp_pd, _mm256_cvtpd_ps, _mm256_max_pd, _mm256_min_pd,
+        _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_permutevar8x32_epi32, _mm256_set1_pd,
+        _mm256_set_m128, _mm256_setr_epi32, _mm256_setzero_ps, _mm256_shuffle_ps, _mm256_sub_pd,
+        _mm256_unpackhi_pd, _mm256_unpackhi_ps, _mm256_unpacklo_pd, _mm256_unpacklo_ps,
+        _mm256_xor_pd, _mm_blendv_ps, _mm_castsi128_ps, _mm_set1_ps, _mm_xor_ps, _CMP_LE_OQ,
         _CMP_LT_OQ,
     };
 
     /// `f64` with every bit but the sign: `x & ABS` is `|x|`.
     const ABS: f64 = f64::from_bits(!(1u64 << 63));
-
-    /// Four rows of four `f32` turned into four columns: the transpose
-    /// both lane types scatter their hulls with.
-    #[inline(always)]
-    fn columns(r: [m128; 4]) -> [m128; 4] {
-        let (t0, t1) = (unpack_low_m128(r[0], r[1]), unpack_low_m128(r[2], r[3]));
-        let (t2, t3) = (unpack_high_m128(r[0], r[1]), unpack_high_m128(r[2], r[3]));
-        [
-            move_low_high_m128(t0, t1),
-            move_high_low_m128(t1, t0),
-            move_low_high_m128(t2, t3),
-            move_high_low_m128(t3, t2),
-        ]
-    }
-
-    /// Writes four hulls and keys from their bounds by direction, as `f32`
-    /// rows of four lines (`high` negated already): see
-    /// [`super::store_bounds`].
-    #[inline(always)]
-    fn scatter(
-        low: [m128; DIRECTIONS],
-        high: [m128; DIRECTIONS],
-        valid: u32,
-        along: usize,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-    ) {
-        let key: [f32; LANES] = low[along].into();
-        let (low, high) = (columns(low), columns(high));
-        for k in 0..LANES {
-            let (l, h): ([f32; 4], [f32; 4]) = (low[k].into(), high[k].into());
-            hulls[k] = [l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]];
-            keys[k] = if valid & (1 << k) != 0 {
-                key[k]
-            } else {
-                NO_KEY
-            };
-        }
-    }
 
     /// Four lanes in one AVX2 register. Its operations are compiled with
     /// AVX2 and called only from code compiled with it.
@@ -263,35 +228,65 @@ mod x86 {
         pub fn neg(self) -> Self {
             Self(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)))
         }
-        /// Finite (NaN and infinities fail) and within the largest.
+        /// All ones in each lane whose `sum` is finite (NaN and infinities
+        /// fail) and whose `magnitude` is at most `largest`.
         #[inline]
         #[target_feature(enable = "avx2")]
-        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
+        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> __m256d {
             let abs = _mm256_and_pd(sum.0, _mm256_set1_pd(ABS));
             let finite = _mm256_cmp_pd::<_CMP_LT_OQ>(abs, _mm256_set1_pd(f64::INFINITY));
             let within = _mm256_cmp_pd::<_CMP_LE_OQ>(magnitude.0, _mm256_set1_pd(largest));
-            _mm256_movemask_pd(_mm256_and_pd(finite, within)) as u32
+            _mm256_and_pd(finite, within)
         }
-        /// Writes the hulls and keys (see [`super::store_bounds`]); each
-        /// conversion rounds to nearest, as `as f32` does.
+        /// Writes the four lines' hulls and keys (see
+        /// [`super::store_bounds`]); each conversion rounds to nearest, as
+        /// `as f32` does. A direction's bounds of the four lines, low then
+        /// high, make one row; two 4 x 4 transposes, one in each half of
+        /// the rows, turn them into the four hulls, which each take one
+        /// store; the keys are the low bounds along `along`, [`NO_KEY`]
+        /// where the line is not `valid`, in one store.
         #[inline]
         #[target_feature(enable = "avx2")]
         pub fn store(
             low: [Self; DIRECTIONS],
             high: [Self; DIRECTIONS],
-            valid: u32,
+            valid: __m256d,
             along: usize,
             hulls: &mut [Packed],
             keys: &mut [f32],
         ) {
-            let sign = set_splat_m128(-0.0);
-            let mut l = [sign; DIRECTIONS];
-            let mut h = [sign; DIRECTIONS];
+            let sign = _mm_set1_ps(-0.0);
+            let mut rows = [_mm256_setzero_ps(); DIRECTIONS];
             for r in 0..DIRECTIONS {
-                l[r] = m128(_mm256_cvtpd_ps(low[r].0));
-                h[r] = bitxor_m128(m128(_mm256_cvtpd_ps(high[r].0)), sign);
+                let high = _mm_xor_ps(_mm256_cvtpd_ps(high[r].0), sign);
+                rows[r] = _mm256_set_m128(high, _mm256_cvtpd_ps(low[r].0));
             }
-            scatter(l, h, valid, along, hulls, keys);
+            let (t0, t1) = (
+                _mm256_unpacklo_ps(rows[0], rows[1]),
+                _mm256_unpackhi_ps(rows[0], rows[1]),
+            );
+            let (t2, t3) = (
+                _mm256_unpacklo_ps(rows[2], rows[3]),
+                _mm256_unpackhi_ps(rows[2], rows[3]),
+            );
+            let hull = [
+                _mm256_shuffle_ps::<0x44>(t0, t2),
+                _mm256_shuffle_ps::<0xEE>(t0, t2),
+                _mm256_shuffle_ps::<0x44>(t1, t3),
+                _mm256_shuffle_ps::<0xEE>(t1, t3),
+            ];
+            for (out, hull) in hulls.iter_mut().zip(hull) {
+                *out = bytemuck::cast(hull);
+            }
+            // Each line's mask, from 64 bits to 32.
+            let valid = _mm256_castpd_si256(valid);
+            let narrow =
+                _mm256_permutevar8x32_epi32(valid, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6));
+            let valid = _mm_castsi128_ps(_mm256_castsi256_si128(narrow));
+            let key = _mm256_castps256_ps128(rows[along]);
+            let key = _mm_blendv_ps(_mm_set1_ps(NO_KEY), key, valid);
+            let out: &mut [f32; LANES] = (&mut keys[..LANES]).try_into().expect("four keys");
+            *out = bytemuck::cast(key);
         }
     }
 
@@ -339,13 +334,14 @@ mod x86 {
         pub fn neg(self) -> Self {
             Self(bitxor_m128d(self.0, set_splat_m128d(-0.0)))
         }
-        /// Finite (NaN and infinities fail) and within the largest.
+        /// All ones in each lane whose `sum` is finite (NaN and infinities
+        /// fail) and whose `magnitude` is at most `largest`.
         #[inline(always)]
-        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
+        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> m128d {
             let abs = bitand_m128d(sum.0, set_splat_m128d(ABS));
             let finite = cmp_lt_mask_m128d(abs, set_splat_m128d(f64::INFINITY));
             let within = cmp_le_mask_m128d(magnitude.0, set_splat_m128d(largest));
-            move_mask_m128d(bitand_m128d(finite, within)) as u32
+            bitand_m128d(finite, within)
         }
         /// Writes the two lines' hulls and keys (see
         /// [`super::store_bounds`]); each conversion rounds to nearest, as
@@ -354,7 +350,7 @@ mod x86 {
         pub fn store(
             low: [Self; DIRECTIONS],
             high: [Self; DIRECTIONS],
-            valid: u32,
+            valid: m128d,
             along: usize,
             hulls: &mut [Packed],
             keys: &mut [f32],
@@ -370,16 +366,20 @@ mod x86 {
                 [move_low_high_m128(a, b), move_high_low_m128(b, a)]
             };
             let (l4, h4) = (half(l), half(h));
-            let key: [f32; 4] = l[along].into();
-            for k in 0..2 {
+            for (k, hull) in hulls[..2].iter_mut().enumerate() {
                 let (lo, hi): ([f32; 4], [f32; 4]) = (l4[k].into(), h4[k].into());
-                hulls[k] = [lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]];
-                keys[k] = if valid & (1 << k) != 0 {
-                    key[k]
-                } else {
-                    NO_KEY
-                };
+                hull[..DIRECTIONS].copy_from_slice(&lo);
+                hull[DIRECTIONS..].copy_from_slice(&hi);
             }
+            // Each line's mask, from 64 bits to 32, picks its key or NO_KEY.
+            let valid = cast_to_m128_from_m128d(valid);
+            let valid = shuffle_abi_f32_all_m128::<0b1000>(valid, valid);
+            let key = bitor_m128(
+                bitand_m128(valid, l[along]),
+                bitandnot_m128(valid, set_splat_m128(NO_KEY)),
+            );
+            let key: [f32; 4] = key.into();
+            keys[..2].copy_from_slice(&key[..2]);
         }
     }
 }
