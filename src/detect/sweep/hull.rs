@@ -77,33 +77,37 @@ pub(crate) fn make(
     dt: f64,
 ) {
     let n = slots.len().min(hulls.len()).min(keys.len());
-    let line = |k: usize| &lines[slots[k].0 as usize];
+    let (slots, hulls, keys) = (&slots[..n], &mut hulls[..n], &mut keys[..n]);
     multiversion::target::match_target! {
-        "x86_64+avx2" => make_each_avx2(line, &mut hulls[..n], &mut keys[..n], along, dt),
-        _ => make_each(line, &mut hulls[..n], &mut keys[..n], along, dt, batch_default),
+        "x86_64+avx2" => make_each_avx2((lines, slots), hulls, keys, along, dt),
+        _ => make_each((lines, slots), hulls, keys, along, dt, batch_default),
     }
 }
 
-/// Makes the packed hull and key of each line `line(k)` into `hulls[k]`
-/// and `keys[k]`: `W` lines at a time by `batch`, the rest one at a time.
+/// Makes the packed hull and key of the line in each slot `slots[k]` of
+/// `lines` into `hulls[k]` and `keys[k]` (all three as long): `W` lines at
+/// a time by `batch`, the rest one at a time.
 #[inline(always)]
 fn make_each<'a, const W: usize>(
-    line: impl Fn(usize) -> &'a Line,
+    (lines, slots): (&'a [Line], &[Slot]),
     hulls: &mut [Packed],
     keys: &mut [f32],
     along: usize,
     dt: f64,
     batch: impl Fn([&'a Line; W], f64, usize, &mut [Packed], &mut [f32]),
 ) {
-    let n = hulls.len().min(keys.len());
-    let whole = n - n % W;
-    for start in (0..whole).step_by(W) {
-        let (lines, range) = (std::array::from_fn(|k| line(start + k)), start..start + W);
-        let (hulls, keys) = (&mut hulls[range.clone()], &mut keys[range]);
-        batch(lines, dt, along, hulls, keys);
+    let line = |s: &Slot| &lines[s.0 as usize];
+    let whole = slots.len() - slots.len() % W;
+    let (slots, rest) = slots.split_at(whole);
+    let (hulls, rest_hulls) = hulls.split_at_mut(whole);
+    let (keys, rest_keys) = keys.split_at_mut(whole);
+    let batches = slots.chunks_exact(W).zip(hulls.chunks_exact_mut(W));
+    for ((slots, hulls), keys) in batches.zip(keys.chunks_exact_mut(W)) {
+        let slots: &[Slot; W] = slots.try_into().expect("a batch of slots");
+        batch(slots.each_ref().map(line), dt, along, hulls, keys);
     }
-    for k in whole..n {
-        keys[k] = make_one(line(k), dt, along, &mut hulls[k]);
+    for ((slot, hull), key) in rest.iter().zip(rest_hulls).zip(rest_keys) {
+        *key = make_one(line(slot), dt, along, hull);
     }
 }
 
@@ -113,7 +117,7 @@ fn make_each<'a, const W: usize>(
 #[inline]
 #[target_feature(enable = "avx2")]
 fn make_each_avx2<'a>(
-    line: impl Fn(usize) -> &'a Line,
+    lines: (&'a [Line], &[Slot]),
     hulls: &mut [Packed],
     keys: &mut [f32],
     along: usize,
@@ -122,7 +126,7 @@ fn make_each_avx2<'a>(
     let batch = |lines, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
         batch_avx2(lines, dt, along, hulls, keys)
     };
-    make_each(line, hulls, keys, along, dt, batch);
+    make_each(lines, hulls, keys, along, dt, batch);
 }
 
 /// Lines whose hulls the widest batch makes at once.
@@ -314,7 +318,7 @@ mod tests {
                 .collect();
             let slots: Vec<Slot> = (0..lines.len() as u32).rev().map(Slot).collect();
             let n = slots.len();
-            let line = |k: usize| &lines[slots[k].0 as usize];
+            let line = (&lines[..], &slots[..]);
             // What the processor runs, and every lane type this target has.
             let mut made = Vec::new();
             let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
@@ -354,8 +358,8 @@ mod tests {
     /// first), through a clone compiled with it.
     #[cfg(target_arch = "x86_64")]
     #[multiversion(targets("x86_64+avx2"))]
-    fn make_avx2<'a>(
-        line: impl Fn(usize) -> &'a Line,
+    fn make_avx2(
+        line: (&[Line], &[Slot]),
         hulls: &mut [Packed],
         keys: &mut [f32],
         along: usize,
