@@ -26,6 +26,9 @@
 # (target/cross, or $CROSS_TARGET_DIR), so the build scripts and procedural
 # macros the host runs are compiled once for all of them.
 set -euo pipefail
+# A failed build inside $(cross_build ...) must end the script, not leave
+# the last build's binary to be tested.
+shopt -s inherit_errexit
 cd "$(dirname "$0")/.."
 root="$(pwd)"
 say() { echo "cross.sh: $*" >&2; }
