@@ -484,6 +484,33 @@ mod tests {
         assert_eq!(w.lines()[2].v.x, 0.01);
     }
 
+    /// The step after which the lines are first stored in the sweep's
+    /// order still reports its events by id, as every step does, found
+    /// while the lines were stored by id or after.
+    #[test]
+    fn events_read_by_id_before_during_and_after_the_lines_are_reordered() {
+        use crate::generate::{generate, SceneKind};
+        let scene = generate(SceneKind::Uniform, 3_000, 5);
+        let config = DetectorConfig {
+            threads: 2,
+            ..DetectorConfig::default()
+        };
+        let mut sweep = World::with_config(&scene, DetectorKind::Sweep, &config).unwrap();
+        let mut oracle = World::with_detector(&scene, DetectorKind::Brute);
+        let mut found = 0;
+        for step in 1..=3 {
+            sweep.step();
+            oracle.step();
+            assert!(
+                sweep.storage.reordered(),
+                "stored in the sweep's order from step 1"
+            );
+            assert_eq!(sweep.last_events(), oracle.last_events(), "step {step}");
+            found += sweep.last_events().len();
+        }
+        assert!(found > 0, "no events to compare");
+    }
+
     #[test]
     fn timing_adds_up_when_on() {
         let mut w = world(vec![line((0.6, 0.6), (0.7, 0.6), (0.01, 0.0))]);
