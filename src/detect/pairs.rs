@@ -49,6 +49,16 @@ impl<'a> Stored<'a> {
     pub(crate) fn line(self, s: Slot) -> &'a Line {
         &self.lines[s.0 as usize]
     }
+
+    /// `a` and `b`, each a slot with what goes with it, the one whose line
+    /// has the lower id first (as events name them).
+    #[inline(always)]
+    fn lower_first<T>(self, a: (Slot, T), b: (Slot, T)) -> ((Slot, T), (Slot, T)) {
+        match self.id(a.0) < self.id(b.0) {
+            true => (a, b),
+            false => (b, a),
+        }
+    }
 }
 
 /// Running totals of a broad phase's pair work.
@@ -101,14 +111,25 @@ impl Findings {
     }
 
     /// Tests the pair in slots `a` and `b` of `stored`, whose hulls
-    /// overlap: [`Findings::test_ordered`] with the lower id first.
+    /// overlap: [`Findings::test_copies`] of the stored lines.
     #[inline(always)]
     pub(crate) fn test(&mut self, stored: Stored, a: Slot, b: Slot, dt: f64) {
-        let (a, b) = match stored.id(a) < stored.id(b) {
-            true => (a, b),
-            false => (b, a),
-        };
-        self.test_ordered(stored.line(a), stored.line(b), (a, b), dt);
+        self.test_copies(stored, (a, stored.line(a)), (b, stored.line(b)), dt);
+    }
+
+    /// Tests the lines in slots `a` and `b` of `stored`, given as they are
+    /// or as copies, whose hulls overlap: [`Findings::test_ordered`] with
+    /// the lower id first.
+    #[inline(always)]
+    pub(crate) fn test_copies(
+        &mut self,
+        stored: Stored,
+        a: (Slot, &Line),
+        b: (Slot, &Line),
+        dt: f64,
+    ) {
+        let ((a, l1), (b, l2)) = stored.lower_first(a, b);
+        self.test_ordered(l1, l2, (a, b), dt);
     }
 
     /// Tests `l1` and `l2` (the lines in slots `first` and `second`, the
@@ -158,10 +179,7 @@ impl Findings {
         for (k, &w) in wild.iter().enumerate() {
             for other in others.clone().chain(wild[k + 1..].iter().copied()) {
                 self.counts.candidates += 1;
-                let (a, b) = match stored.id(w) < stored.id(other) {
-                    true => (w, other),
-                    false => (other, w),
-                };
+                let ((a, ()), (b, ())) = stored.lower_first((w, ()), (other, ()));
                 self.exact(stored.line(a), stored.line(b), (a, b), dt);
             }
         }

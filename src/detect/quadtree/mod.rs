@@ -162,10 +162,7 @@ impl<'a> EventCollector<'a> {
         );
         for ((a, b), &(p, q)) in self.pairs.iter().zip(&self.pending) {
             let (s, t) = (self.order[p as usize], self.order[q as usize]);
-            match self.stored.id(s) < self.stored.id(t) {
-                true => self.found.test_ordered(a, b, (s, t), self.dt),
-                false => self.found.test_ordered(b, a, (t, s), self.dt),
-            }
+            (self.found).test_copies(self.stored, (s, a), (t, b), self.dt);
         }
         self.pending.clear();
     }

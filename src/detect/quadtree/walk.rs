@@ -151,14 +151,24 @@ impl<'t> Walk<'t> {
             whole: true,
         };
         self.plan(&mut scratch.counts, &mut tasks, root);
-        for batch in tasks.chunks(MAX_PIECES) {
-            let mut done: Vec<Option<(Scratch, C)>> = batch.iter().map(|_| None).collect();
+        let mut tasks = tasks.into_iter();
+        loop {
+            // Each task moved out to the piece that runs it, with a fresh
+            // collector.
+            let batch: Vec<(Task, C)> = (tasks.by_ref().take(MAX_PIECES))
+                .map(|task| (task, collector.fork()))
+                .collect();
+            if batch.is_empty() {
+                break;
+            }
+            let pieces = batch.len();
+            let mut done: Vec<Option<(Scratch, C)>> = (0..pieces).map(|_| None).collect();
             let outs = Parts::new(done.iter_mut());
-            let forks = Parts::new(batch.iter().map(|_| collector.fork()));
-            team.run_pieces(batch.len(), &|k| {
-                let (task, mut collector) = (&batch[k], forks.take(k));
+            let work = Parts::new(batch);
+            team.run_pieces(pieces, &|k| {
+                let (task, mut collector) = work.take(k);
                 let mut sub = Scratch {
-                    active: task.active.clone(),
+                    active: task.active,
                     ..Scratch::default()
                 };
                 match task.whole {

@@ -116,11 +116,11 @@ impl Scalar {
     }
     #[inline(always)]
     pub fn min(self, o: Self) -> Self {
-        self.map2(o, |a, b| if a < b { a } else { b })
+        self.map2(o, crate::detect::swept::min)
     }
     #[inline(always)]
     pub fn max(self, o: Self) -> Self {
-        self.map2(o, |a, b| if a > b { a } else { b })
+        self.map2(o, crate::detect::swept::max)
     }
     #[inline(always)]
     pub fn neg(self) -> Self {
