@@ -54,6 +54,7 @@ mod boxes;
 pub(crate) mod hull;
 mod lanes;
 pub(crate) mod layout;
+mod near;
 pub(crate) mod plan;
 pub(crate) mod scan;
 
@@ -66,6 +67,7 @@ use crate::team::{self, Team};
 use boxes::Boxes;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
+use near::Near;
 use plan::Plan;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -135,6 +137,10 @@ pub struct Sweep {
     /// Steps until the world next stores the lines in the boxes' order
     /// ([`Detector::reorder`], [`Schedule::STORE_EVERY`]).
     until_store: u64,
+    /// The pairs the last sweep found, kept for the steps after it while
+    /// they hold ([`near`]), and whether they are used.
+    near: Near,
+    sweeps_every_step: bool,
 }
 
 impl Sweep {
@@ -143,6 +149,16 @@ impl Sweep {
     /// the sweep tunes.)
     pub fn new(_config: &DetectorConfig) -> Self {
         Self::default()
+    }
+
+    /// A sweep that sweeps every step, keeping no pairs ([`near`]): the
+    /// same events, for comparing the two.
+    #[cfg(test)]
+    pub(crate) fn every_step() -> Self {
+        Self {
+            sweeps_every_step: true,
+            ..Self::default()
+        }
     }
 
     fn lap(&mut self, phase: usize) {
@@ -162,7 +178,7 @@ impl Sweep {
     }
 
     /// Makes every line's box and key, in last step's order, a share a
-    /// thread. When last step's layout may be kept, each share notes its
+    /// thread (the widened boxes, gathered, where pairs are kept). When last step's layout may be kept, each share notes its
     /// movers as it goes ([`Layout::mover_check`]), a block at a time
     /// while its boxes are at hand.
     fn make_hulls(&mut self, lines: &[Line], dt: f64) {
@@ -173,6 +189,7 @@ impl Sweep {
         let (check, noted) = (self.layout).mover_check(n, &self.plan.bands, threads, threads);
         let shares = self.sorted.slice_mut(n).shares(threads);
         let noted = team::split_mut(noted, threads);
+        let near = (!self.sweeps_every_step).then_some(&self.near);
         team.run(&|k| {
             let start = team::share(n, threads, k).start;
             let mut share = shares.take(k);
@@ -180,7 +197,10 @@ impl Sweep {
             noted.clear();
             for at in (0..share.len()).step_by(NOTE_BLOCK) {
                 let block = share.at(at..(at + NOTE_BLOCK).min(share.len()));
-                hull::make(lines, block.slots, block.hulls, block.keys, along, dt);
+                match near {
+                    Some(near) => near.gather(block.slots, block.hulls, block.keys, along),
+                    None => hull::make(lines, block.slots, block.hulls, block.keys, along, dt),
+                }
                 if let Some(check) = &check {
                     check.note(start + at, block.view(), noted);
                 }
@@ -212,24 +232,40 @@ impl Sweep {
     /// sweep, then the wild lines against every box.
     fn detect_lines(&mut self, stored: Stored, dt: f64, found: &mut Findings) {
         let lines = stored.lines;
+        let n = lines.len();
         let before = found.counts;
         if let Some(clock) = &mut self.clock {
             clock.start(Instant::now());
         }
-        if self.sorted.len() != lines.len() {
-            self.sorted.reset(lines.len());
+        if self.sorted.len() != n {
+            self.sorted.reset(n);
             self.layout.forget();
+            self.near.forget();
             self.until_plan = 0;
         }
+        let keep = !self.sweeps_every_step;
+        if keep && self.near.make(lines, dt, &self.team_for(n)) {
+            // The pairs kept hold: no sweep this step.
+            for phase in [HULLS, SORT, LAYOUT] {
+                self.lap(phase);
+            }
+            self.near.test((stored, dt), found, &self.team_for(n));
+            self.near.wild(stored, &mut self.wild);
+            found.test_wild(stored, &self.wild, self.near.boxed(), dt);
+            self.lap(SWEEP);
+            return;
+        }
 
+        if keep {
+            self.near.widen(lines, dt, &self.team_for(n));
+        }
         self.make_hulls(lines, dt);
         if self.until_plan == 0 {
             self.make_plan();
         }
-        self.until_plan -= 1;
+        self.until_plan = self.until_plan.saturating_sub(1);
         self.lap(HULLS);
 
-        let n = lines.len();
         let (boxed, swept) = if self.plan.bands.count > 1 {
             self.lay_out_and_sweep(stored, dt, found)
         } else {
@@ -240,13 +276,21 @@ impl Sweep {
             self.sweep_chunks(stored, dt, boxed, found);
             (boxed, boxed)
         };
-        let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
-        self.wild.clear();
-        self.wild
-            .extend(wild.iter().filter(|&&s| !stored.line(s).is_inert()));
-        found.test_wild(stored, &self.wild, boxed_slots.iter().copied(), dt);
         let candidates = found.counts.candidates - before.candidates;
         self.dense = candidates as f64 > DENSE * swept as f64;
+        if keep {
+            let chunks = self.chunks.iter_mut();
+            self.near.keep(chunks.flat_map(|c| c.near.drain(..)));
+            self.near.test((stored, dt), found, &self.team_for(n));
+            self.near.wild(stored, &mut self.wild);
+            found.test_wild(stored, &self.wild, self.near.boxed(), dt);
+        } else {
+            let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
+            self.wild.clear();
+            self.wild
+                .extend(wild.iter().filter(|&&s| !stored.line(s).is_inert()));
+            found.test_wild(stored, &self.wild, boxed_slots.iter().copied(), dt);
+        }
         self.lap(SWEEP);
     }
 
@@ -270,10 +314,13 @@ impl Sweep {
         // A member without a group (fewer bands than threads) finds
         // nothing: every group's findings start empty.
         chunks.resize_with(groups.max(chunks.len()), Chunk::default);
-        chunks[..groups].iter_mut().for_each(|c| c.found.clear());
+        chunks.iter_mut().for_each(|c| {
+            c.found.clear();
+            c.near.clear();
+        });
         let parts = team::Parts::new(chunks[..groups].iter_mut());
         let layout_end = Mutex::new(None);
-        let (along, dense) = (self.plan.along, self.dense);
+        let (along, dense, keep) = (self.plan.along, self.dense, !self.sweeps_every_step);
         // The clock is read only when timing (WebAssembly has none).
         let timing = self.clock.is_some();
         let sweep_each = |group: GroupView| {
@@ -281,7 +328,7 @@ impl Sweep {
                 *layout_end.lock().expect("the layout's end") = Some(Instant::now());
             }
             let chunk = parts.take(group.index);
-            scan::sweep_group(&group, along, dense, (stored, dt), chunk);
+            scan::sweep_group(&group, along, (dense, keep), (stored, dt), chunk);
         };
         let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
@@ -312,8 +359,10 @@ impl Sweep {
         let next = AtomicUsize::new(0);
         let mut pieces = std::mem::take(&mut self.chunks);
         pieces.resize_with(chunks.max(pieces.len()), Chunk::default);
+        pieces.iter_mut().for_each(|c| c.near.clear());
         let parts = team::Parts::new(pieces[..chunks].iter_mut());
         let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
+        let keep = !self.sweeps_every_step;
         team.run(&|_| loop {
             let c = next.fetch_add(1, Ordering::Relaxed);
             if c >= chunks {
@@ -322,12 +371,13 @@ impl Sweep {
             let chunk = parts.take(c);
             chunk.found.clear();
             chunk.pairs.clear();
+            chunk.near.clear();
             let range = c * size..((c + 1) * size).min(boxed);
             let (keys, hulls) = (&sorted.keys[..], &sorted.hulls[..]);
             let candidates = scan::sweep(keys, hulls, range, along, dense, &mut chunk.pairs);
             chunk.found.met(candidates);
             let slots = &sorted.slots[..];
-            scan::test_pairs(&mut chunk.found, (stored, dt), &chunk.pairs, slots, slots);
+            chunk.hand_on(keep, (stored, dt), slots, slots);
         });
         drop(parts);
         pieces[..chunks]
@@ -343,6 +393,9 @@ impl Sweep {
 pub(crate) struct Chunk {
     pub found: Findings,
     pub pairs: Vec<(u32, u32)>,
+    /// The pairs of slots whose boxes overlap, where they are kept
+    /// ([`near`]) rather than tested.
+    pub near: Vec<(Slot, Slot)>,
 }
 
 impl Detector for Sweep {
@@ -370,6 +423,7 @@ impl Detector for Sweep {
         for (place, slot) in slots.iter_mut().enumerate() {
             *slot = Slot(place as u32);
         }
+        self.near.reorder(&order);
         Some(order)
     }
 
@@ -379,9 +433,16 @@ impl Detector for Sweep {
         // `u` and `w` are the diagonals.
         let name = ["x", "y", "the diagonal x+y", "the diagonal x-y"];
         let (along, bands) = (name[self.plan.along], self.plan.bands);
-        match bands.count {
+        let swept = match bands.count {
             1 => format!("along {along}, one band"),
             count => format!("along {along}, {count} bands across {}", name[bands.across]),
+        };
+        match self.near.sweeps {
+            0 => swept,
+            sweeps => {
+                let steps = self.near.steps as f64 / sweeps as f64;
+                format!("{swept}; pairs kept {steps:.1} steps a sweep")
+            }
         }
     }
 

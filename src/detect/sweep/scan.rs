@@ -43,27 +43,48 @@ pub(crate) fn test_pairs(
 /// Sweeps the bands of one group as its member laid it out
 /// ([`GroupView`]): each band's homes among themselves and against its
 /// guests, the pairs of places noted in `chunk.pairs`, and hands every
-/// pair whose hulls overlap, once each, to `chunk.found` to test on the
-/// lines `stored` holds, counting the candidates met.
+/// pair whose hulls overlap, once each, on ([`Chunk::hand_on`]): to
+/// `chunk.found` to test on the lines `stored` holds, or with `keep` to
+/// the pairs kept; counting the candidates met.
 pub(crate) fn sweep_group(
     group: &GroupView,
     along: usize,
-    dense: bool,
+    (dense, keep): (bool, bool),
     (stored, dt): (Stored, f64),
     chunk: &mut Chunk,
 ) {
-    let (pairs, found) = (&mut chunk.pairs, &mut chunk.found);
     for band in group.bands() {
         let (all, homes, guests) = (group.boxes, group.homes(band), group.guests(band));
         let (keys, hulls) = (&all.keys[..homes.end], &all.hulls[..homes.end]);
-        pairs.clear();
-        found.met(sweep(keys, hulls, homes.clone(), along, dense, pairs));
-        test_pairs(found, (stored, dt), pairs, all.slots, all.slots);
+        chunk.pairs.clear();
+        let met = sweep(keys, hulls, homes.clone(), along, dense, &mut chunk.pairs);
+        chunk.found.met(met);
+        chunk.hand_on(keep, (stored, dt), all.slots, all.slots);
         if guests.len() > 0 {
-            pairs.clear();
+            chunk.pairs.clear();
             let homes = all.at(homes);
-            found.met(sweep_across(homes, guests, along, pairs));
-            test_pairs(found, (stored, dt), pairs, homes.slots, guests.slots);
+            chunk.found.met(sweep_across(homes, guests, along, &mut chunk.pairs));
+            chunk.hand_on(keep, (stored, dt), homes.slots, guests.slots);
+        }
+    }
+}
+
+impl Chunk {
+    /// Hands the pairs of places swept on, the first of each pair's slot
+    /// from `first`, the second's from `second`: to `found` to test
+    /// ([`test_pairs`]), or with `keep` to the pairs kept, as slots.
+    #[inline]
+    pub(crate) fn hand_on(
+        &mut self,
+        keep: bool,
+        (stored, dt): (Stored, f64),
+        first: &[Slot],
+        second: &[Slot],
+    ) {
+        let pairs = self.pairs.iter();
+        match keep {
+            true => (self.near).extend(pairs.map(|&(i, j)| (first[i as usize], second[j as usize]))),
+            false => test_pairs(&mut self.found, (stored, dt), &self.pairs, first, second),
         }
     }
 }

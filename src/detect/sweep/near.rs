@@ -1,0 +1,299 @@
+//! Near pairs: the pairs a sweep finds, kept for the steps after it.
+//!
+//! A line's box moves little in a step. So when the sweep runs, it widens
+//! every box by a margin (a few steps of its line's travel, [`MARGIN_STEPS`])
+//! and keeps the pairs whose *widened* boxes overlap. On the steps after
+//! it, each line's box is made where the line is stored (in slot order,
+//! with no gathering) and checked to lie inside its widened box: while
+//! every box does, two boxes that overlap lie inside two widened boxes
+//! that overlap, so every pair whose boxes overlap is a kept pair, and
+//! comparing the kept pairs' boxes finds them all. The first step a box
+//! leaves its widened box (a line sped up by an event, or one that
+//! travelled its margin), the sweep runs again. The boxes compared, the
+//! exact test and the events are the same as the sweep's own: only the
+//! pairs looked at differ.
+//!
+//! Containment is checked on the packed `f32` boxes themselves, lane by
+//! lane, so no rounding can let a box out unnoticed; the margin is only a
+//! guess at how long the boxes stay in.
+
+use super::hull::{self, overlaps, reach, Packed, NO_KEY};
+use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
+use crate::detect::{Findings, Stored};
+use crate::index::Slot;
+use crate::line::Line;
+use crate::team::{self, Parts, Team};
+
+/// Steps of its line's travel a box is widened by: the steps it stays
+/// inside its widened box if nothing turns its line. Wider keeps the pairs
+/// longer but keeps more of them (docs/DESIGN.md, "Near pairs").
+const MARGIN_STEPS: f64 = 4.0;
+
+/// The most a diagonal's value moves for a unit of travel along `x` or
+/// `y`.
+const DIAGONAL: f64 = if DIAGONAL_X > DIAGONAL_Y {
+    DIAGONAL_X
+} else {
+    DIAGONAL_Y
+};
+
+/// The most leavers mended one at a time rather than by a sweep.
+const MEND_MOST: u64 = 16;
+
+/// Pairs compared at a time by a member of a team.
+const PAIRS_A_PIECE: usize = 4096;
+
+/// The widened box of a line that had no box at the sweep: no box lies
+/// inside it, so a line that has a box again calls for a sweep.
+const NOWHERE: Packed = [f32::INFINITY; 8];
+
+/// The boxes by slot, their widened boxes and the pairs kept.
+#[derive(Debug, Default)]
+pub(crate) struct Near {
+    /// Each slot's box this step, and its least `x` ([`NO_KEY`] where the
+    /// line has no box, which leaves the box as it was).
+    boxes: Vec<Packed>,
+    keys: Vec<f32>,
+    /// Each slot's widened box, from the last sweep.
+    wide: Vec<Packed>,
+    /// The pairs of slots whose widened boxes overlapped at the last
+    /// sweep, each once.
+    pairs: Vec<(Slot, Slot)>,
+    /// Whether `wide` and `pairs` are of the lines as stored now.
+    kept: bool,
+    /// `0..n` as slots: the boxes are made in slot order.
+    identity: Vec<Slot>,
+    /// The mean travel at the last sweep ([`widened`]).
+    mean: f64,
+    /// This step's leavers, and which slots they are ([`Near::mend`]).
+    leavers: Vec<Slot>,
+    leaving: Vec<bool>,
+    /// The findings of each piece of the comparison.
+    pieces: Vec<Findings>,
+    /// Steps, and sweeps among them, while kept pairs were used.
+    pub(crate) steps: u64,
+    pub(crate) sweeps: u64,
+}
+
+impl Near {
+    /// Forgets the pairs kept: the next step sweeps.
+    pub(crate) fn forget(&mut self) {
+        self.kept = false;
+    }
+
+    /// Makes every line's box in slot order, a share a thread of `team`,
+    /// and returns whether the pairs kept still hold: every box lies in
+    /// its widened box.
+    pub(crate) fn make(&mut self, lines: &[Line], dt: f64, team: &Team) -> bool {
+        let n = lines.len();
+        if self.identity.len() != n {
+            self.identity = (0..n as u32).map(Slot).collect();
+            self.boxes.resize(n, NOWHERE);
+            self.keys.resize(n, NO_KEY);
+            self.wide.resize(n, NOWHERE);
+            self.kept = false;
+        }
+        self.steps += 1;
+        let threads = team.threads();
+        let (boxes, keys) = (
+            team::split_mut(&mut self.boxes, threads),
+            team::split_mut(&mut self.keys, threads),
+        );
+        let (identity, wide, kept) = (&self.identity, &self.wide, self.kept);
+        let outside = team.run_sum(&|k| {
+            let share = team::share(n, threads, k);
+            let (boxes, keys) = (boxes.take(k), keys.take(k));
+            hull::make(lines, &identity[share.clone()], boxes, keys, 0, dt);
+            match kept {
+                true => count_outside(boxes, keys, &wide[share]),
+                false => 0,
+            }
+        });
+
+        if !kept || outside > MEND_MOST {
+            return false;
+        }
+        if outside > 0 {
+            self.mend(lines, dt);
+        }
+        true
+    }
+
+    /// Widens again the boxes that left their widened boxes (the
+    /// *leavers*, a few), and keeps anew the pairs they are in: each
+    /// leaver's widened box against every other, one at a time (a few
+    /// thousand instructions each on a scene of a few thousand lines,
+    /// far fewer than a sweep).
+    fn mend(&mut self, lines: &[Line], dt: f64) {
+        let n = lines.len();
+        self.leavers.clear();
+        let each = self.boxes.iter().zip(&self.wide).zip(&self.keys);
+        let leaving = each.enumerate().filter(|(_, ((b, w), &key))| key != NO_KEY && !inside(b, w));
+        self.leavers.extend(leaving.map(|(s, _)| Slot(s as u32)));
+        self.leaving.resize(n, false);
+        for &Slot(i) in &self.leavers {
+            let i = i as usize;
+            self.wide[i] = widened(&self.boxes[i], &lines[i], dt, self.mean);
+            self.leaving[i] = true;
+        }
+        let leaving = &self.leaving;
+        self.pairs
+            .retain(|&(a, b)| !leaving[a.0 as usize] && !leaving[b.0 as usize]);
+        for &Slot(i) in &self.leavers {
+            let i = i as usize;
+            let reach = reach(&self.wide[i]);
+            for (j, w) in self.wide.iter().enumerate() {
+                // Two leavers meet once, from the lower slot.
+                if overlaps(w, &reach) && j != i && (j > i || !leaving[j]) {
+                    self.pairs.push((Slot(i as u32), Slot(j as u32)));
+                }
+            }
+        }
+        for &Slot(i) in &self.leavers {
+            self.leaving[i as usize] = false;
+        }
+    }
+
+    /// Widens every line's box by its margin, for a sweep of the widened
+    /// boxes, a share a thread of `team`.
+    pub(crate) fn widen(&mut self, lines: &[Line], dt: f64, team: &Team) {
+        let n = lines.len();
+        let threads = team.threads();
+        let total: f64 = lines.iter().map(travel).filter(|t| t.is_finite()).sum();
+        self.mean = total / n.max(1) as f64;
+        let mean = self.mean;
+        let wide = team::split_mut(&mut self.wide, threads);
+        let (boxes, keys) = (&self.boxes, &self.keys);
+        team.run(&|k| {
+            let share = team::share(n, threads, k);
+            let wide = wide.take(k);
+            let each = lines[share.clone()].iter().zip(&boxes[share.clone()]);
+            for (((line, b), &key), w) in each.zip(&keys[share]).zip(wide) {
+                *w = match key == NO_KEY {
+                    true => NOWHERE,
+                    false => widened(b, line, dt, mean),
+                };
+            }
+        });
+        self.sweeps += 1;
+    }
+
+    /// The widened box of each line `slots[k]` into `hulls[k]`, and its
+    /// least value along `along` into `keys[k]` ([`NO_KEY`] for a line
+    /// without a box): the boxes the sweep lays out.
+    pub(crate) fn gather(&self, slots: &[Slot], hulls: &mut [Packed], keys: &mut [f32], along: usize) {
+        for ((s, hull), key) in slots.iter().zip(hulls).zip(keys) {
+            let w = &self.wide[s.0 as usize];
+            *hull = *w;
+            *key = match self.keys[s.0 as usize] == NO_KEY {
+                true => NO_KEY,
+                false => hull::lo(w, along),
+            };
+        }
+    }
+
+    /// Keeps `swept`, the pairs of slots whose widened boxes overlap
+    /// (each once), in place of the pairs kept before.
+    pub(crate) fn keep(&mut self, swept: impl IntoIterator<Item = (Slot, Slot)>) {
+        self.pairs.clear();
+        self.pairs.extend(swept);
+        self.kept = true;
+    }
+
+    /// Compares the boxes of every pair kept and hands each pair whose
+    /// boxes overlap to `found`'s test, in pieces among `team`, the
+    /// pieces' findings put together in order.
+    pub(crate) fn test(&mut self, (stored, dt): (Stored, f64), found: &mut Findings, team: &Team) {
+        let pieces = match team.threads() {
+            1 => 1,
+            _ => self.pairs.len().div_ceil(PAIRS_A_PIECE).max(1),
+        };
+        self.pieces.resize_with(pieces.max(self.pieces.len()), Findings::default);
+        let (pairs, boxes, keys) = (&self.pairs, &self.boxes, &self.keys);
+        let parts = Parts::new(self.pieces[..pieces].iter_mut());
+        team.run_pieces(pieces, &|k| {
+            let found = parts.take(k);
+            found.clear();
+            let pairs = &pairs[team::share(pairs.len(), pieces, k)];
+            found.met(pairs.len() as u64);
+            for &(a, b) in pairs {
+                let (i, j) = (a.0 as usize, b.0 as usize);
+                // A line without a box is wild or inert, and tested as such.
+                if keys[i] != NO_KEY && keys[j] != NO_KEY && overlaps(&boxes[j], &reach(&boxes[i]))
+                {
+                    found.test(stored, a, b, dt);
+                }
+            }
+        });
+        drop(parts);
+        self.pieces[..pieces]
+            .iter_mut()
+            .for_each(|piece| found.append(piece));
+    }
+
+    /// The lines with a box and, into `wild`, those without one that are
+    /// not inert.
+    pub(crate) fn wild(&self, stored: Stored, wild: &mut Vec<Slot>) {
+        wild.clear();
+        let unboxed = self.identity.iter().filter(|s| self.keys[s.0 as usize] == NO_KEY);
+        wild.extend(unboxed.filter(|&&s| !stored.line(s).is_inert()));
+    }
+
+    /// The slots of the lines with a box, in order.
+    pub(crate) fn boxed(&self) -> impl Iterator<Item = Slot> + Clone + '_ {
+        let keys = &self.keys;
+        (self.identity.iter().copied()).filter(move |s| keys[s.0 as usize] != NO_KEY)
+    }
+
+    /// The lines are stored anew, `order[k]` the old slot of the line now
+    /// at `k`: the widened boxes and the pairs follow them.
+    pub(crate) fn reorder(&mut self, order: &[Slot]) {
+        if !self.kept {
+            return;
+        }
+        let old = std::mem::take(&mut self.wide);
+        self.wide = order.iter().map(|s| old[s.0 as usize]).collect();
+        let mut new_slot = vec![Slot(0); order.len()];
+        for (k, s) in order.iter().enumerate() {
+            new_slot[s.0 as usize] = Slot(k as u32);
+        }
+        for (a, b) in &mut self.pairs {
+            (*a, *b) = (new_slot[a.0 as usize], new_slot[b.0 as usize]);
+        }
+    }
+}
+
+/// How far `line` travels along `x` and `y` together in a unit of time.
+fn travel(line: &Line) -> f64 {
+    line.v.x.abs() + line.v.y.abs()
+}
+
+/// `b`, the box of `line`, widened by [`MARGIN_STEPS`] of its travel, or
+/// of `mean` if it travels less: a line at rest is given the mean travel,
+/// so that one set moving by an event does not leave its box at once.
+fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
+    let k: f64 = std::env::var("NEAR_K").ok().and_then(|k| k.parse().ok()).unwrap_or(MARGIN_STEPS);
+    let margin = k * dt * travel(line).max(mean);
+    // The diagonals' values are as many times larger.
+    let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
+    std::array::from_fn(|l| match l % 4 < 2 {
+        true => b[l] - straight,
+        false => b[l] - diagonal,
+    })
+}
+
+/// Whether box `b` lies in box `w`: each of its lanes is at least the
+/// other's (both are lower bounds).
+#[inline(always)]
+fn inside(b: &Packed, w: &Packed) -> bool {
+    (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
+}
+
+/// The boxes (with keys: [`NO_KEY`], no box) that do not lie in their
+/// widened boxes `wide`: a box lies in another when each of its lanes is
+/// at least the other's (both are lower bounds).
+fn count_outside(boxes: &[Packed], keys: &[f32], wide: &[Packed]) -> u64 {
+    let each = boxes.iter().zip(wide).zip(keys);
+    each.filter(|&((b, w), &key)| key != NO_KEY && !inside(b, w))
+        .count() as u64
+}
