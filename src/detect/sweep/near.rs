@@ -23,6 +23,7 @@ use crate::detect::{Findings, Stored};
 use crate::index::Slot;
 use crate::line::Line;
 use crate::team::{self, Parts, Team};
+use multiversion::multiversion;
 
 /// Steps of its line's travel a box is widened by: the steps it stays
 /// inside its widened box if nothing turns its line. Wider keeps the pairs
@@ -63,6 +64,8 @@ pub(crate) struct Near {
     kept: bool,
     /// `0..n` as slots: the boxes are made in slot order.
     identity: Vec<Slot>,
+    /// The lines without a box this step.
+    unboxed: usize,
     /// The mean travel at the last sweep ([`widened`]).
     mean: f64,
     /// This step's leavers, and which slots they are ([`Near::mend`]).
@@ -100,16 +103,17 @@ impl Near {
             team::split_mut(&mut self.keys, threads),
         );
         let (identity, wide, kept) = (&self.identity, &self.wide, self.kept);
-        let outside = team.run_sum(&|k| {
+        // Each share's count of boxes outside, and of lines without a box
+        // above them.
+        let counts = team.run_sum(&|k| {
             let share = team::share(n, threads, k);
             let (boxes, keys) = (boxes.take(k), keys.take(k));
             hull::make(lines, &identity[share.clone()], boxes, keys, 0, dt);
-            match kept {
-                true => count_outside(boxes, keys, &wide[share]),
-                false => 0,
-            }
+            settle(boxes, keys, &wide[share], kept)
         });
 
+        let (outside, unboxed) = (counts & u64::from(u32::MAX), counts >> 32);
+        self.unboxed = unboxed as usize;
         if !kept || outside > MEND_MOST {
             return false;
         }
@@ -209,21 +213,13 @@ impl Near {
             _ => self.pairs.len().div_ceil(PAIRS_A_PIECE).max(1),
         };
         self.pieces.resize_with(pieces.max(self.pieces.len()), Findings::default);
-        let (pairs, boxes, keys) = (&self.pairs, &self.boxes, &self.keys);
+        let (pairs, boxes) = (&self.pairs, &self.boxes);
         let parts = Parts::new(self.pieces[..pieces].iter_mut());
         team.run_pieces(pieces, &|k| {
             let found = parts.take(k);
             found.clear();
             let pairs = &pairs[team::share(pairs.len(), pieces, k)];
-            found.met(pairs.len() as u64);
-            for &(a, b) in pairs {
-                let (i, j) = (a.0 as usize, b.0 as usize);
-                // A line without a box is wild or inert, and tested as such.
-                if keys[i] != NO_KEY && keys[j] != NO_KEY && overlaps(&boxes[j], &reach(&boxes[i]))
-                {
-                    found.test(stored, a, b, dt);
-                }
-            }
+            compare(pairs, boxes, (stored, dt), found);
         });
         drop(parts);
         self.pieces[..pieces]
@@ -235,6 +231,9 @@ impl Near {
     /// not inert.
     pub(crate) fn wild(&self, stored: Stored, wild: &mut Vec<Slot>) {
         wild.clear();
+        if self.unboxed == 0 {
+            return;
+        }
         let unboxed = self.identity.iter().filter(|s| self.keys[s.0 as usize] == NO_KEY);
         wild.extend(unboxed.filter(|&&s| !stored.line(s).is_inert()));
     }
@@ -272,7 +271,8 @@ fn travel(line: &Line) -> f64 {
 /// of `mean` if it travels less: a line at rest is given the mean travel,
 /// so that one set moving by an event does not leave its box at once.
 fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
-    let k: f64 = std::env::var("NEAR_K").ok().and_then(|k| k.parse().ok()).unwrap_or(MARGIN_STEPS);
+    static K: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    let k = *K.get_or_init(|| std::env::var("NEAR_K").ok().and_then(|k| k.parse().ok()).unwrap_or(MARGIN_STEPS));
     let margin = k * dt * travel(line).max(mean);
     // The diagonals' values are as many times larger.
     let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
@@ -289,11 +289,103 @@ fn inside(b: &Packed, w: &Packed) -> bool {
     (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
 }
 
-/// The boxes (with keys: [`NO_KEY`], no box) that do not lie in their
-/// widened boxes `wide`: a box lies in another when each of its lanes is
-/// at least the other's (both are lower bounds).
-fn count_outside(boxes: &[Packed], keys: &[f32], wide: &[Packed]) -> u64 {
-    let each = boxes.iter().zip(wide).zip(keys);
-    each.filter(|&((b, w), &key)| key != NO_KEY && !inside(b, w))
-        .count() as u64
+/// Sets the boxes of the lines without one (key [`NO_KEY`]) to
+/// [`NOWHERE`], which overlaps no box, and returns how many of the others
+/// do not lie in their widened boxes `wide` (none counted unless `kept`),
+/// plus `2^32` times the lines without a box.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+fn settle(boxes: &mut [Packed], keys: &[f32], wide: &[Packed], kept: bool) -> u64 {
+    multiversion::target::match_target! {
+        "x86_64+avx2" => settle_with(boxes, keys, wide, kept, |b, w| avx2::inside(b, w)),
+        _ => settle_with(boxes, keys, wide, kept, inside),
+    }
+}
+
+/// [`settle`], given the test that a box lies in another.
+#[inline(always)]
+fn settle_with(
+    boxes: &mut [Packed],
+    keys: &[f32],
+    wide: &[Packed],
+    kept: bool,
+    inside: impl Fn(&Packed, &Packed) -> bool,
+) -> u64 {
+    let mut outside = 0;
+    for ((b, w), &key) in boxes.iter_mut().zip(wide).zip(keys) {
+        if key == NO_KEY {
+            *b = NOWHERE;
+            outside += 1 << 32;
+        } else {
+            outside += u64::from(kept & !inside(b, w));
+        }
+    }
+    outside
+}
+
+/// Compares the boxes of each pair of slots in `pairs` and hands those
+/// that overlap to `found`'s test, counting every pair compared as met.
+/// A line without a box has [`NOWHERE`] for one: it is wild or inert, and
+/// tested as such.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+fn compare(pairs: &[(Slot, Slot)], boxes: &[Packed], (stored, dt): (Stored, f64), found: &mut Findings) {
+    multiversion::target::match_target! {
+        "x86_64+avx2" => compare_with(pairs, boxes, (stored, dt), found, |a, b| avx2::overlap(a, b)),
+        _ => compare_with(pairs, boxes, (stored, dt), found, |a, b| overlaps(b, &reach(a))),
+    }
+}
+
+/// [`compare`], given the test that two boxes overlap.
+#[inline(always)]
+fn compare_with(
+    pairs: &[(Slot, Slot)],
+    boxes: &[Packed],
+    (stored, dt): (Stored, f64),
+    found: &mut Findings,
+    overlap: impl Fn(&Packed, &Packed) -> bool,
+) {
+    found.met(pairs.len() as u64);
+    for &(a, b) in pairs {
+        if overlap(&boxes[a.0 as usize], &boxes[b.0 as usize]) {
+            found.test(stored, a, b, dt);
+        }
+    }
+}
+
+/// The tests of [`inside`] and of two boxes overlapping, in one AVX2
+/// comparison each.
+#[cfg(target_arch = "x86_64")]
+mod avx2 {
+    use super::Packed;
+    use std::arch::x86_64::{
+        __m256, _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_movemask_ps, _mm256_permute2f128_ps,
+        _mm256_set1_epi32, _mm256_xor_ps, _CMP_GE_OQ, _CMP_LE_OQ,
+    };
+
+    /// Whether box `b` lies in box `w` ([`super::inside`]).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) fn inside(b: &Packed, w: &Packed) -> bool {
+        let (b, w): (__m256, __m256) = (bytemuck::cast(*b), bytemuck::cast(*w));
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(b, w)) == 0xff
+    }
+
+    /// Whether boxes `a` and `b` overlap: every lane of `b` at most the
+    /// matching lane of `a`'s reach (its halves swapped and negated, the
+    /// sign flipped as `-x` flips it).
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) fn overlap(a: &Packed, b: &Packed) -> bool {
+        let (a, b): (__m256, __m256) = (bytemuck::cast(*a), bytemuck::cast(*b));
+        let sign = _mm256_castsi256_ps(_mm256_set1_epi32(i32::MIN));
+        let reach = _mm256_xor_ps(_mm256_permute2f128_ps::<1>(a, a), sign);
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(b, reach)) == 0xff
+    }
 }
