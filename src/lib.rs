@@ -121,7 +121,7 @@ pub(crate) fn plural(n: u64, thing: &str) -> String {
     }
 }
 
-pub use detect::{DetectorConfig, DetectorKind, DetectorStats};
+pub use detect::{DetectorConfig, DetectorKind, DetectorStats, KeepPairs};
 pub use geometry::Vec2;
 pub use index::{LineId, Slot};
 pub use line::{Color, Line};

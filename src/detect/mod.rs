@@ -129,6 +129,46 @@ pub struct DetectorConfig {
     /// The smallest piece of work handed to a thread, in lines (tree walks
     /// split subtrees of a sixteenth of this and up). Speed only.
     pub grain: usize,
+    /// Sweep: whether the pairs a sweep finds are kept for the steps
+    /// after it (docs/DESIGN.md, "Near pairs"). Speed only.
+    pub keep_pairs: KeepPairs,
+}
+
+/// When the sweep keeps the pairs it finds for the steps after it,
+/// sweeping again only when a line leaves the box it was given: where
+/// that pays (the default), always, or never (a sweep every step).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum KeepPairs {
+    /// Where the pairs kept are fewer than a sweep meets and hold for a
+    /// few steps, judged as the run goes.
+    #[default]
+    Auto,
+    /// Every step it can.
+    Always,
+    /// Never: a sweep every step.
+    Never,
+}
+
+impl KeepPairs {
+    /// Every choice, in the order they are listed to users.
+    pub const ALL: &'static [KeepPairs] = &[KeepPairs::Auto, KeepPairs::Always, KeepPairs::Never];
+
+    /// The name used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            KeepPairs::Auto => "auto",
+            KeepPairs::Always => "always",
+            KeepPairs::Never => "never",
+        }
+    }
+}
+
+impl FromStr for KeepPairs {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        crate::parse_named(Self::ALL, Self::name, "choice", s)
+    }
 }
 
 impl Default for DetectorConfig {
@@ -138,6 +178,7 @@ impl Default for DetectorConfig {
             max_depth: DEFAULT_MAX_DEPTH,
             threads: 1,
             grain: DEFAULT_GRAIN,
+            keep_pairs: KeepPairs::Auto,
         }
     }
 }
@@ -202,5 +243,8 @@ mod tests {
         }
         let err = "nope".parse::<DetectorKind>().unwrap_err();
         assert!(err.contains("brute"), "{err}");
+        for &keep in KeepPairs::ALL {
+            assert_eq!(keep.name().parse::<KeepPairs>(), Ok(keep));
+        }
     }
 }

@@ -4,7 +4,7 @@ use clap::{Args, Parser, Subcommand};
 use screensaver::generate::{SceneKind, DEFAULT_SEED};
 use screensaver::job::Screen;
 use screensaver::render::{Pace, Size};
-use screensaver::{DetectorConfig, DetectorKind};
+use screensaver::{DetectorConfig, DetectorKind, KeepPairs};
 use std::path::PathBuf;
 
 /// Line segments bouncing in a box, with exact collision counts.
@@ -82,6 +82,12 @@ pub(crate) struct Cli {
     /// Quadtree: deepest level a node may split at.
     #[arg(long, value_name = "N", default_value_t = DetectorConfig::default().max_depth)]
     pub(crate) max_depth: u32,
+
+    /// Sweep: keep the pairs a sweep finds for the steps after it, sweeping
+    /// again only when a line leaves the room it was given: `auto` (where
+    /// that pays, judged as the run goes), `always` or `never`.
+    #[arg(long, value_name = "WHEN", default_value = KeepPairs::default().name(), value_parser = parse::<KeepPairs>)]
+    pub(crate) keep_pairs: KeepPairs,
 
     /// Threads to run on (default: all cores). Results are the same for any
     /// number; 1 runs everything on one thread with no pool.

@@ -223,6 +223,7 @@ fn run(cli: &Cli, matches: &ArgMatches) -> Result<Option<Signal>, Failure> {
             max_depth: cli.max_depth,
             threads: cli.threads.unwrap_or(0),
             grain: cli.grain,
+            keep_pairs: cli.keep_pairs,
         },
         verify: cli.verify,
         stats: cli.stats,

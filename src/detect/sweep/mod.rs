@@ -67,7 +67,7 @@ use crate::team::{self, Team};
 use boxes::Boxes;
 use hull::{lo, NO_KEY};
 use layout::{GroupView, Layout};
-use near::Near;
+use near::{Choice, Near};
 use plan::Plan;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -140,23 +140,18 @@ pub struct Sweep {
     /// The pairs the last sweep found, kept for the steps after it while
     /// they hold ([`near`]), and whether they are used.
     near: Near,
-    sweeps_every_step: bool,
+    choice: Choice,
+    /// Whether this step keeps pairs.
+    keep: bool,
 }
 
 impl Sweep {
     /// A sweep detector on the calling thread alone, until
-    /// [`Detector::set_threads`] gives it a team. (`config` has nothing
-    /// the sweep tunes.)
-    pub fn new(_config: &DetectorConfig) -> Self {
-        Self::default()
-    }
-
-    /// A sweep that sweeps every step, keeping no pairs ([`near`]): the
-    /// same events, for comparing the two.
-    #[cfg(test)]
-    pub(crate) fn every_step() -> Self {
+    /// [`Detector::set_threads`] gives it a team, keeping pairs as
+    /// `config.keep_pairs` says.
+    pub fn new(config: &DetectorConfig) -> Self {
         Self {
-            sweeps_every_step: true,
+            choice: Choice::new(config.keep_pairs),
             ..Self::default()
         }
     }
@@ -181,7 +176,7 @@ impl Sweep {
     /// thread (the widened boxes, gathered, where pairs are kept). When last step's layout may be kept, each share notes its
     /// movers as it goes ([`Layout::mover_check`]), a block at a time
     /// while its boxes are at hand.
-    fn make_hulls(&mut self, lines: &[Line], dt: f64) {
+    fn make_hulls(&mut self, lines: &[Line], dt: f64, keep: bool) {
         let along = self.plan.along;
         let n = self.sorted.len();
         let team = self.team_for(n);
@@ -189,7 +184,7 @@ impl Sweep {
         let (check, noted) = (self.layout).mover_check(n, &self.plan.bands, threads, threads);
         let shares = self.sorted.slice_mut(n).shares(threads);
         let noted = team::split_mut(noted, threads);
-        let near = (!self.sweeps_every_step).then_some(&self.near);
+        let near = keep.then_some(&self.near);
         team.run(&|k| {
             let start = team::share(n, threads, k).start;
             let mut share = shares.take(k);
@@ -243,7 +238,8 @@ impl Sweep {
             self.near.forget();
             self.until_plan = 0;
         }
-        let keep = !self.sweeps_every_step;
+        let keep = self.choice.keeping();
+        self.keep = keep;
         if keep && self.near.make(lines, dt, &self.team_for(n)) {
             // The pairs kept hold: no sweep this step.
             for phase in [HULLS, SORT, LAYOUT] {
@@ -253,13 +249,14 @@ impl Sweep {
             self.near.wild(stored, &mut self.wild);
             found.test_wild(stored, &self.wild, self.near.boxed(), dt);
             self.lap(SWEEP);
+            self.choose(found.counts.candidates - before.candidates, false);
             return;
         }
 
         if keep {
             self.near.widen(lines, dt, &self.team_for(n));
         }
-        self.make_hulls(lines, dt);
+        self.make_hulls(lines, dt, keep);
         if self.until_plan == 0 {
             self.make_plan();
         }
@@ -292,6 +289,15 @@ impl Sweep {
             found.test_wild(stored, &self.wild, boxed_slots.iter().copied(), dt);
         }
         self.lap(SWEEP);
+        self.choose(found.counts.candidates - before.candidates, true);
+    }
+
+    /// Chooses whether to keep pairs next step, from this step's
+    /// `candidates` and whether it `swept` ([`Choice`]).
+    fn choose(&mut self, candidates: u64, swept: bool) {
+        if self.choice.after(candidates, swept, self.near.pairs()) {
+            self.near.forget();
+        }
     }
 
     /// Lays the boxes out in this step's bands and sweeps them, a group of
@@ -320,7 +326,7 @@ impl Sweep {
         });
         let parts = team::Parts::new(chunks[..groups].iter_mut());
         let layout_end = Mutex::new(None);
-        let (along, dense, keep) = (self.plan.along, self.dense, !self.sweeps_every_step);
+        let (along, dense, keep) = (self.plan.along, self.dense, self.keep);
         // The clock is read only when timing (WebAssembly has none).
         let timing = self.clock.is_some();
         let sweep_each = |group: GroupView| {
@@ -362,7 +368,7 @@ impl Sweep {
         pieces.iter_mut().for_each(|c| c.near.clear());
         let parts = team::Parts::new(pieces[..chunks].iter_mut());
         let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
-        let keep = !self.sweeps_every_step;
+        let keep = self.keep;
         team.run(&|_| loop {
             let c = next.fetch_add(1, Ordering::Relaxed);
             if c >= chunks {

@@ -19,7 +19,7 @@
 
 use super::hull::{self, overlaps, reach, Packed, NO_KEY};
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
-use crate::detect::{Findings, Stored};
+use crate::detect::{Findings, KeepPairs, Stored};
 use crate::index::Slot;
 use crate::line::Line;
 use crate::team::{self, Parts, Team};
@@ -47,6 +47,126 @@ const PAIRS_A_PIECE: usize = 4096;
 /// The widened box of a line that had no box at the sweep: no box lies
 /// inside it, so a line that has a box again calls for a sweep.
 const NOWHERE: Packed = [f32::INFINITY; 8];
+
+/// Steps swept before pairs are first tried, and again after a good
+/// stretch of keeping them.
+const FIRST_WAIT: u64 = 16;
+
+/// The most steps swept between two tries (the wait grows fourfold after
+/// each try that failed).
+const LONGEST_WAIT: u64 = 4096;
+
+/// Steps pairs are kept between two judgements of whether they pay.
+const JUDGE_EVERY: u64 = 32;
+
+/// Steps pairs are kept at most before the sweep runs every step again
+/// for a while, to measure it anew.
+const KEEP_MOST: u64 = 2048;
+
+/// Whether pairs are kept, chosen by what each way meets: keeping pays
+/// where the pairs kept, compared every step, are fewer than the
+/// candidates a sweep meets every step, and the boxes stay inside their
+/// widened boxes for a few steps. Crowded scenes (many pairs close by,
+/// many events turning lines) and large ones (where some line leaves
+/// every step) are swept every step; scenes whose sweeps meet many boxes
+/// that do not overlap keep their pairs. The counts are the same on every
+/// run, so the choices are too; the events are the same either way.
+#[derive(Debug)]
+pub(crate) struct Choice {
+    /// Always, never, or where it pays.
+    mode: KeepPairs,
+    /// Whether pairs are kept this step.
+    keeping: bool,
+    /// Steps until the next try (sweeping) or judgement (keeping).
+    left: u64,
+    /// The wait before the next try after a failed one.
+    wait: u64,
+    /// Candidates met and steps, in this stretch of sweeping every step.
+    swept: (u64, u64),
+    /// Candidates a step sweeping every step, as last measured.
+    sweeping_rate: f64,
+    /// Candidates met, steps and sweeps since the last judgement, and
+    /// steps in this stretch of keeping.
+    kept: (u64, u64, u64),
+    kept_for: u64,
+}
+
+impl Default for Choice {
+    fn default() -> Self {
+        Self::new(KeepPairs::Auto)
+    }
+}
+
+impl Choice {
+    /// Keeping pairs as `mode` says; where it pays, first tried after
+    /// [`FIRST_WAIT`] steps.
+    pub(crate) fn new(mode: KeepPairs) -> Self {
+        Self {
+            mode,
+            keeping: mode == KeepPairs::Always,
+            left: FIRST_WAIT,
+            wait: FIRST_WAIT,
+            swept: (0, 0),
+            sweeping_rate: 0.0,
+            kept: (0, 0, 0),
+            kept_for: 0,
+        }
+    }
+
+    /// Whether pairs are kept this step.
+    pub(crate) fn keeping(&self) -> bool {
+        self.keeping
+    }
+
+    /// Takes in a step: the candidates it met, whether it swept, and the
+    /// pairs kept (when keeping). Returns true when keeping begins with the
+    /// next step (the pairs held are stale and must be forgotten).
+    pub(crate) fn after(&mut self, candidates: u64, swept: bool, pairs: usize) -> bool {
+        if self.mode != KeepPairs::Auto {
+            return false;
+        }
+        self.left = self.left.saturating_sub(1);
+        if !self.keeping {
+            self.swept.0 += candidates;
+            self.swept.1 += 1;
+            if self.left > 0 {
+                return false;
+            }
+            self.sweeping_rate = self.swept.0 as f64 / self.swept.1 as f64;
+            self.swept = (0, 0);
+            (self.keeping, self.left, self.kept, self.kept_for) = (true, JUDGE_EVERY, (0, 0, 0), 0);
+            return true;
+        }
+        self.kept.0 += candidates;
+        self.kept.1 += 1;
+        self.kept.2 += u64::from(swept);
+        self.kept_for += 1;
+        let (met, steps, sweeps) = self.kept;
+        // A sweep of widened boxes that keeps more pairs than a sweep
+        // meets candidates has failed at once.
+        let too_many = swept && pairs as f64 >= self.sweeping_rate;
+        if !too_many && self.left > 0 {
+            return false;
+        }
+        let pays = !too_many
+            && 2 * sweeps <= steps
+            && (met as f64 / steps as f64) < self.sweeping_rate
+            && self.kept_for < KEEP_MOST;
+        if pays {
+            (self.left, self.kept, self.wait) = (JUDGE_EVERY, (0, 0, 0), FIRST_WAIT);
+            return false;
+        }
+        // Back to sweeping every step: soon after a good stretch, later
+        // and later after tries that failed.
+        if self.kept_for > JUDGE_EVERY {
+            self.wait = FIRST_WAIT;
+        } else {
+            self.wait = (4 * self.wait).min(LONGEST_WAIT);
+        }
+        (self.keeping, self.left) = (false, self.wait);
+        false
+    }
+}
 
 /// The boxes by slot, their widened boxes and the pairs kept.
 #[derive(Debug, Default)]
@@ -79,6 +199,11 @@ pub(crate) struct Near {
 }
 
 impl Near {
+    /// The pairs kept.
+    pub(crate) fn pairs(&self) -> usize {
+        self.pairs.len()
+    }
+
     /// Forgets the pairs kept: the next step sweeps.
     pub(crate) fn forget(&mut self) {
         self.kept = false;
