@@ -239,14 +239,22 @@ fn decode_lines(bytes: &[u8]) -> Vec<Line> {
 }
 
 /// The detectors compared with the all-pairs one: every kind as the command
-/// line builds it, and the quadtree with tiny leaves, very deep or no
-/// splitting at all.
+/// line builds it, the sweep keeping its pairs every step, and the quadtree
+/// with tiny leaves, very deep or no splitting at all.
 fn contenders() -> Vec<(String, Box<dyn Detector>)> {
     let mut all: Vec<(String, Box<dyn Detector>)> = DetectorKind::ALL
         .iter()
         .filter(|&&k| k != DetectorKind::Brute)
         .map(|&k| (k.name().to_string(), k.build()))
         .collect();
+    let keeping = DetectorConfig {
+        keep_pairs: crate::KeepPairs::Always,
+        ..DetectorConfig::default()
+    };
+    all.push((
+        "sweep keeping its pairs".to_string(),
+        DetectorKind::Sweep.build_with(&keeping),
+    ));
     for (leaf_size, max_depth) in [(1, 12), (2, 40), (4, 0)] {
         let config = DetectorConfig {
             leaf_size,

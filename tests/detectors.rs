@@ -6,7 +6,7 @@
 use proptest::prelude::*;
 use screensaver::report::Stats;
 use screensaver::run::Run;
-use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
+use screensaver::{Color, DetectorConfig, DetectorKind, KeepPairs, Line, Vec2, World};
 
 /// Runs `steps` steps of `world`, each checked against the all-pairs
 /// detector; the first step whose events differ is the error.
@@ -33,7 +33,16 @@ fn configs() -> Vec<DetectorConfig> {
         leaf_size: 2,
         ..DetectorConfig::default()
     };
+    let keep = |keep_pairs, threads| DetectorConfig {
+        keep_pairs,
+        threads,
+        grain: 4,
+        ..DetectorConfig::default()
+    };
     vec![
+        keep(KeepPairs::Always, 1),
+        keep(KeepPairs::Always, 3),
+        keep(KeepPairs::Never, 1),
         shape(1, 12),
         shape(2, 40),
         shape(1000, 12),
@@ -239,6 +248,37 @@ fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
             .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}: {m}"));
         let stats = Stats::of(&world, DetectorKind::Sweep, &config, None).text();
         assert!(stats.contains("bands"), "{stats}");
+    }
+}
+
+/// The sweep keeping its pairs from step to step, event for event with
+/// the oracle for 120 steps: boxes leaving the room they were given one
+/// by one (mended) and many at once (swept again), lines turning wild and
+/// inert, and on teams of two and three the lines stored anew in the
+/// sweep's order every few steps, the pairs following them.
+#[test]
+fn pairs_kept_from_step_to_step_agree_with_the_oracle() {
+    use screensaver::generate::{generate, SceneKind};
+    for (kind, n, threads) in [
+        (SceneKind::Uniform, 3_000, 1),
+        (SceneKind::Clustered, 3_000, 2),
+        (SceneKind::Uniform, 2_500, 3),
+    ] {
+        let mut scene = generate(kind, n, 3);
+        // A few lines that turn wild: NaN velocities.
+        for k in [5, 700, 1900] {
+            scene.lines[k].v = Vec2::new(f64::NAN, 0.0);
+        }
+        let config = DetectorConfig {
+            threads,
+            keep_pairs: KeepPairs::Always,
+            ..DetectorConfig::default()
+        };
+        let mut world =
+            World::with_config(&scene, DetectorKind::Sweep, &config).expect("a pool of threads");
+        verified(&mut world, 120).unwrap_or_else(|m| panic!("{kind} {n}, {threads} threads: {m}"));
+        let stats = Stats::of(&world, DetectorKind::Sweep, &config, None).text();
+        assert!(stats.contains("pairs kept"), "{stats}");
     }
 }
 

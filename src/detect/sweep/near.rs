@@ -257,7 +257,9 @@ impl Near {
         let n = lines.len();
         self.leavers.clear();
         let each = self.boxes.iter().zip(&self.wide).zip(&self.keys);
-        let leaving = each.enumerate().filter(|(_, ((b, w), &key))| key != NO_KEY && !inside(b, w));
+        let leaving = each
+            .enumerate()
+            .filter(|(_, ((b, w), &key))| key != NO_KEY && !inside(b, w));
         self.leavers.extend(leaving.map(|(s, _)| Slot(s as u32)));
         self.leaving.resize(n, false);
         for &Slot(i) in &self.leavers {
@@ -310,7 +312,13 @@ impl Near {
     /// The widened box of each line `slots[k]` into `hulls[k]`, and its
     /// least value along `along` into `keys[k]` ([`NO_KEY`] for a line
     /// without a box): the boxes the sweep lays out.
-    pub(crate) fn gather(&self, slots: &[Slot], hulls: &mut [Packed], keys: &mut [f32], along: usize) {
+    pub(crate) fn gather(
+        &self,
+        slots: &[Slot],
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+        along: usize,
+    ) {
         for ((s, hull), key) in slots.iter().zip(hulls).zip(keys) {
             let w = &self.wide[s.0 as usize];
             *hull = *w;
@@ -337,7 +345,8 @@ impl Near {
             1 => 1,
             _ => self.pairs.len().div_ceil(PAIRS_A_PIECE).max(1),
         };
-        self.pieces.resize_with(pieces.max(self.pieces.len()), Findings::default);
+        self.pieces
+            .resize_with(pieces.max(self.pieces.len()), Findings::default);
         let (pairs, boxes) = (&self.pairs, &self.boxes);
         let parts = Parts::new(self.pieces[..pieces].iter_mut());
         team.run_pieces(pieces, &|k| {
@@ -359,7 +368,10 @@ impl Near {
         if self.unboxed == 0 {
             return;
         }
-        let unboxed = self.identity.iter().filter(|s| self.keys[s.0 as usize] == NO_KEY);
+        let unboxed = self
+            .identity
+            .iter()
+            .filter(|s| self.keys[s.0 as usize] == NO_KEY);
         wild.extend(unboxed.filter(|&&s| !stored.line(s).is_inert()));
     }
 
@@ -397,7 +409,12 @@ fn travel(line: &Line) -> f64 {
 /// so that one set moving by an event does not leave its box at once.
 fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
     static K: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
-    let k = *K.get_or_init(|| std::env::var("NEAR_K").ok().and_then(|k| k.parse().ok()).unwrap_or(MARGIN_STEPS));
+    let k = *K.get_or_init(|| {
+        std::env::var("NEAR_K")
+            .ok()
+            .and_then(|k| k.parse().ok())
+            .unwrap_or(MARGIN_STEPS)
+    });
     let margin = k * dt * travel(line).max(mean);
     // The diagonals' values are as many times larger.
     let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
@@ -460,7 +477,12 @@ fn settle_with(
     screensaver_baseline,
     multiversion(targets("x86_64+avx2"), dispatcher = "static")
 )]
-fn compare(pairs: &[(Slot, Slot)], boxes: &[Packed], (stored, dt): (Stored, f64), found: &mut Findings) {
+fn compare(
+    pairs: &[(Slot, Slot)],
+    boxes: &[Packed],
+    (stored, dt): (Stored, f64),
+    found: &mut Findings,
+) {
     multiversion::target::match_target! {
         "x86_64+avx2" => compare_with(pairs, boxes, (stored, dt), found, |a, b| avx2::overlap(a, b)),
         _ => compare_with(pairs, boxes, (stored, dt), found, |a, b| overlaps(b, &reach(a))),
@@ -512,5 +534,51 @@ mod avx2 {
         let sign = _mm256_castsi256_ps(_mm256_set1_epi32(i32::MIN));
         let reach = _mm256_xor_ps(_mm256_permute2f128_ps::<1>(a, a), sign);
         _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(b, reach)) == 0xff
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Feeds `choice` steps of `candidates` each while sweeping every
+    /// step, and of `kept` pairs (a sweep every `every` steps) while
+    /// keeping; returns the steps kept.
+    fn run(choice: &mut Choice, steps: u64, candidates: u64, kept: u64, every: u64) -> u64 {
+        let (mut kept_steps, mut since) = (0, 0);
+        for _ in 0..steps {
+            if choice.keeping() {
+                // Keeping begins with a sweep of the widened boxes.
+                let swept = since % every == 0;
+                (kept_steps, since) = (kept_steps + 1, since + 1);
+                choice.after(kept, swept, kept as usize);
+            } else {
+                since = 0;
+                choice.after(candidates, true, 0);
+            }
+        }
+        kept_steps
+    }
+
+    #[test]
+    fn pairs_are_kept_where_they_are_fewer_and_hold_for_a_few_steps() {
+        // Fewer pairs than candidates, a sweep every 8 steps: kept nearly
+        // throughout (swept every step for a short while now and then).
+        let mut choice = Choice::new(KeepPairs::Auto);
+        let kept = run(&mut choice, 4000, 9000, 2500, 8);
+        assert!(kept > 3800, "{kept}");
+        // More pairs than candidates: a try now and then, each one step.
+        let mut choice = Choice::new(KeepPairs::Auto);
+        assert!(run(&mut choice, 4000, 3000, 10_000, 8) <= 5);
+        // Fewer, but a sweep every step: tried, and given up.
+        let mut choice = Choice::new(KeepPairs::Auto);
+        let kept = run(&mut choice, 4000, 9000, 2500, 1);
+        assert!(kept <= 5 * JUDGE_EVERY, "{kept}");
+        // Always and never.
+        assert_eq!(
+            run(&mut Choice::new(KeepPairs::Always), 100, 1, 100, 1),
+            100
+        );
+        assert_eq!(run(&mut Choice::new(KeepPairs::Never), 100, 100, 1, 100), 0);
     }
 }

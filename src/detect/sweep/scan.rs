@@ -63,7 +63,9 @@ pub(crate) fn sweep_group(
         if guests.len() > 0 {
             chunk.pairs.clear();
             let homes = all.at(homes);
-            chunk.found.met(sweep_across(homes, guests, along, &mut chunk.pairs));
+            chunk
+                .found
+                .met(sweep_across(homes, guests, along, &mut chunk.pairs));
             chunk.hand_on(keep, (stored, dt), homes.slots, guests.slots);
         }
     }
@@ -83,7 +85,9 @@ impl Chunk {
     ) {
         let pairs = self.pairs.iter();
         match keep {
-            true => (self.near).extend(pairs.map(|&(i, j)| (first[i as usize], second[j as usize]))),
+            true => {
+                (self.near).extend(pairs.map(|&(i, j)| (first[i as usize], second[j as usize])))
+            }
             false => test_pairs(&mut self.found, (stored, dt), &self.pairs, first, second),
         }
     }
