@@ -28,7 +28,7 @@ use multiversion::multiversion;
 /// Steps of its line's travel a box is widened by: the steps it stays
 /// inside its widened box if nothing turns its line. Wider keeps the pairs
 /// longer but keeps more of them (docs/DESIGN.md, "Near pairs").
-const MARGIN_STEPS: f64 = 4.0;
+const MARGIN_STEPS: f64 = 8.0;
 
 /// The most a diagonal's value moves for a unit of travel along `x` or
 /// `y`.
@@ -408,14 +408,7 @@ fn travel(line: &Line) -> f64 {
 /// of `mean` if it travels less: a line at rest is given the mean travel,
 /// so that one set moving by an event does not leave its box at once.
 fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
-    static K: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
-    let k = *K.get_or_init(|| {
-        std::env::var("NEAR_K")
-            .ok()
-            .and_then(|k| k.parse().ok())
-            .unwrap_or(MARGIN_STEPS)
-    });
-    let margin = k * dt * travel(line).max(mean);
+    let margin = MARGIN_STEPS * dt * travel(line).max(mean);
     // The diagonals' values are as many times larger.
     let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
     std::array::from_fn(|l| match l % 4 < 2 {
