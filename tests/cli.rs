@@ -558,6 +558,11 @@ fn a_flag_that_cannot_apply_is_refused_with_why() {
         &["10", "--max-depth", "4", "--detector", "brute"],
         "this run uses the brute detector",
     );
+    assert_usage_error(
+        &["10", "--keep-pairs", "always", "--detector", "quadtree"],
+        "--keep-pairs tunes the sweep; this run uses the quadtree detector",
+    );
+    assert_usage_error(&["10", "--keep-pairs", "sometimes"], "expected one of: auto, always, never");
     // Where they apply, they are taken.
     let dir = std::env::temp_dir().join(format!("screensaver-cli-fps-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -572,6 +577,7 @@ fn a_flag_that_cannot_apply_is_refused_with_why() {
             "--max-depth",
             "4",
         ],
+        vec!["3", "--keep-pairs", "never"],
         vec![
             "3",
             "--lines",

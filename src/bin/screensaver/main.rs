@@ -201,6 +201,13 @@ fn check_flags_apply(
             cli.detector
         ));
     }
+    if cli.detector != DetectorKind::Sweep && given("keep_pairs") {
+        return refuse(&format!(
+            "--keep-pairs tunes the sweep; this run uses the {} detector \
+             (add --detector sweep)",
+            cli.detector
+        ));
+    }
     Ok(())
 }
 
