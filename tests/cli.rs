@@ -562,7 +562,10 @@ fn a_flag_that_cannot_apply_is_refused_with_why() {
         &["10", "--keep-pairs", "always", "--detector", "quadtree"],
         "--keep-pairs tunes the sweep; this run uses the quadtree detector",
     );
-    assert_usage_error(&["10", "--keep-pairs", "sometimes"], "expected one of: auto, always, never");
+    assert_usage_error(
+        &["10", "--keep-pairs", "sometimes"],
+        "expected one of: auto, always, never",
+    );
     // Where they apply, they are taken.
     let dir = std::env::temp_dir().join(format!("screensaver-cli-fps-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
