@@ -277,7 +277,7 @@ impl Sweep {
         self.dense = candidates as f64 > DENSE * swept as f64;
         if keep {
             let chunks = self.chunks.iter_mut();
-            self.near.keep(chunks.flat_map(|c| c.near.drain(..)));
+            self.near.keep(chunks.map(|c| &mut c.near));
             self.near.test((stored, dt), found, &self.team_for(n));
             self.near.wild(stored, &mut self.wild);
             found.test_wild(stored, &self.wild, self.near.boxed(), dt);

@@ -329,11 +329,15 @@ impl Near {
         }
     }
 
-    /// Keeps `swept`, the pairs of slots whose widened boxes overlap
-    /// (each once), in place of the pairs kept before.
-    pub(crate) fn keep(&mut self, swept: impl IntoIterator<Item = (Slot, Slot)>) {
+    /// Keeps the pairs of slots whose widened boxes overlap (each once),
+    /// as the pieces of the sweep found them, in place of the pairs kept
+    /// before; empties the pieces.
+    pub(crate) fn keep<'a>(&mut self, swept: impl Iterator<Item = &'a mut Vec<(Slot, Slot)>>) {
         self.pairs.clear();
-        self.pairs.extend(swept);
+        for piece in swept {
+            self.pairs.extend_from_slice(piece);
+            piece.clear();
+        }
         self.kept = true;
     }
 
