@@ -330,9 +330,8 @@ impl World {
         // for the world's phases where the schedule shares them.
         let n = self.lines.len();
         let team = self.team.clone();
-        let shared = team
-            .as_deref()
-            .filter(|_| Schedule::world_shares(n, reordered));
+        let shares = Schedule::world_shares(n, reordered) && self.detector.shares_step();
+        let shared = team.as_deref().filter(|_| shares);
         let (lines, found) = (&mut self.lines, &self.found.events);
         match reordered {
             true => (self.resolver).resolve_found(lines, found, &self.events, self.grain, shared),

@@ -68,6 +68,15 @@ pub(crate) trait Detector: Send {
         None
     }
 
+    /// Whether the world shares its own phases of the step just detected
+    /// (resolving and moving) among the team where the schedule says so:
+    /// true (the default) unless the detector ran the step on one thread,
+    /// its work too small to hand out, when handing out the world's phases
+    /// would not pay either.
+    fn shares_step(&self) -> bool {
+        true
+    }
+
     /// The detector's own counters so far (a tree's nodes and depth); the
     /// pair counts are the world's. Zero for detectors without a tree.
     fn stats(&self) -> DetectorStats {

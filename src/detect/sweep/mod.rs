@@ -240,12 +240,16 @@ impl Sweep {
         }
         let keep = self.choice.keeping();
         self.keep = keep;
-        if keep && self.near.make(lines, dt, &self.team_for(n)) {
+        let kept_team = match Schedule::kept_shares(n) {
+            true => Arc::clone(&self.team),
+            false => Arc::clone(&self.solo),
+        };
+        if keep && self.near.make(lines, dt, &kept_team) {
             // The pairs kept hold: no sweep this step.
             for phase in [HULLS, SORT, LAYOUT] {
                 self.lap(phase);
             }
-            self.near.test((stored, dt), found, &self.team_for(n));
+            self.near.test((stored, dt), found, &kept_team);
             self.near.wild(stored, &mut self.wild);
             found.test_wild(stored, &self.wild, self.near.boxed(), dt);
             self.lap(SWEEP);
@@ -254,7 +258,7 @@ impl Sweep {
         }
 
         if keep {
-            self.near.widen(lines, dt, &self.team_for(n));
+            self.near.widen(lines, dt, &kept_team);
         }
         self.make_hulls(lines, dt, keep);
         if self.until_plan == 0 {
@@ -278,7 +282,7 @@ impl Sweep {
         if keep {
             let chunks = self.chunks.iter_mut();
             self.near.keep(chunks.map(|c| &mut c.near));
-            self.near.test((stored, dt), found, &self.team_for(n));
+            self.near.test((stored, dt), found, &kept_team);
             self.near.wild(stored, &mut self.wild);
             found.test_wild(stored, &self.wild, self.near.boxed(), dt);
         } else {
@@ -416,7 +420,7 @@ impl Detector for Sweep {
     /// slots, which are their places.
     fn reorder(&mut self) -> Option<Vec<Slot>> {
         let n = self.sorted.len();
-        if !Schedule::stores_in_order(n, self.team.threads()) {
+        if !Schedule::stores_in_order(n, self.team.threads()) || !self.shares_step() {
             return None;
         }
         if self.until_store > 0 {
@@ -435,6 +439,13 @@ impl Detector for Sweep {
 
     /// The direction swept along (`x`, `y`, `u` or `w`) and the number of
     /// bands, as they stand.
+    /// False while the pairs are kept on a scene too small to share
+    /// ([`Schedule::kept_shares`]): those steps run on this thread, and
+    /// need the lines in no other order.
+    fn shares_step(&self) -> bool {
+        !self.keep || Schedule::kept_shares(self.sorted.len())
+    }
+
     fn describe(&self) -> String {
         // `u` and `w` are the diagonals.
         let name = ["x", "y", "the diagonal x+y", "the diagonal x-y"];
