@@ -22,12 +22,14 @@ import tempfile
 # Phases in the order a step runs them, each with the patterns of the
 # functions (self cost) that make it up.
 PHASES = [
-    ("hulls", [r"hull::make", r"make_hulls", r"MoverCheck::note", r"update::close_up"]),
+    ("hulls", [r"hull::make", r"make_hulls", r"MoverCheck::note", r"update::close_up",
+               r"near::settle", r"Near::make", r"Near::widen", r"Near::gather"]),
     ("layout", [r"boxes::insert", r"__mem(cpy|move)", r"end_guests", r"Layout>::lay_out",
                 r"radix_sort", r"BoxSliceMut::copy", r"BoxList::extend", r"sort_nearly_sorted",
                 r"sweep::plan::", r"Boxes::sort", r"layout::"]),
     ("sweep and exact tests", [r"scan::", r"lay_out_and_sweep", r"sweep_chunks", r"pairs::",
-                               r"narrow::", r"geometry::", r"test_wild"]),
+                               r"narrow::", r"geometry::", r"test_wild", r"near::",
+                               r"Vec<T,A>::retain"]),
     ("resolution", [r"response::", r"hypot", r"atan2", r"storage::Storage::name_by_id",
                     r"slice::sort"]),
     ("move and walls", [r"advance_and_bounce", r"advance_in_order"]),

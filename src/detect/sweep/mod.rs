@@ -16,7 +16,11 @@
 //! 5. [`scan`]: with one band, the sorted boxes swept a chunk at a time;
 //!    with several, each group's bands swept by the thread that laid them
 //!    out, as soon as it has; the pairs whose boxes overlap go to the
-//!    exact test.
+//!    exact test;
+//! 6. [`near`], where it pays: the boxes widened before the sweep, and the
+//!    pairs it finds kept instead of tested; on the steps after, while
+//!    every box lies in its widened box, steps 1 to 5 give way to the
+//!    boxes made in slot order and the kept pairs' boxes compared.
 //!
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
@@ -47,7 +51,11 @@
 //! - *chunk*: what one piece of the sweep finds (events, counts, pairs):
 //!   a group's, or with one band, a run of boxes swept at a time;
 //! - *dense*: last step's candidates per box were many, so the scan
-//!   takes its loop for crowded bands.
+//!   takes its loop for crowded bands;
+//! - *widened box*: a box with room for a few steps' travel; *kept pairs*:
+//!   those whose widened boxes overlapped at the last sweep; a *leaver*'s
+//!   box left its widened box, and is *mended* (widened again, its pairs
+//!   found anew) or calls for a sweep.
 
 pub(crate) mod bands;
 mod boxes;
@@ -143,6 +151,8 @@ pub struct Sweep {
     choice: Choice,
     /// Whether this step keeps pairs.
     keep: bool,
+    /// Steps detected.
+    steps: u64,
 }
 
 impl Sweep {
@@ -173,9 +183,10 @@ impl Sweep {
     }
 
     /// Makes every line's box and key, in last step's order, a share a
-    /// thread (the widened boxes, gathered, where pairs are kept). When last step's layout may be kept, each share notes its
-    /// movers as it goes ([`Layout::mover_check`]), a block at a time
-    /// while its boxes are at hand.
+    /// thread (where pairs are kept, the widened boxes, gathered). When
+    /// last step's layout may be kept, each share notes its movers as it
+    /// goes ([`Layout::mover_check`]), a block at a time while its boxes
+    /// are at hand.
     fn make_hulls(&mut self, lines: &[Line], dt: f64, keep: bool) {
         let along = self.plan.along;
         let n = self.sorted.len();
@@ -221,10 +232,11 @@ impl Sweep {
         self.until_plan = PLAN_EVERY;
     }
 
-    /// Finds the events among `stored`'s lines (see [`Detector::detect`]
-    /// and [`Detector::detect_stored`]): the boxes (and now and then a
-    /// plan), the boxes in order (one band) or laid out band by band, the
-    /// sweep, then the wild lines against every box.
+    /// Finds the events among `stored`'s lines (see [`Detector::detect`]):
+    /// where pairs are kept and still hold, the kept pairs' boxes
+    /// compared ([`near`]); else the boxes (and now and then a plan), the
+    /// boxes in order (one band) or laid out band by band, the sweep; then
+    /// the wild lines against every box.
     fn detect_lines(&mut self, stored: Stored, dt: f64, found: &mut Findings) {
         let lines = stored.lines;
         let n = lines.len();
@@ -240,6 +252,7 @@ impl Sweep {
         }
         let keep = self.choice.keeping();
         self.keep = keep;
+        self.steps += 1;
         let kept_team = match Schedule::kept_shares(n) {
             true => Arc::clone(&self.team),
             false => Arc::clone(&self.solo),
@@ -249,9 +262,7 @@ impl Sweep {
             for phase in [HULLS, SORT, LAYOUT] {
                 self.lap(phase);
             }
-            self.near.test((stored, dt), found, &kept_team);
-            self.near.wild(stored, &mut self.wild);
-            found.test_wild(stored, &self.wild, self.near.boxed(), dt);
+            self.test_kept((stored, dt), found, &kept_team);
             self.lap(SWEEP);
             self.choose(found.counts.candidates - before.candidates, false);
             return;
@@ -282,9 +293,7 @@ impl Sweep {
         if keep {
             let chunks = self.chunks.iter_mut();
             self.near.keep(chunks.map(|c| &mut c.near));
-            self.near.test((stored, dt), found, &kept_team);
-            self.near.wild(stored, &mut self.wild);
-            found.test_wild(stored, &self.wild, self.near.boxed(), dt);
+            self.test_kept((stored, dt), found, &kept_team);
         } else {
             let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
             self.wild.clear();
@@ -296,10 +305,19 @@ impl Sweep {
         self.choose(found.counts.candidates - before.candidates, true);
     }
 
+    /// A step's tests where pairs are kept: the kept pairs whose boxes
+    /// overlap, and the wild lines against every line with a box.
+    fn test_kept(&mut self, (stored, dt): (Stored, f64), found: &mut Findings, team: &Team) {
+        self.near.test((stored, dt), found, team);
+        self.near.wild(stored, &mut self.wild);
+        found.test_wild(stored, &self.wild, self.near.boxed(), dt);
+    }
+
     /// Chooses whether to keep pairs next step, from this step's
     /// `candidates` and whether it `swept` ([`Choice`]).
     fn choose(&mut self, candidates: u64, swept: bool) {
-        if self.choice.after(candidates, swept, self.near.pairs()) {
+        let (pairs, lines) = (self.near.pairs(), self.sorted.len());
+        if self.choice.after(candidates, swept, pairs, lines) {
             self.near.forget();
         }
     }
@@ -454,12 +472,15 @@ impl Detector for Sweep {
             1 => format!("along {along}, one band"),
             count => format!("along {along}, {count} bands across {}", name[bands.across]),
         };
-        match self.near.sweeps {
+        let (keeping, sweeps) = (self.near.steps, self.near.sweeps);
+        match sweeps {
             0 => swept,
-            sweeps => {
-                let steps = self.near.steps as f64 / sweeps as f64;
-                format!("{swept}; pairs kept {steps:.1} steps a sweep")
-            }
+            _ => format!(
+                "{swept}; pairs kept on {} of {} steps, a sweep every {:.1} while kept",
+                keeping - sweeps,
+                self.steps,
+                keeping as f64 / sweeps as f64
+            ),
         }
     }
 

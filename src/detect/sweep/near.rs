@@ -56,6 +56,22 @@ const FIRST_WAIT: u64 = 16;
 /// each try that failed).
 const LONGEST_WAIT: u64 = 4096;
 
+/// The part of the candidates a sweep meets a step that the pairs kept
+/// must stay below: a kept pair is read at random where a sweep reads its
+/// boxes in order, and on large scenes it waits on memory for it.
+const FEWER: f64 = 0.5;
+
+/// The fewest steps between two sweeps of widened boxes: a scene whose
+/// boxes leave sooner sweeps more than it keeps.
+const SOONEST_SWEEP: u64 = 3;
+
+/// Lines from which pairs are not tried where it pays: on generated
+/// scenes of 10,000 lines and more, keeping them ran slower than sweeping
+/// every step (one thread, 10,000 lines 0.99x, 30,000 0.93x, 100,000
+/// and a million slower still; two threads 0.86x and 0.72x at 10,000 and
+/// 30,000), and each try cost a few steps' worth.
+const TRY_BELOW: usize = 8192;
+
 /// Steps pairs are kept between two judgements of whether they pay.
 const JUDGE_EVERY: u64 = 32;
 
@@ -64,13 +80,14 @@ const JUDGE_EVERY: u64 = 32;
 const KEEP_MOST: u64 = 2048;
 
 /// Whether pairs are kept, chosen by what each way meets: keeping pays
-/// where the pairs kept, compared every step, are fewer than the
-/// candidates a sweep meets every step, and the boxes stay inside their
-/// widened boxes for a few steps. Crowded scenes (many pairs close by,
-/// many events turning lines) and large ones (where some line leaves
-/// every step) are swept every step; scenes whose sweeps meet many boxes
-/// that do not overlap keep their pairs. The counts are the same on every
-/// run, so the choices are too; the events are the same either way.
+/// where the pairs kept, compared every step, are well under the
+/// candidates a sweep meets every step ([`FEWER`]), and the boxes stay
+/// inside their widened boxes for a few steps ([`SOONEST_SWEEP`]).
+/// Crowded scenes (many pairs close by, many events turning lines) fail
+/// their tries and are swept every step, large ones ([`TRY_BELOW`]) are
+/// not tried; scenes whose sweeps meet many boxes that do not overlap keep
+/// their pairs. The counts are the same on every run, so the choices are
+/// too; the events are the same either way.
 #[derive(Debug)]
 pub(crate) struct Choice {
     /// Always, never, or where it pays.
@@ -85,10 +102,12 @@ pub(crate) struct Choice {
     swept: (u64, u64),
     /// Candidates a step sweeping every step, as last measured.
     sweeping_rate: f64,
-    /// Candidates met, steps and sweeps since the last judgement, and
-    /// steps in this stretch of keeping.
-    kept: (u64, u64, u64),
+    /// Candidates met and steps since the last judgement, and steps in
+    /// this stretch of keeping.
+    kept: (u64, u64),
     kept_for: u64,
+    /// Steps since the last sweep of widened boxes, this one included.
+    since_sweep: u64,
 }
 
 impl Default for Choice {
@@ -108,8 +127,9 @@ impl Choice {
             wait: FIRST_WAIT,
             swept: (0, 0),
             sweeping_rate: 0.0,
-            kept: (0, 0, 0),
+            kept: (0, 0),
             kept_for: 0,
+            since_sweep: 0,
         }
     }
 
@@ -118,11 +138,18 @@ impl Choice {
         self.keeping
     }
 
-    /// Takes in a step: the candidates it met, whether it swept, and the
-    /// pairs kept (when keeping). Returns true when keeping begins with the
-    /// next step (the pairs held are stale and must be forgotten).
-    pub(crate) fn after(&mut self, candidates: u64, swept: bool, pairs: usize) -> bool {
-        if self.mode != KeepPairs::Auto {
+    /// Takes in a step of `lines` lines: the candidates it met, whether it
+    /// swept, and the pairs kept (when keeping). Returns true when keeping
+    /// begins with the next step (the pairs held are stale and must be
+    /// forgotten).
+    pub(crate) fn after(
+        &mut self,
+        candidates: u64,
+        swept: bool,
+        pairs: usize,
+        lines: usize,
+    ) -> bool {
+        if self.mode != KeepPairs::Auto || (!self.keeping && lines >= TRY_BELOW) {
             return false;
         }
         self.left = self.left.saturating_sub(1);
@@ -134,26 +161,28 @@ impl Choice {
             }
             self.sweeping_rate = self.swept.0 as f64 / self.swept.1 as f64;
             self.swept = (0, 0);
-            (self.keeping, self.left, self.kept, self.kept_for) = (true, JUDGE_EVERY, (0, 0, 0), 0);
+            (self.keeping, self.left, self.kept) = (true, JUDGE_EVERY, (0, 0));
+            (self.kept_for, self.since_sweep) = (0, 0);
             return true;
         }
         self.kept.0 += candidates;
         self.kept.1 += 1;
-        self.kept.2 += u64::from(swept);
+        let (met, steps) = self.kept;
+        // A sweep of widened boxes that keeps more than a part of the
+        // candidates a sweep meets, or that comes within a few steps of
+        // the last, fails the stretch at once.
+        let too_many = swept && pairs as f64 >= FEWER * self.sweeping_rate;
+        let too_soon = swept && self.kept_for > 0 && self.since_sweep < SOONEST_SWEEP;
         self.kept_for += 1;
-        let (met, steps, sweeps) = self.kept;
-        // A sweep of widened boxes that keeps more pairs than a sweep
-        // meets candidates has failed at once.
-        let too_many = swept && pairs as f64 >= self.sweeping_rate;
-        if !too_many && self.left > 0 {
+        self.since_sweep = if swept { 1 } else { self.since_sweep + 1 };
+        if !(too_many || too_soon) && self.left > 0 {
             return false;
         }
-        let pays = !too_many
-            && 2 * sweeps <= steps
-            && (met as f64 / steps as f64) < self.sweeping_rate
+        let pays = !(too_many || too_soon)
+            && (met as f64 / steps as f64) < FEWER * self.sweeping_rate
             && self.kept_for < KEEP_MOST;
         if pays {
-            (self.left, self.kept, self.wait) = (JUDGE_EVERY, (0, 0, 0), FIRST_WAIT);
+            (self.left, self.kept, self.wait) = (JUDGE_EVERY, (0, 0), FIRST_WAIT);
             return false;
         }
         // Back to sweeping every step: soon after a good stretch, later
@@ -253,6 +282,7 @@ impl Near {
     /// leaver's widened box against every other, one at a time (a few
     /// thousand instructions each on a scene of a few thousand lines,
     /// far fewer than a sweep).
+    #[inline(never)] // Rare, and a phase of its own in profiles.
     fn mend(&mut self, lines: &[Line], dt: f64) {
         let n = lines.len();
         self.leavers.clear();
@@ -549,16 +579,26 @@ mod tests {
     /// step, and of `kept` pairs (a sweep every `every` steps) while
     /// keeping; returns the steps kept.
     fn run(choice: &mut Choice, steps: u64, candidates: u64, kept: u64, every: u64) -> u64 {
+        run_lines(choice, steps, (candidates, kept, every), 1000)
+    }
+
+    /// [`run`] on a scene of `lines` lines.
+    fn run_lines(
+        choice: &mut Choice,
+        steps: u64,
+        (candidates, kept, every): (u64, u64, u64),
+        lines: usize,
+    ) -> u64 {
         let (mut kept_steps, mut since) = (0, 0);
         for _ in 0..steps {
             if choice.keeping() {
                 // Keeping begins with a sweep of the widened boxes.
                 let swept = since % every == 0;
                 (kept_steps, since) = (kept_steps + 1, since + 1);
-                choice.after(kept, swept, kept as usize);
+                choice.after(kept, swept, kept as usize, lines);
             } else {
                 since = 0;
-                choice.after(candidates, true, 0);
+                choice.after(candidates, true, 0, lines);
             }
         }
         kept_steps
@@ -578,6 +618,9 @@ mod tests {
         let mut choice = Choice::new(KeepPairs::Auto);
         let kept = run(&mut choice, 4000, 9000, 2500, 1);
         assert!(kept <= 5 * JUDGE_EVERY, "{kept}");
+        // A large scene is not tried, however it would fare.
+        let mut choice = Choice::new(KeepPairs::Auto);
+        assert_eq!(run_lines(&mut choice, 4000, (9000, 100, 8), TRY_BELOW), 0);
         // Always and never.
         assert_eq!(
             run(&mut Choice::new(KeepPairs::Always), 100, 1, 100, 1),
