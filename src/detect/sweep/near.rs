@@ -39,7 +39,7 @@ const DIAGONAL: f64 = if DIAGONAL_X > DIAGONAL_Y {
 };
 
 /// The most leavers mended one at a time rather than by a sweep.
-const MEND_MOST: u64 = 16;
+const MEND_MOST: usize = 16;
 
 /// Pairs compared at a time by a member of a team.
 const PAIRS_A_PIECE: usize = 4096;
@@ -217,8 +217,10 @@ pub(crate) struct Near {
     unboxed: usize,
     /// The mean travel at the last sweep ([`widened`]).
     mean: f64,
-    /// This step's leavers, and which slots they are ([`Near::mend`]).
+    /// This step's leavers, each share's, and which slots they are
+    /// ([`Near::mend`]).
     leavers: Vec<Slot>,
+    share_leavers: Vec<Vec<Slot>>,
     leaving: Vec<bool>,
     /// The findings of each piece of the comparison.
     pieces: Vec<Findings>,
@@ -257,21 +259,28 @@ impl Near {
             team::split_mut(&mut self.keys, threads),
         );
         let (identity, wide, kept) = (&self.identity, &self.wide, self.kept);
-        // Each share's count of boxes outside, and of lines without a box
-        // above them.
-        let counts = team.run_sum(&|k| {
+        self.share_leavers
+            .resize_with(threads.max(self.share_leavers.len()), Vec::new);
+        let leavers = Parts::new(self.share_leavers.iter_mut());
+        // Each share's lines without a box, and its leavers.
+        let unboxed = team.run_sum(&|k| {
             let share = team::share(n, threads, k);
-            let (boxes, keys) = (boxes.take(k), keys.take(k));
+            let (boxes, keys, leavers) = (boxes.take(k), keys.take(k), leavers.take(k));
             hull::make(lines, &identity[share.clone()], boxes, keys, 0, dt);
-            settle(boxes, keys, &wide[share], kept)
+            leavers.clear();
+            let wide = &wide[share.clone()];
+            settle(boxes, keys, (wide, kept), (share.start, leavers))
         });
-
-        let (outside, unboxed) = (counts & u64::from(u32::MAX), counts >> 32);
+        drop(leavers);
         self.unboxed = unboxed as usize;
-        if !kept || outside > MEND_MOST {
+        self.leavers.clear();
+        for share in &self.share_leavers[..threads] {
+            self.leavers.extend_from_slice(share);
+        }
+        if !kept || self.leavers.len() > MEND_MOST {
             return false;
         }
-        if outside > 0 {
+        if !self.leavers.is_empty() {
             self.mend(lines, dt);
         }
         true
@@ -285,12 +294,6 @@ impl Near {
     #[inline(never)] // Rare, and a phase of its own in profiles.
     fn mend(&mut self, lines: &[Line], dt: f64) {
         let n = lines.len();
-        self.leavers.clear();
-        let each = self.boxes.iter().zip(&self.wide).zip(&self.keys);
-        let leaving = each
-            .enumerate()
-            .filter(|(_, ((b, w), &key))| key != NO_KEY && !inside(b, w));
-        self.leavers.extend(leaving.map(|(s, _)| Slot(s as u32)));
         self.leaving.resize(n, false);
         for &Slot(i) in &self.leavers {
             let i = i as usize;
@@ -459,30 +462,35 @@ fn inside(b: &Packed, w: &Packed) -> bool {
 }
 
 /// Sets the boxes of the lines without one (key [`NO_KEY`]) to
-/// [`NOWHERE`], which overlaps no box, and returns how many of the others
-/// do not lie in their widened boxes `wide` (none counted unless `kept`),
-/// plus `2^32` times the lines without a box.
+/// [`NOWHERE`], which overlaps no box and lies in every box; if `kept`,
+/// pushes to `leavers` the slot (from `start` on) of each box that does not
+/// lie in its widened box `wide`. Returns the lines without a box.
 #[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
 #[cfg_attr(
     screensaver_baseline,
     multiversion(targets("x86_64+avx2"), dispatcher = "static")
 )]
-fn settle(boxes: &mut [Packed], keys: &[f32], wide: &[Packed], kept: bool) -> u64 {
+fn settle(
+    boxes: &mut [Packed],
+    keys: &[f32],
+    wide: (&[Packed], bool),
+    leavers: (usize, &mut Vec<Slot>),
+) -> u64 {
     multiversion::target::match_target! {
-        "x86_64+avx2" => settle_with(boxes, keys, wide, kept, |b, w| avx2::inside(b, w)),
-        _ => settle_with(boxes, keys, wide, kept, inside),
+        "x86_64+avx2" => settle_with(boxes, keys, wide, leavers, |b, w| avx2::inside(b, w)),
+        _ => settle_with(boxes, keys, wide, leavers, inside),
     }
 }
 
-/// [`settle`], given the test that a box lies in another. [`NOWHERE`]
-/// lies in every box, so the lines without a box are counted apart, in
-/// a loop of their own, and the rest in one without a branch.
+/// [`settle`], given the test that a box lies in another: the lines
+/// without a box in a loop of their own, then the boxes against their
+/// widened boxes, the rare leaver taken by a branch.
 #[inline(always)]
 fn settle_with(
     boxes: &mut [Packed],
     keys: &[f32],
-    wide: &[Packed],
-    kept: bool,
+    (wide, kept): (&[Packed], bool),
+    (start, leavers): (usize, &mut Vec<Slot>),
     inside: impl Fn(&Packed, &Packed) -> bool,
 ) -> u64 {
     let unboxed = keys.iter().map(|&k| u64::from(k == NO_KEY)).sum::<u64>();
@@ -493,13 +501,14 @@ fn settle_with(
             }
         }
     }
-    let outside = match kept {
-        true => (boxes.iter().zip(wide))
-            .map(|(b, w)| u64::from(!inside(b, w)))
-            .sum(),
-        false => 0,
-    };
-    outside + (unboxed << 32)
+    if kept {
+        for (k, (b, w)) in boxes.iter().zip(wide).enumerate() {
+            if !inside(b, w) {
+                leavers.push(Slot((start + k) as u32));
+            }
+        }
+    }
+    unboxed
 }
 
 /// Compares the boxes of each pair of slots in `pairs` and hands those
