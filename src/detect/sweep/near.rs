@@ -221,6 +221,8 @@ pub(crate) struct Near {
     /// ([`Near::mend`]).
     leavers: Vec<Slot>,
     share_leavers: Vec<Vec<Slot>>,
+    /// The widened boxes a leaver's overlaps.
+    met: Vec<u32>,
     leaving: Vec<bool>,
     /// The findings of each piece of the comparison.
     pieces: Vec<Findings>,
@@ -304,14 +306,10 @@ impl Near {
         self.pairs
             .retain(|&(a, b)| !leaving[a.0 as usize] && !leaving[b.0 as usize]);
         for &Slot(i) in &self.leavers {
-            let i = i as usize;
-            let reach = reach(&self.wide[i]);
-            for (j, w) in self.wide.iter().enumerate() {
-                // Two leavers meet once, from the lower slot.
-                if overlaps(w, &reach) && j != i && (j > i || !leaving[j]) {
-                    self.pairs.push((Slot(i as u32), Slot(j as u32)));
-                }
-            }
+            overlapping(&self.wide, &self.wide[i as usize], &mut self.met);
+            // Two leavers meet once, from the lower slot.
+            let new = (self.met.iter()).filter(|&&j| j != i && (j > i || !leaving[j as usize]));
+            self.pairs.extend(new.map(|&j| (Slot(i), Slot(j))));
         }
         for &Slot(i) in &self.leavers {
             self.leaving[i as usize] = false;
@@ -509,6 +507,35 @@ fn settle_with(
         }
     }
     unboxed
+}
+
+/// The places of the boxes in `boxes` that overlap box `q` into `met`.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+fn overlapping(boxes: &[Packed], q: &Packed, met: &mut Vec<u32>) {
+    met.clear();
+    multiversion::target::match_target! {
+        "x86_64+avx2" => overlapping_with(boxes, q, met, |a, b| avx2::overlap(a, b)),
+        _ => overlapping_with(boxes, q, met, |a, b| overlaps(b, &reach(a))),
+    }
+}
+
+/// [`overlapping`], given the test that two boxes overlap.
+#[inline(always)]
+fn overlapping_with(
+    boxes: &[Packed],
+    q: &Packed,
+    met: &mut Vec<u32>,
+    overlap: impl Fn(&Packed, &Packed) -> bool,
+) {
+    for (j, b) in boxes.iter().enumerate() {
+        if overlap(q, b) {
+            met.push(j as u32);
+        }
+    }
 }
 
 /// Compares the boxes of each pair of slots in `pairs` and hands those
