@@ -473,11 +473,11 @@ impl Detector for Sweep {
             count => format!("along {along}, {count} bands across {}", name[bands.across]),
         };
         let (keeping, sweeps) = (self.near.steps, self.near.sweeps);
-        match sweeps {
-            0 => swept,
-            _ => format!(
-                "{swept}; pairs kept on {} of {} steps, a sweep every {:.1} while kept",
-                keeping - sweeps,
+        match (sweeps, keeping - sweeps) {
+            (0, _) => swept,
+            (tries, 0) => format!("{swept}; pairs tried {tries} times, not kept"),
+            (_, kept) => format!(
+                "{swept}; pairs kept on {kept} of {} steps, a sweep every {:.1} while kept",
                 self.steps,
                 keeping as f64 / sweeps as f64
             ),
