@@ -317,7 +317,10 @@ impl Sweep {
     /// `candidates` and whether it `swept` ([`Choice`]).
     fn choose(&mut self, candidates: u64, swept: bool) {
         let (pairs, lines) = (self.near.pairs(), self.sorted.len());
-        if self.choice.after(candidates, swept, pairs, lines) {
+        let begins = self.choice.after(candidates, swept, pairs, lines);
+        // Pairs kept from before a stretch of sweeping are stale, and not
+        // worth carrying through the world's reorders.
+        if begins || !self.choice.keeping() {
             self.near.forget();
         }
     }

@@ -237,9 +237,10 @@ impl Near {
         self.pairs.len()
     }
 
-    /// Forgets the pairs kept: the next step sweeps.
+    /// Forgets the pairs kept: the next step that keeps pairs sweeps.
     pub(crate) fn forget(&mut self) {
         self.kept = false;
+        self.pairs.clear();
     }
 
     /// Makes every line's box in slot order, a share a thread of `team`,
