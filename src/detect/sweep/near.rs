@@ -201,7 +201,7 @@ impl Choice {
 #[derive(Debug, Default)]
 pub(crate) struct Near {
     /// Each slot's box this step, and its least `x` ([`NO_KEY`] where the
-    /// line has no box, which leaves the box as it was).
+    /// line has no box, its box then [`NOWHERE`]).
     boxes: Vec<Packed>,
     keys: Vec<f32>,
     /// Each slot's widened box, from the last sweep.
@@ -221,9 +221,9 @@ pub(crate) struct Near {
     /// ([`Near::mend`]).
     leavers: Vec<Slot>,
     share_leavers: Vec<Vec<Slot>>,
-    /// The widened boxes a leaver's overlaps.
-    met: Vec<u32>,
     leaving: Vec<bool>,
+    /// The widened boxes a leaver's widened box overlaps.
+    met: Vec<u32>,
     /// The findings of each piece of the comparison.
     pieces: Vec<Findings>,
     /// Steps, and sweeps among them, while kept pairs were used.
