@@ -17,7 +17,7 @@
 //! lane, so no rounding can let a box out unnoticed; the margin is only a
 //! guess at how long the boxes stay in.
 
-use super::hull::{self, overlaps, reach, Packed, NO_KEY};
+use super::hull::{self, Packed, NO_KEY};
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
 use crate::detect::{Findings, KeepPairs, Stored};
 use crate::index::Slot;
@@ -453,13 +453,6 @@ fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
     })
 }
 
-/// Whether box `b` lies in box `w`: each of its lanes is at least the
-/// other's (both are lower bounds).
-#[inline(always)]
-fn inside(b: &Packed, w: &Packed) -> bool {
-    (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
-}
-
 /// Sets the boxes of the lines without one (key [`NO_KEY`]) to
 /// [`NOWHERE`], which overlaps no box and lies in every box; if `kept`,
 /// pushes to `leavers` the slot (from `start` on) of each box that does not
@@ -477,7 +470,7 @@ fn settle(
 ) -> u64 {
     multiversion::target::match_target! {
         "x86_64+avx2" => settle_with(boxes, keys, wide, leavers, |b, w| avx2::inside(b, w)),
-        _ => settle_with(boxes, keys, wide, leavers, inside),
+        _ => settle_with(boxes, keys, wide, leavers, portable::inside),
     }
 }
 
@@ -520,7 +513,7 @@ fn overlapping(boxes: &[Packed], q: &Packed, met: &mut Vec<u32>) {
     met.clear();
     multiversion::target::match_target! {
         "x86_64+avx2" => overlapping_with(boxes, q, met, |a, b| avx2::overlap(a, b)),
-        _ => overlapping_with(boxes, q, met, |a, b| overlaps(b, &reach(a))),
+        _ => overlapping_with(boxes, q, met, portable::overlap),
     }
 }
 
@@ -556,7 +549,7 @@ fn compare(
 ) {
     multiversion::target::match_target! {
         "x86_64+avx2" => compare_with(pairs, boxes, (stored, dt), found, |a, b| avx2::overlap(a, b)),
-        _ => compare_with(pairs, boxes, (stored, dt), found, |a, b| overlaps(b, &reach(a))),
+        _ => compare_with(pairs, boxes, (stored, dt), found, portable::overlap),
     }
 }
 
@@ -577,8 +570,71 @@ fn compare_with(
     }
 }
 
-/// The tests of [`inside`] and of two boxes overlapping, in one AVX2
-/// comparison each.
+/// The tests that a box lies in another and that two boxes overlap,
+/// where the build has no choice of AVX2: in WebAssembly's 128-bit
+/// vectors (two comparisons each) where it has them, else lane by lane.
+mod portable {
+    use super::Packed;
+    #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+    pub(super) use plain::{inside, overlap};
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    pub(super) use simd128::{inside, overlap};
+
+    #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+    mod plain {
+        use super::Packed;
+        use crate::detect::sweep::hull::{overlaps, reach};
+
+        /// Whether box `b` lies in box `w`: each of its lanes is at least
+        /// the other's (both are lower bounds).
+        #[inline(always)]
+        pub(in super::super) fn inside(b: &Packed, w: &Packed) -> bool {
+            (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
+        }
+
+        /// Whether boxes `a` and `b` overlap.
+        #[inline(always)]
+        pub(in super::super) fn overlap(a: &Packed, b: &Packed) -> bool {
+            overlaps(b, &reach(a))
+        }
+    }
+
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    mod simd128 {
+        use super::Packed;
+        use core::arch::wasm32::{
+            f32x4, f32x4_ge, f32x4_le, f32x4_neg, i32x4_all_true, v128, v128_and,
+        };
+
+        /// Lanes `k..k + 4` of `p`.
+        #[inline(always)]
+        fn half(p: &Packed, k: usize) -> v128 {
+            f32x4(p[k], p[k + 1], p[k + 2], p[k + 3])
+        }
+
+        /// Whether box `b` lies in box `w`: each of its lanes is at least
+        /// the other's (both are lower bounds).
+        #[inline(always)]
+        pub(in super::super) fn inside(b: &Packed, w: &Packed) -> bool {
+            let low = f32x4_ge(half(b, 0), half(w, 0));
+            let high = f32x4_ge(half(b, 4), half(w, 4));
+            i32x4_all_true(v128_and(low, high))
+        }
+
+        /// Whether boxes `a` and `b` overlap: every lane of `b` at most
+        /// the matching lane of `a`'s reach (its halves swapped and
+        /// negated; `f32x4.neg` flips the sign as `-x` does).
+        #[inline(always)]
+        pub(in super::super) fn overlap(a: &Packed, b: &Packed) -> bool {
+            let low = f32x4_le(half(b, 0), f32x4_neg(half(a, 4)));
+            let high = f32x4_le(half(b, 4), f32x4_neg(half(a, 0)));
+            i32x4_all_true(v128_and(low, high))
+        }
+    }
+}
+
+/// The tests that a box lies in another and that two boxes overlap, in
+/// one AVX2 comparison each.
 #[cfg(target_arch = "x86_64")]
 mod avx2 {
     use super::Packed;
@@ -587,7 +643,7 @@ mod avx2 {
         _mm256_set1_epi32, _mm256_xor_ps, _CMP_GE_OQ, _CMP_LE_OQ,
     };
 
-    /// Whether box `b` lies in box `w` ([`super::inside`]).
+    /// Whether box `b` lies in box `w` (see [`super::portable`]).
     #[inline]
     #[target_feature(enable = "avx2")]
     pub(super) fn inside(b: &Packed, w: &Packed) -> bool {
