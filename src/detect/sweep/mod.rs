@@ -182,6 +182,15 @@ impl Sweep {
         }
     }
 
+    /// The team for a step of `lines` lines that keeps pairs: the team
+    /// where [`Schedule::kept_shares`], else this thread alone.
+    fn team_for_kept(&self, lines: usize) -> Arc<Team> {
+        match Schedule::kept_shares(lines) {
+            true => Arc::clone(&self.team),
+            false => Arc::clone(&self.solo),
+        }
+    }
+
     /// Makes every line's box and key, in last step's order, a share a
     /// thread (where pairs are kept, the widened boxes, gathered). When
     /// last step's layout may be kept, each share notes its movers as it
@@ -253,23 +262,19 @@ impl Sweep {
         let keep = self.choice.keeping();
         self.keep = keep;
         self.steps += 1;
-        let kept_team = match Schedule::kept_shares(n) {
-            true => Arc::clone(&self.team),
-            false => Arc::clone(&self.solo),
-        };
-        if keep && self.near.make(lines, dt, &kept_team) {
+        if keep && self.near.make(lines, dt, &self.team_for_kept(n)) {
             // The pairs kept hold: no sweep this step.
             for phase in [HULLS, SORT, LAYOUT] {
                 self.lap(phase);
             }
-            self.test_kept((stored, dt), found, &kept_team);
+            self.test_kept((stored, dt), found, &self.team_for_kept(n));
             self.lap(SWEEP);
             self.choose(found.counts.candidates - before.candidates, false);
             return;
         }
 
         if keep {
-            self.near.widen(lines, dt, &kept_team);
+            self.near.widen(lines, dt, &self.team_for_kept(n));
         }
         self.make_hulls(lines, dt, keep);
         if self.until_plan == 0 {
@@ -293,7 +298,7 @@ impl Sweep {
         if keep {
             let chunks = self.chunks.iter_mut();
             self.near.keep(chunks.map(|c| &mut c.near));
-            self.test_kept((stored, dt), found, &kept_team);
+            self.test_kept((stored, dt), found, &self.team_for_kept(n));
         } else {
             let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
             self.wild.clear();
@@ -345,10 +350,8 @@ impl Sweep {
         // A member without a group (fewer bands than threads) finds
         // nothing: every group's findings start empty.
         chunks.resize_with(groups.max(chunks.len()), Chunk::default);
-        chunks.iter_mut().for_each(|c| {
-            c.found.clear();
-            c.near.clear();
-        });
+        chunks[..groups].iter_mut().for_each(|c| c.found.clear());
+        debug_assert!(chunks.iter().all(|c| c.near.is_empty()), "kept pairs taken");
         let parts = team::Parts::new(chunks[..groups].iter_mut());
         let layout_end = Mutex::new(None);
         let (along, dense, keep) = (self.plan.along, self.dense, self.keep);
@@ -390,7 +393,7 @@ impl Sweep {
         let next = AtomicUsize::new(0);
         let mut pieces = std::mem::take(&mut self.chunks);
         pieces.resize_with(chunks.max(pieces.len()), Chunk::default);
-        pieces.iter_mut().for_each(|c| c.near.clear());
+        debug_assert!(pieces.iter().all(|c| c.near.is_empty()), "kept pairs taken");
         let parts = team::Parts::new(pieces[..chunks].iter_mut());
         let (sorted, along, dense) = (&self.sorted, self.plan.along, self.dense);
         let keep = self.keep;
@@ -402,7 +405,6 @@ impl Sweep {
             let chunk = parts.take(c);
             chunk.found.clear();
             chunk.pairs.clear();
-            chunk.near.clear();
             let range = c * size..((c + 1) * size).min(boxed);
             let (keys, hulls) = (&sorted.keys[..], &sorted.hulls[..]);
             let candidates = scan::sweep(keys, hulls, range, along, dense, &mut chunk.pairs);
@@ -425,7 +427,8 @@ pub(crate) struct Chunk {
     pub found: Findings,
     pub pairs: Vec<(u32, u32)>,
     /// The pairs of slots whose boxes overlap, where they are kept
-    /// ([`near`]) rather than tested.
+    /// ([`near`]) rather than tested; emptied by [`Near::keep`] as soon
+    /// as the sweep ends.
     pub near: Vec<(Slot, Slot)>,
 }
 

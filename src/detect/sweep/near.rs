@@ -17,7 +17,7 @@
 //! lane, so no rounding can let a box out unnoticed; the margin is only a
 //! guess at how long the boxes stay in.
 
-use super::hull::{self, Packed, NO_KEY};
+use super::hull::{self, overlaps, reach, Packed, NO_KEY};
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
 use crate::detect::{Findings, KeepPairs, Stored};
 use crate::index::Slot;
@@ -456,7 +456,9 @@ fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
 /// Sets the boxes of the lines without one (key [`NO_KEY`]) to
 /// [`NOWHERE`], which overlaps no box and lies in every box; if `kept`,
 /// pushes to `leavers` the slot (from `start` on) of each box that does not
-/// lie in its widened box `wide`. Returns the lines without a box.
+/// lie in its widened box `wide`. Returns the lines without a box. The
+/// lines without a box are found in a loop of their own, and the rare
+/// leaver is taken by a branch.
 #[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
 #[cfg_attr(
     screensaver_baseline,
@@ -465,25 +467,8 @@ fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
 fn settle(
     boxes: &mut [Packed],
     keys: &[f32],
-    wide: (&[Packed], bool),
-    leavers: (usize, &mut Vec<Slot>),
-) -> u64 {
-    multiversion::target::match_target! {
-        "x86_64+avx2" => settle_with(boxes, keys, wide, leavers, |b, w| avx2::inside(b, w)),
-        _ => settle_with(boxes, keys, wide, leavers, portable::inside),
-    }
-}
-
-/// [`settle`], given the test that a box lies in another: the lines
-/// without a box in a loop of their own, then the boxes against their
-/// widened boxes, the rare leaver taken by a branch.
-#[inline(always)]
-fn settle_with(
-    boxes: &mut [Packed],
-    keys: &[f32],
     (wide, kept): (&[Packed], bool),
     (start, leavers): (usize, &mut Vec<Slot>),
-    inside: impl Fn(&Packed, &Packed) -> bool,
 ) -> u64 {
     let unboxed = keys.iter().map(|&k| u64::from(k == NO_KEY)).sum::<u64>();
     if unboxed > 0 {
@@ -511,22 +496,9 @@ fn settle_with(
 )]
 fn overlapping(boxes: &[Packed], q: &Packed, met: &mut Vec<u32>) {
     met.clear();
-    multiversion::target::match_target! {
-        "x86_64+avx2" => overlapping_with(boxes, q, met, |a, b| avx2::overlap(a, b)),
-        _ => overlapping_with(boxes, q, met, portable::overlap),
-    }
-}
-
-/// [`overlapping`], given the test that two boxes overlap.
-#[inline(always)]
-fn overlapping_with(
-    boxes: &[Packed],
-    q: &Packed,
-    met: &mut Vec<u32>,
-    overlap: impl Fn(&Packed, &Packed) -> bool,
-) {
+    let reach = reach(q);
     for (j, b) in boxes.iter().enumerate() {
-        if overlap(q, b) {
+        if overlaps(b, &reach) {
             met.push(j as u32);
         }
     }
@@ -547,121 +519,20 @@ fn compare(
     (stored, dt): (Stored, f64),
     found: &mut Findings,
 ) {
-    multiversion::target::match_target! {
-        "x86_64+avx2" => compare_with(pairs, boxes, (stored, dt), found, |a, b| avx2::overlap(a, b)),
-        _ => compare_with(pairs, boxes, (stored, dt), found, portable::overlap),
-    }
-}
-
-/// [`compare`], given the test that two boxes overlap.
-#[inline(always)]
-fn compare_with(
-    pairs: &[(Slot, Slot)],
-    boxes: &[Packed],
-    (stored, dt): (Stored, f64),
-    found: &mut Findings,
-    overlap: impl Fn(&Packed, &Packed) -> bool,
-) {
     found.met(pairs.len() as u64);
     for &(a, b) in pairs {
-        if overlap(&boxes[a.0 as usize], &boxes[b.0 as usize]) {
+        if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
             found.test(stored, a, b, dt);
         }
     }
 }
 
-/// The tests that a box lies in another and that two boxes overlap,
-/// where the build has no choice of AVX2: in WebAssembly's 128-bit
-/// vectors (two comparisons each) where it has them, else lane by lane.
-mod portable {
-    use super::Packed;
-    #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-    pub(super) use plain::{inside, overlap};
-    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-    pub(super) use simd128::{inside, overlap};
-
-    #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-    mod plain {
-        use super::Packed;
-        use crate::detect::sweep::hull::{overlaps, reach};
-
-        /// Whether box `b` lies in box `w`: each of its lanes is at least
-        /// the other's (both are lower bounds).
-        #[inline(always)]
-        pub(in super::super) fn inside(b: &Packed, w: &Packed) -> bool {
-            (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
-        }
-
-        /// Whether boxes `a` and `b` overlap.
-        #[inline(always)]
-        pub(in super::super) fn overlap(a: &Packed, b: &Packed) -> bool {
-            overlaps(b, &reach(a))
-        }
-    }
-
-    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-    mod simd128 {
-        use super::Packed;
-        use core::arch::wasm32::{
-            f32x4, f32x4_ge, f32x4_le, f32x4_neg, i32x4_all_true, v128, v128_and,
-        };
-
-        /// Lanes `k..k + 4` of `p`.
-        #[inline(always)]
-        fn half(p: &Packed, k: usize) -> v128 {
-            f32x4(p[k], p[k + 1], p[k + 2], p[k + 3])
-        }
-
-        /// Whether box `b` lies in box `w`: each of its lanes is at least
-        /// the other's (both are lower bounds).
-        #[inline(always)]
-        pub(in super::super) fn inside(b: &Packed, w: &Packed) -> bool {
-            let low = f32x4_ge(half(b, 0), half(w, 0));
-            let high = f32x4_ge(half(b, 4), half(w, 4));
-            i32x4_all_true(v128_and(low, high))
-        }
-
-        /// Whether boxes `a` and `b` overlap: every lane of `b` at most
-        /// the matching lane of `a`'s reach (its halves swapped and
-        /// negated; `f32x4.neg` flips the sign as `-x` does).
-        #[inline(always)]
-        pub(in super::super) fn overlap(a: &Packed, b: &Packed) -> bool {
-            let low = f32x4_le(half(b, 0), f32x4_neg(half(a, 4)));
-            let high = f32x4_le(half(b, 4), f32x4_neg(half(a, 0)));
-            i32x4_all_true(v128_and(low, high))
-        }
-    }
-}
-
-/// The tests that a box lies in another and that two boxes overlap, in
-/// one AVX2 comparison each.
-#[cfg(target_arch = "x86_64")]
-mod avx2 {
-    use super::Packed;
-    use std::arch::x86_64::{
-        __m256, _mm256_castsi256_ps, _mm256_cmp_ps, _mm256_movemask_ps, _mm256_permute2f128_ps,
-        _mm256_set1_epi32, _mm256_xor_ps, _CMP_GE_OQ, _CMP_LE_OQ,
-    };
-
-    /// Whether box `b` lies in box `w` (see [`super::portable`]).
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn inside(b: &Packed, w: &Packed) -> bool {
-        let (b, w): (__m256, __m256) = (bytemuck::cast(*b), bytemuck::cast(*w));
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GE_OQ>(b, w)) == 0xff
-    }
-
-    /// Whether boxes `a` and `b` overlap: every lane of `b` at most the
-    /// matching lane of `a`'s reach (its halves swapped and negated, the
-    /// sign flipped as `-x` flips it).
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn overlap(a: &Packed, b: &Packed) -> bool {
-        let (a, b): (__m256, __m256) = (bytemuck::cast(*a), bytemuck::cast(*b));
-        let sign = _mm256_castsi256_ps(_mm256_set1_epi32(i32::MIN));
-        let reach = _mm256_xor_ps(_mm256_permute2f128_ps::<1>(a, a), sign);
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(b, reach)) == 0xff
-    }
+/// Whether box `b` lies in box `w`: each of its lanes is at least the
+/// other's (both are lower bounds). Written without branches, as
+/// [`overlaps`] is, so that the AVX2 clones make it one comparison.
+#[inline(always)]
+fn inside(b: &Packed, w: &Packed) -> bool {
+    (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
 }
 
 #[cfg(test)]
