@@ -21,7 +21,7 @@ impl Schedule {
     /// scene much smaller is quicker on one thread than handed out (`mit`,
     /// 809 lines, 4000 frames on two threads: 0.059 s shared against
     /// 0.047 on one).
-    pub const KEPT_FROM: usize = 8192;
+    pub const KEPT_FROM: usize = 2048;
 
     /// Lines from which the world's move is shared among the team while
     /// they are in id order: a member's share of the move costs less than

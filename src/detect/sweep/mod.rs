@@ -274,7 +274,7 @@ impl Sweep {
         }
 
         if keep {
-            self.near.widen(lines, dt, &self.team_for_kept(n));
+            self.near.widen(stored, dt, &self.team_for_kept(n));
         }
         self.make_hulls(lines, dt, keep);
         if self.until_plan == 0 {
@@ -483,9 +483,15 @@ impl Detector for Sweep {
             (0, _) => swept,
             (tries, 0) => format!("{swept}; pairs tried {tries} times, not kept"),
             (_, kept) => format!(
-                "{swept}; pairs kept on {kept} of {} steps, a sweep every {:.1} while kept",
+                "{swept}; pairs kept on {kept} of {} steps, a sweep every {:.1} and {:.1} \
+                 boxes mended a step while kept, {}",
                 self.steps,
-                keeping as f64 / sweeps as f64
+                keeping as f64 / sweeps as f64,
+                self.near.mended as f64 / keeping as f64,
+                match self.near.moving {
+                    0 => "no sweep in a moving frame".to_string(),
+                    moving => format!("{moving} of its {sweeps} sweeps in a moving frame"),
+                }
             ),
         }
     }

@@ -18,9 +18,11 @@
 //! guess at how long the boxes stay in.
 
 use super::hull::{self, overlaps, reach, Packed, NO_KEY};
+use super::scan;
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
 use crate::detect::{Findings, KeepPairs, Stored};
-use crate::index::Slot;
+use crate::geometry::Vec2;
+use crate::index::{LineId, Slot};
 use crate::line::Line;
 use crate::team::{self, Parts, Team};
 use multiversion::multiversion;
@@ -56,10 +58,20 @@ const FIRST_WAIT: u64 = 16;
 /// each try that failed).
 const LONGEST_WAIT: u64 = 4096;
 
-/// The part of the candidates a sweep meets a step that the pairs kept
-/// must stay below: a kept pair is read at random where a sweep reads its
-/// boxes in order, and on large scenes it waits on memory for it.
+/// The part of a sweep's work a step (in candidates, [`LINE_WEIGHT`])
+/// that the pairs kept must stay below: a kept pair is read at random
+/// where a sweep reads its boxes in order, and on large scenes it waits on
+/// memory for it.
 const FEWER: f64 = 0.5;
+
+/// A sweep's work on a line's box (gathered, laid out, swept), as many
+/// candidates' worth: on `koch`, about 107 instructions a box and 62 a
+/// candidate met, the work a kept pair takes about 16. So `koch`'s
+/// 3,900 lines keep about 4,200 pairs a step against 2,900 candidates
+/// and run 0.80x of the instructions sweeping; `box`'s 400 lines keep 4,700
+/// against 3,500 and run 1.33x, `sin_wave`'s 1,180 lines 4,200 against
+/// 380 and 1.35x (sweeps of widened boxes included).
+const LINE_WEIGHT: f64 = 3.0;
 
 /// The fewest steps between two sweeps of widened boxes: a scene whose
 /// boxes leave sooner sweeps more than it keeps.
@@ -100,7 +112,8 @@ pub(crate) struct Choice {
     wait: u64,
     /// Candidates met and steps, in this stretch of sweeping every step.
     swept: (u64, u64),
-    /// Candidates a step sweeping every step, as last measured.
+    /// A step's work sweeping every step, as last measured, in
+    /// candidates: those met, and [`LINE_WEIGHT`] a line.
     sweeping_rate: f64,
     /// Candidates met and steps since the last judgement, and steps in
     /// this stretch of keeping.
@@ -159,7 +172,8 @@ impl Choice {
             if self.left > 0 {
                 return false;
             }
-            self.sweeping_rate = self.swept.0 as f64 / self.swept.1 as f64;
+            let met = self.swept.0 as f64 / self.swept.1 as f64;
+            self.sweeping_rate = met + LINE_WEIGHT * lines as f64;
             self.swept = (0, 0);
             (self.keeping, self.left, self.kept) = (true, JUDGE_EVERY, (0, 0));
             (self.kept_for, self.since_sweep) = (0, 0);
@@ -215,8 +229,14 @@ pub(crate) struct Near {
     identity: Vec<Slot>,
     /// The lines without a box this step.
     unboxed: usize,
-    /// The mean travel at the last sweep ([`widened`]).
-    mean: f64,
+    /// The least travel a box was widened for at the last sweep
+    /// ([`Frame::choose`]).
+    least: f64,
+    /// The frame: the velocity the widened boxes move with, and the steps
+    /// since the last sweep ([`Frame`]).
+    frame: Frame,
+    /// The lines that choose the frame, with their velocities.
+    sample: Vec<(LineId, Vec2)>,
     /// This step's leavers, each share's, and which slots they are
     /// ([`Near::mend`]).
     leavers: Vec<Slot>,
@@ -224,11 +244,18 @@ pub(crate) struct Near {
     leaving: Vec<bool>,
     /// The widened boxes a leaver's widened box overlaps.
     met: Vec<u32>,
+    /// The pairs a mend found, compared and kept with the rest by
+    /// [`Near::test`], which drops the leavers' old pairs as it compares.
+    fresh: Vec<(Slot, Slot)>,
     /// The findings of each piece of the comparison.
     pieces: Vec<Findings>,
-    /// Steps, and sweeps among them, while kept pairs were used.
+    /// Steps, and sweeps among them, while kept pairs were used, and the
+    /// boxes mended in them.
     pub(crate) steps: u64,
     pub(crate) sweeps: u64,
+    pub(crate) mended: u64,
+    /// The sweeps that chose a moving frame.
+    pub(crate) moving: u64,
 }
 
 impl Near {
@@ -256,6 +283,10 @@ impl Near {
             self.kept = false;
         }
         self.steps += 1;
+        if self.kept {
+            self.frame.steps += 1;
+        }
+        let shift = self.frame.shift(dt);
         let threads = team.threads();
         let (boxes, keys) = (
             team::split_mut(&mut self.boxes, threads),
@@ -272,7 +303,7 @@ impl Near {
             hull::make(lines, &identity[share.clone()], boxes, keys, 0, dt);
             leavers.clear();
             let wide = &wide[share.clone()];
-            settle(boxes, keys, (wide, kept), (share.start, leavers))
+            settle(boxes, keys, (wide, kept, &shift), (share.start, leavers))
         });
         drop(leavers);
         self.unboxed = unboxed as usize;
@@ -283,10 +314,7 @@ impl Near {
         if !kept || self.leavers.len() > MEND_MOST {
             return false;
         }
-        if !self.leavers.is_empty() {
-            self.mend(lines, dt);
-        }
-        true
+        self.leavers.is_empty() || self.mend(lines, dt, &shift)
     }
 
     /// Widens again the boxes that left their widened boxes (the
@@ -295,36 +323,54 @@ impl Near {
     /// thousand instructions each on a scene of a few thousand lines,
     /// far fewer than a sweep).
     #[inline(never)] // Rare, and a phase of its own in profiles.
-    fn mend(&mut self, lines: &[Line], dt: f64) {
+    fn mend(&mut self, lines: &[Line], dt: f64, shift: &Shift) -> bool {
         let n = lines.len();
-        self.leaving.resize(n, false);
         for &Slot(i) in &self.leavers {
             let i = i as usize;
-            self.wide[i] = widened(&self.boxes[i], &lines[i], dt, self.mean);
-            self.leaving[i] = true;
+            let wide = widened(
+                &self.boxes[i],
+                &lines[i],
+                dt,
+                (self.frame.velocity, self.least),
+            );
+            match shift.back(&self.boxes[i], &wide) {
+                Some(wide) => self.wide[i] = wide,
+                // Rounding left the box outside however widened: sweep.
+                None => return false,
+            }
         }
-        let leaving = &self.leaving;
-        self.pairs
-            .retain(|&(a, b)| !leaving[a.0 as usize] && !leaving[b.0 as usize]);
+        self.leaving.resize(n, false);
         for &Slot(i) in &self.leavers {
-            overlapping(&self.wide, &self.wide[i as usize], &mut self.met);
+            self.leaving[i as usize] = true;
+        }
+        self.mended += self.leavers.len() as u64;
+        let leaving = &self.leaving;
+        for &Slot(i) in &self.leavers {
+            scan::meeting(&self.wide, &reach(&self.wide[i as usize]), &mut self.met);
             // Two leavers meet once, from the lower slot.
             let new = (self.met.iter()).filter(|&&j| j != i && (j > i || !leaving[j as usize]));
-            self.pairs.extend(new.map(|&j| (Slot(i), Slot(j))));
+            self.fresh.extend(new.map(|&j| (Slot(i), Slot(j))));
         }
+        true
+    }
+
+    /// Clears the marks of this step's leavers.
+    fn end_mend(&mut self) {
         for &Slot(i) in &self.leavers {
             self.leaving[i as usize] = false;
         }
+        self.leavers.clear();
     }
 
     /// Widens every line's box by its margin, for a sweep of the widened
     /// boxes, a share a thread of `team`.
-    pub(crate) fn widen(&mut self, lines: &[Line], dt: f64, team: &Team) {
+    pub(crate) fn widen(&mut self, stored: Stored, dt: f64, team: &Team) {
+        let lines = stored.lines;
         let n = lines.len();
         let threads = team.threads();
-        let total: f64 = lines.iter().map(travel).filter(|t| t.is_finite()).sum();
-        self.mean = total / n.max(1) as f64;
-        let mean = self.mean;
+        self.least = self.frame.choose(stored, &mut self.sample);
+        self.moving += u64::from(self.frame.velocity != [0.0; 2]);
+        let frame = (self.frame.velocity, self.least);
         let wide = team::split_mut(&mut self.wide, threads);
         let (boxes, keys) = (&self.boxes, &self.keys);
         team.run(&|k| {
@@ -334,7 +380,7 @@ impl Near {
             for (((line, b), &key), w) in each.zip(&keys[share]).zip(wide) {
                 *w = match key == NO_KEY {
                     true => NOWHERE,
-                    false => widened(b, line, dt, mean),
+                    false => widened(b, line, dt, frame),
                 };
             }
         });
@@ -365,6 +411,9 @@ impl Near {
     /// as the pieces of the sweep found them, in place of the pairs kept
     /// before; empties the pieces.
     pub(crate) fn keep<'a>(&mut self, swept: impl Iterator<Item = &'a mut Vec<(Slot, Slot)>>) {
+        // Leavers that called for this sweep have nothing to mend.
+        debug_assert!(self.fresh.is_empty() && !self.leaving.contains(&true));
+        self.leavers.clear();
         self.pairs.clear();
         for piece in swept {
             self.pairs.extend_from_slice(piece);
@@ -377,6 +426,22 @@ impl Near {
     /// boxes overlap to `found`'s test, in pieces among `team`, the
     /// pieces' findings put together in order.
     pub(crate) fn test(&mut self, (stored, dt): (Stored, f64), found: &mut Findings, team: &Team) {
+        if !self.leavers.is_empty() {
+            // Mended: the leavers' old pairs are dropped, their fresh
+            // ones compared and kept.
+            let leaving = &self.leaving;
+            if team.threads() == 1 {
+                compare_dropping(&mut self.pairs, leaving, &self.boxes, (stored, dt), found);
+                compare(&self.fresh, &self.boxes, (stored, dt), found);
+                self.pairs.append(&mut self.fresh);
+                self.end_mend();
+                return;
+            }
+            let drop = |&(a, b): &(Slot, Slot)| leaving[a.0 as usize] | leaving[b.0 as usize];
+            self.pairs.retain(|pair| !drop(pair));
+            self.pairs.append(&mut self.fresh);
+            self.end_mend();
+        }
         let pieces = match team.threads() {
             1 => 1,
             _ => self.pairs.len().div_ceil(PAIRS_A_PIECE).max(1),
@@ -435,22 +500,166 @@ impl Near {
     }
 }
 
-/// How far `line` travels along `x` and `y` together in a unit of time.
-fn travel(line: &Line) -> f64 {
-    line.v.x.abs() + line.v.y.abs()
+/// How far a line of velocity `v` travels along `x` and `y` together in a
+/// unit of time, relative to a frame moving with `frame`.
+fn travel(v: Vec2, frame: [f64; 2]) -> f64 {
+    (v.x - frame[0]).abs() + (v.y - frame[1]).abs()
 }
 
-/// `b`, the box of `line`, widened by [`MARGIN_STEPS`] of its travel, or
-/// of `mean` if it travels less: a line at rest is given the mean travel,
-/// so that one set moving by an event does not leave its box at once.
-fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
-    let margin = MARGIN_STEPS * dt * travel(line).max(mean);
+/// `b`, the box of `line`, widened by [`MARGIN_STEPS`] of its travel
+/// relative to the frame moving with `velocity`, or of `least` if it
+/// travels less: a line at rest in the frame is given some travel
+/// ([`Frame::choose`]), so that one set moving by an event does not leave
+/// its box at once. In a moving frame every lane is widened by a few of
+/// its `f32` steps more, for the rounding of boxes that move with it.
+fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64)) -> Packed {
+    let margin = MARGIN_STEPS * dt * travel(line.v, velocity).max(least);
     // The diagonals' values are as many times larger.
     let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
-    std::array::from_fn(|l| match l % 4 < 2 {
-        true => b[l] - straight,
-        false => b[l] - diagonal,
+    let rounding = match velocity == [0.0; 2] {
+        true => 0.0,
+        false => ROUNDING,
+    };
+    std::array::from_fn(|l| {
+        let margin = match l % 4 < 2 {
+            true => straight,
+            false => diagonal,
+        };
+        b[l] - margin - b[l].abs() * rounding
     })
+}
+
+/// The part of a box's value it is widened by for rounding: four of its
+/// `f32` steps.
+const ROUNDING: f32 = 1.0 / (1 << 21) as f32;
+
+/// The frame the widened boxes move with: the lines' median velocity at
+/// the last sweep, where that saves travel. Where most lines move alike
+/// (a shape moving as one, as on `koch`), they stand still in it, and
+/// their widened boxes need a margin only for rounding and the few lines
+/// that do not; where velocities differ it is at rest.
+#[derive(Debug, Default)]
+struct Frame {
+    velocity: [f64; 2],
+    /// Steps since the widened boxes were made.
+    steps: u64,
+}
+
+/// The most lines whose velocities choose a frame.
+const FRAME_SAMPLE: usize = 64;
+
+/// The part of the lines' mean travel at rest that their mean travel in a
+/// moving frame must be below for the frame to be taken.
+const FRAME_PAYS: f64 = 0.8;
+
+/// The part of the lines' mean travel in a moving frame that a line at
+/// rest in it is widened by: most such lines stay at rest (they move with
+/// the shape), so a little, against rounding and nudges, where a frame at
+/// rest gives its slow lines the whole mean.
+const FRAME_FLOOR: f64 = 0.1;
+
+impl Frame {
+    /// Chooses the frame for boxes widened now: the median velocity of
+    /// `lines` along each axis (the velocity of least travel to all), of
+    /// at most [`FRAME_SAMPLE`] lines spread over them, if the lines'
+    /// mean travel in it is below [`FRAME_PAYS`] of their travel at rest;
+    /// else at rest. Returns the least travel a line's box is widened for
+    /// ([`widened`]).
+    fn choose(&mut self, stored: Stored, sample: &mut Vec<(LineId, Vec2)>) -> f64 {
+        // The lines whose ids are a multiple of `every`, in id order: the
+        // same lines and sums however the lines are stored.
+        let lines = stored.lines;
+        let every = (lines.len() / FRAME_SAMPLE).next_power_of_two() as u32;
+        sample.clear();
+        for (k, line) in lines.iter().enumerate() {
+            let id = stored.id(Slot(k as u32));
+            if id.0 & (every - 1) == 0 && line.v.x.is_finite() && line.v.y.is_finite() {
+                sample.push((id, line.v));
+            }
+        }
+        sample.sort_unstable_by_key(|&(id, _)| id);
+        let median = |speed: fn(Vec2) -> f64| {
+            let mut speeds: Vec<f64> = sample.iter().map(|&(_, v)| speed(v)).collect();
+            let half = speeds.len() / 2;
+            match speeds.is_empty() {
+                true => 0.0,
+                false => *speeds.select_nth_unstable_by(half, f64::total_cmp).1,
+            }
+        };
+        let median = [median(|v| v.x), median(|v| v.y)];
+        // The mean travel in the frame and at rest.
+        let (mut moving, mut still) = (0.0, 0.0);
+        for &(_, v) in sample.iter() {
+            (moving, still) = (moving + travel(v, median), still + travel(v, [0.0; 2]));
+        }
+        let counted = sample.len().max(1) as f64;
+        let (moving, still) = (moving / counted, still / counted);
+        self.steps = 0;
+        if moving < FRAME_PAYS * still {
+            self.velocity = median;
+            FRAME_FLOOR * moving
+        } else {
+            self.velocity = [0.0; 2];
+            still
+        }
+    }
+
+    /// How far the frame has moved since the widened boxes were made.
+    fn shift(&self, dt: f64) -> Shift {
+        let t = self.steps as f64 * dt;
+        let (x, y) = (t * self.velocity[0], t * self.velocity[1]);
+        if x == 0.0 && y == 0.0 {
+            return Shift::Still;
+        }
+        let (u, w) = (
+            x * DIAGONAL_X + y * DIAGONAL_Y,
+            x * DIAGONAL_X - y * DIAGONAL_Y,
+        );
+        let along = [x, y, u, w];
+        Shift::By(std::array::from_fn(|l| match l < 4 {
+            true => up(along[l]),
+            false => up(-along[l - 4]),
+        }))
+    }
+}
+
+/// `x` rounded up to an `f32`.
+fn up(x: f64) -> f32 {
+    let r = x as f32;
+    match (r as f64) < x {
+        true => r.next_up(),
+        false => r,
+    }
+}
+
+/// How far the frame has moved, lane by lane: each lane's shift rounded
+/// up (a box's lanes are lower bounds, its greatest values negated), so
+/// that a box found inside a widened box moved by it lies inside the
+/// widened box moved by the frame's exact shift.
+#[derive(Clone, Copy, Debug)]
+enum Shift {
+    /// The frame is at rest, or has not moved yet.
+    Still,
+    By(Packed),
+}
+
+impl Shift {
+    /// A widened box `wide` of `b` made now, as it was when the frame was
+    /// made (every widened box is kept so), with `b` inside it moved by
+    /// this shift; `None` if no widening found (rounding, huge values).
+    fn back(&self, b: &Packed, wide: &Packed) -> Option<Packed> {
+        let Shift::By(s) = self else {
+            return Some(*wide);
+        };
+        let mut back: Packed = std::array::from_fn(|l| wide[l] - s[l]);
+        for _ in 0..4 {
+            if inside_moved(b, &back, s) {
+                return Some(back);
+            }
+            back = back.map(|w| w - w.abs() * ROUNDING - f32::MIN_POSITIVE);
+        }
+        None
+    }
 }
 
 /// Sets the boxes of the lines without one (key [`NO_KEY`]) to
@@ -467,7 +676,7 @@ fn widened(b: &Packed, line: &Line, dt: f64, mean: f64) -> Packed {
 fn settle(
     boxes: &mut [Packed],
     keys: &[f32],
-    (wide, kept): (&[Packed], bool),
+    (wide, kept, shift): (&[Packed], bool, &Shift),
     (start, leavers): (usize, &mut Vec<Slot>),
 ) -> u64 {
     let unboxed = keys.iter().map(|&k| u64::from(k == NO_KEY)).sum::<u64>();
@@ -478,30 +687,25 @@ fn settle(
             }
         }
     }
-    if kept {
-        for (k, (b, w)) in boxes.iter().zip(wide).enumerate() {
-            if !inside(b, w) {
-                leavers.push(Slot((start + k) as u32));
+    match (kept, shift) {
+        (false, _) => {}
+        (true, Shift::Still) => {
+            for (k, (b, w)) in boxes.iter().zip(wide).enumerate() {
+                if !inside(b, w) {
+                    leavers.push(Slot((start + k) as u32));
+                }
+            }
+        }
+        (true, Shift::By(s)) => {
+            for (k, (b, w)) in boxes.iter().zip(wide).enumerate() {
+                // A line without a box lies in anything.
+                if !inside_moved(b, w, s) && keys[k] != NO_KEY {
+                    leavers.push(Slot((start + k) as u32));
+                }
             }
         }
     }
     unboxed
-}
-
-/// The places of the boxes in `boxes` that overlap box `q` into `met`.
-#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
-#[cfg_attr(
-    screensaver_baseline,
-    multiversion(targets("x86_64+avx2"), dispatcher = "static")
-)]
-fn overlapping(boxes: &[Packed], q: &Packed, met: &mut Vec<u32>) {
-    met.clear();
-    let reach = reach(q);
-    for (j, b) in boxes.iter().enumerate() {
-        if overlaps(b, &reach) {
-            met.push(j as u32);
-        }
-    }
 }
 
 /// Compares the boxes of each pair of slots in `pairs` and hands those
@@ -527,6 +731,36 @@ fn compare(
     }
 }
 
+/// [`compare`] for the pairs kept, dropping (in place, in order) those of
+/// a slot `leaving` marks, whose pairs were found anew.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+fn compare_dropping(
+    pairs: &mut Vec<(Slot, Slot)>,
+    leaving: &[bool],
+    boxes: &[Packed],
+    (stored, dt): (Stored, f64),
+    found: &mut Findings,
+) {
+    let mut kept = 0;
+    for k in 0..pairs.len() {
+        let (a, b) = pairs[k];
+        if leaving[a.0 as usize] | leaving[b.0 as usize] {
+            continue;
+        }
+        pairs[kept] = (a, b);
+        kept += 1;
+        if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
+            found.test(stored, a, b, dt);
+        }
+    }
+    pairs.truncate(kept);
+    found.met(kept as u64);
+}
+
 /// Whether box `b` lies in box `w`: each of its lanes is at least the
 /// other's (both are lower bounds). Written without branches, as
 /// [`overlaps`] is, so that the AVX2 clones make it one comparison.
@@ -535,9 +769,126 @@ fn inside(b: &Packed, w: &Packed) -> bool {
     (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
 }
 
+/// Whether box `b` lies in box `w` moved by `s` (each lane's shift
+/// rounded up): each lane of `b` is greater than the other's moved, as
+/// rounded to nearest, so at least its exact value.
+#[inline(always)]
+fn inside_moved(b: &Packed, w: &Packed, s: &Packed) -> bool {
+    (0..8).fold(true, |all, l| all & (b[l] > w[l] + s[l]))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// How far the frame moving with `v` moves in `steps` of `dt` along
+    /// `x`, `y` and the diagonals, as the exact values the shift stands
+    /// for.
+    fn moved(v: [f64; 2], steps: u64, dt: f64) -> [f64; 4] {
+        let (x, y) = (steps as f64 * dt * v[0], steps as f64 * dt * v[1]);
+        [
+            x,
+            y,
+            x * DIAGONAL_X + y * DIAGONAL_Y,
+            x * DIAGONAL_X - y * DIAGONAL_Y,
+        ]
+    }
+
+    proptest::proptest! {
+        /// A box found inside a widened box moved by the frame's shift
+        /// lies inside it moved by the exact distance, lane by lane: its
+        /// least values at least the widened box's plus the distance, its
+        /// greatest at most theirs plus the distance. Boxes are drawn
+        /// about the moved widened box: one lane within a few of its `f32`
+        /// steps, so that both answers come up, the others well inside.
+        #[test]
+        fn a_box_inside_the_moved_widened_box_lies_inside_it_exactly(
+            wide in proptest::array::uniform8(-2000.0f32..2000.0),
+            v in proptest::array::uniform2(-1.0f64..1.0),
+            steps in 1u64..64,
+            (lane, nudge) in (0usize..8, -8i32..8),
+        ) {
+            let dt = 0.5;
+            let frame = Frame { velocity: v, steps };
+            let Shift::By(s) = frame.shift(dt) else {
+                return Ok(());
+            };
+            let d = moved(v, steps, dt);
+            // Each lane's distance: the least values move by `d`, the
+            // greatest (negated) by `-d`.
+            let exact: [f64; 8] = std::array::from_fn(|l| match l < 4 {
+                true => d[l],
+                false => -d[l - 4],
+            });
+            let b: Packed = std::array::from_fn(|l| {
+                let at = (wide[l] as f64 + exact[l]) as f32;
+                let nudge = if l == lane { nudge } else { 64 };
+                // Steps up from `at` (its bits count down below zero).
+                let bits = at.to_bits() as i64 + nudge as i64 * at.signum() as i64;
+                f32::from_bits(bits as u32)
+            });
+            if inside_moved(&b, &wide, &s) {
+                for l in 0..8 {
+                    // Exact: two `f32` values of these sizes differ by an
+                    // `f64` exactly.
+                    let room = b[l] as f64 - wide[l] as f64;
+                    proptest::prop_assert!(room >= exact[l], "lane {l}: {room} < {}", exact[l]);
+                }
+            }
+        }
+
+        /// A leaver's widened box, taken back to the frame's start, holds
+        /// its box moved by the frame's shift.
+        #[test]
+        fn a_widened_box_taken_back_holds_its_box(
+            b in proptest::array::uniform4(-2000.0f32..2000.0),
+            size in proptest::array::uniform4(0.0f32..50.0),
+            v in proptest::array::uniform2(-1.0f64..1.0),
+            steps in 1u64..64,
+        ) {
+            let b: Packed = std::array::from_fn(|l| match l < 4 {
+                true => b[l],
+                false => -(b[l - 4] + size[l - 4]),
+            });
+            let line = Line::default();
+            let frame = Frame { velocity: v, steps };
+            let shift = frame.shift(0.5);
+            let wide = widened(&b, &line, 0.5, (v, 0.001));
+            let back = shift.back(&b, &wide).expect("a widened box");
+            if let Shift::By(s) = shift {
+                proptest::prop_assert!(inside_moved(&b, &back, &s));
+            }
+        }
+    }
+
+    #[test]
+    fn most_lines_moving_alike_choose_their_frame_and_others_rest() {
+        let line = |vx, vy| Line {
+            v: Vec2::new(vx, vy),
+            ..Line::default()
+        };
+        // Nine in ten alike: their velocity.
+        let mut lines: Vec<Line> = (0..1000).map(|_| line(0.25, -0.5)).collect();
+        for (k, l) in lines.iter_mut().enumerate().filter(|(k, _)| k % 10 == 0) {
+            *l = line(k as f64 * 1e-3 - 0.5, 0.125);
+        }
+        let mut frame = Frame::default();
+        let least = frame.choose(Stored::by_id(&lines), &mut Vec::new());
+        assert_eq!(frame.velocity, [0.25, -0.5]);
+        assert!(least > 0.0 && least < 0.1 * 0.75, "{least}");
+        // All different: at rest, and the mean travel.
+        let lines: Vec<Line> = (0..1000)
+            .map(|k| {
+                line(
+                    (k as f64 * 0.618).fract() - 0.5,
+                    (k as f64 * 0.414).fract() - 0.5,
+                )
+            })
+            .collect();
+        let least = frame.choose(Stored::by_id(&lines), &mut Vec::new());
+        assert_eq!(frame.velocity, [0.0; 2]);
+        assert!(least > 0.3 && least < 0.7, "{least}");
+    }
 
     /// Feeds `choice` steps of `candidates` each while sweeping every
     /// step, and of `kept` pairs (a sweep every `every` steps) while
