@@ -62,7 +62,7 @@ const LONGEST_WAIT: u64 = 4096;
 /// that the pairs kept must stay below: a kept pair is read at random
 /// where a sweep reads its boxes in order, and on large scenes it waits on
 /// memory for it.
-const FEWER: f64 = 0.5;
+const FEWER: f64 = 0.6;
 
 /// A sweep's work on a line's box (gathered, laid out, swept), as many
 /// candidates' worth: on `koch`, about 107 instructions a box and 62 a
@@ -77,12 +77,13 @@ const LINE_WEIGHT: f64 = 3.0;
 /// boxes leave sooner sweeps more than it keeps.
 const SOONEST_SWEEP: u64 = 3;
 
-/// Lines from which pairs are not tried where it pays: on generated
-/// scenes of 10,000 lines and more, keeping them ran slower than sweeping
-/// every step (one thread, 10,000 lines 0.99x, 30,000 0.93x, 100,000
-/// and a million slower still; two threads 0.86x and 0.72x at 10,000 and
-/// 30,000), and each try cost a few steps' worth.
-const TRY_BELOW: usize = 8192;
+/// Lines from which pairs are not tried where it pays: generated scenes
+/// of 6,000 lines kept them (0.84x of the instructions on one thread) but
+/// ran 0.98x of sweeping every step on one thread and 0.90x on two, where
+/// the sweep shares its work better than a kept step; larger scenes lose
+/// more (10,000 lines 0.99x and 0.86x, 30,000 0.93x and 0.72x), and each
+/// try costs a few steps' worth.
+const TRY_BELOW: usize = 4096;
 
 /// Steps pairs are kept between two judgements of whether they pay.
 const JUDGE_EVERY: u64 = 32;
@@ -92,9 +93,10 @@ const JUDGE_EVERY: u64 = 32;
 const KEEP_MOST: u64 = 2048;
 
 /// Whether pairs are kept, chosen by what each way meets: keeping pays
-/// where the pairs kept, compared every step, are well under the
-/// candidates a sweep meets every step ([`FEWER`]), and the boxes stay
-/// inside their widened boxes for a few steps ([`SOONEST_SWEEP`]).
+/// where the pairs kept, compared every step, are well under a sweep's
+/// work every step (the candidates it meets and its lines' boxes,
+/// [`FEWER`], [`LINE_WEIGHT`]), and the boxes stay inside their widened
+/// boxes for a few steps ([`SOONEST_SWEEP`]).
 /// Crowded scenes (many pairs close by, many events turning lines) fail
 /// their tries and are swept every step, large ones ([`TRY_BELOW`]) are
 /// not tried; scenes whose sweeps meet many boxes that do not overlap keep
