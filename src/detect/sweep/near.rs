@@ -244,8 +244,9 @@ pub(crate) struct Near {
     leavers: Vec<Slot>,
     share_leavers: Vec<Vec<Slot>>,
     leaving: Vec<bool>,
-    /// The widened boxes a leaver's widened box overlaps.
-    met: Vec<u32>,
+    /// Each share's widened boxes that a leaver's widened box overlaps,
+    /// as `(leaver, slot)`, and the share's own list of one leaver's.
+    share_met: Vec<(Vec<(u32, u32)>, Vec<u32>)>,
     /// The pairs a mend found, compared and kept with the rest by
     /// [`Near::test`], which drops the leavers' old pairs as it compares.
     fresh: Vec<(Slot, Slot)>,
@@ -316,16 +317,16 @@ impl Near {
         if !kept || self.leavers.len() > MEND_MOST {
             return false;
         }
-        self.leavers.is_empty() || self.mend(lines, dt, &shift)
+        self.leavers.is_empty() || self.mend(lines, dt, &shift, team)
     }
 
     /// Widens again the boxes that left their widened boxes (the
     /// *leavers*, a few), and keeps anew the pairs they are in: each
-    /// leaver's widened box against every other, one at a time (a few
-    /// thousand instructions each on a scene of a few thousand lines,
-    /// far fewer than a sweep).
+    /// leaver's widened box against every other, eight at a time (about
+    /// five instructions a box, far fewer than a sweep), a share of the
+    /// boxes a thread of `team`.
     #[inline(never)] // Rare, and a phase of its own in profiles.
-    fn mend(&mut self, lines: &[Line], dt: f64, shift: &Shift) -> bool {
+    fn mend(&mut self, lines: &[Line], dt: f64, shift: &Shift, team: &Team) -> bool {
         let n = lines.len();
         for &Slot(i) in &self.leavers {
             let i = i as usize;
@@ -346,12 +347,37 @@ impl Near {
             self.leaving[i as usize] = true;
         }
         self.mended += self.leavers.len() as u64;
+        // Each share's boxes met, leaver by leaver: `(leaver, box)`.
+        let threads = team.threads();
+        self.share_met
+            .resize_with(threads.max(self.share_met.len()), Default::default);
+        let (wide, leavers) = (&self.wide, &self.leavers);
+        let parts = Parts::new(self.share_met.iter_mut());
+        team.run(&|k| {
+            let share = team::share(n, threads, k);
+            let (met, found) = parts.take(k);
+            met.clear();
+            for (l, &Slot(i)) in leavers.iter().enumerate() {
+                scan::meeting(&wide[share.clone()], &reach(&wide[i as usize]), found);
+                met.extend(found.iter().map(|&j| (l as u32, share.start as u32 + j)));
+            }
+        });
+        drop(parts);
+        // In the order of the leavers, and of the boxes within each (as
+        // one thread finds them).
         let leaving = &self.leaving;
-        for &Slot(i) in &self.leavers {
-            scan::meeting(&self.wide, &reach(&self.wide[i as usize]), &mut self.met);
-            // Two leavers meet once, from the lower slot.
-            let new = (self.met.iter()).filter(|&&j| j != i && (j > i || !leaving[j as usize]));
-            self.fresh.extend(new.map(|&j| (Slot(i), Slot(j))));
+        let mut at = vec![0; threads];
+        for (l, &Slot(i)) in self.leavers.iter().enumerate() {
+            for ((met, _), at) in self.share_met[..threads].iter().zip(&mut at) {
+                let run = met[*at..].iter().take_while(|&&(m, _)| m == l as u32);
+                let count = run.clone().count();
+                // Two leavers meet once, from the lower slot.
+                let new = run
+                    .map(|&(_, j)| j)
+                    .filter(|&j| j != i && (j > i || !leaving[j as usize]));
+                self.fresh.extend(new.map(|j| (Slot(i), Slot(j))));
+                *at += count;
+            }
         }
         true
     }
