@@ -246,7 +246,7 @@ pub(crate) struct Near {
     leaving: Vec<bool>,
     /// Each share's widened boxes that a leaver's widened box overlaps,
     /// as `(leaver, slot)`, and the share's own list of one leaver's.
-    share_met: Vec<(Vec<(u32, u32)>, Vec<u32>)>,
+    share_met: Vec<ShareMet>,
     /// The pairs a mend found, compared and kept with the rest by
     /// [`Near::test`], which drops the leavers' old pairs as it compares.
     fresh: Vec<(Slot, Slot)>,
@@ -527,6 +527,10 @@ impl Near {
         }
     }
 }
+
+/// A share's widened boxes met in a mend, as `(leaver, slot)`, and its
+/// list of one leaver's.
+type ShareMet = (Vec<(u32, u32)>, Vec<u32>);
 
 /// How far a line of velocity `v` travels along `x` and `y` together in a
 /// unit of time, relative to a frame moving with `frame`.
