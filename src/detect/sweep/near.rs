@@ -237,8 +237,10 @@ pub(crate) struct Near {
     /// The frame: the velocity the widened boxes move with, and the steps
     /// since the last sweep ([`Frame`]).
     frame: Frame,
-    /// The lines that choose the frame, with their velocities.
+    /// The lines that choose the frame, with their velocities, and the
+    /// sweeps before it is chosen again.
     sample: Vec<(LineId, Vec2)>,
+    frame_in: u64,
     /// This step's leavers, each share's, and which slots they are
     /// ([`Near::mend`]).
     leavers: Vec<Slot>,
@@ -247,8 +249,8 @@ pub(crate) struct Near {
     /// Each share's widened boxes that a leaver's widened box overlaps,
     /// as `(leaver, slot)`, and the share's own list of one leaver's.
     share_met: Vec<ShareMet>,
-    /// The pairs a mend found, compared and kept with the rest by
-    /// [`Near::test`], which drops the leavers' old pairs as it compares.
+    /// The pairs a mend found, kept in place of the leavers' old pairs by
+    /// [`Near::test`].
     fresh: Vec<(Slot, Slot)>,
     /// The findings of each piece of the comparison.
     pieces: Vec<Findings>,
@@ -270,6 +272,7 @@ impl Near {
     /// Forgets the pairs kept: the next step that keeps pairs sweeps.
     pub(crate) fn forget(&mut self) {
         self.kept = false;
+        self.frame_in = 0;
         self.pairs.clear();
     }
 
@@ -396,7 +399,11 @@ impl Near {
         let lines = stored.lines;
         let n = lines.len();
         let threads = team.threads();
-        self.least = self.frame.choose(stored, &mut self.sample);
+        if self.frame_in == 0 {
+            self.least = self.frame.choose(stored, &mut self.sample);
+            self.frame_in = FRAME_EVERY;
+        }
+        (self.frame.steps, self.frame_in) = (0, self.frame_in - 1);
         self.moving += u64::from(self.frame.velocity != [0.0; 2]);
         let frame = (self.frame.velocity, self.least);
         let wide = team::split_mut(&mut self.wide, threads);
@@ -455,16 +462,8 @@ impl Near {
     /// pieces' findings put together in order.
     pub(crate) fn test(&mut self, (stored, dt): (Stored, f64), found: &mut Findings, team: &Team) {
         if !self.leavers.is_empty() {
-            // Mended: the leavers' old pairs are dropped, their fresh
-            // ones compared and kept.
+            // Mended: the leavers' old pairs give way to their fresh ones.
             let leaving = &self.leaving;
-            if team.threads() == 1 {
-                compare_dropping(&mut self.pairs, leaving, &self.boxes, (stored, dt), found);
-                compare(&self.fresh, &self.boxes, (stored, dt), found);
-                self.pairs.append(&mut self.fresh);
-                self.end_mend();
-                return;
-            }
             let drop = |&(a, b): &(Slot, Slot)| leaving[a.0 as usize] | leaving[b.0 as usize];
             self.pairs.retain(|pair| !drop(pair));
             self.pairs.append(&mut self.fresh);
@@ -548,17 +547,19 @@ fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64))
     let margin = MARGIN_STEPS * dt * travel(line.v, velocity).max(least);
     // The diagonals' values are as many times larger.
     let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
-    let rounding = match velocity == [0.0; 2] {
-        true => 0.0,
-        false => ROUNDING,
-    };
-    std::array::from_fn(|l| {
-        let margin = match l % 4 < 2 {
+    let mut wide = *b;
+    for (l, w) in wide.iter_mut().enumerate() {
+        *w -= match l % 4 < 2 {
             true => straight,
             false => diagonal,
         };
-        b[l] - margin - b[l].abs() * rounding
-    })
+    }
+    if velocity != [0.0; 2] {
+        for (w, b) in wide.iter_mut().zip(b) {
+            *w -= b.abs() * ROUNDING;
+        }
+    }
+    wide
 }
 
 /// The part of a box's value it is widened by for rounding: four of its
@@ -579,6 +580,11 @@ struct Frame {
 
 /// The most lines whose velocities choose a frame.
 const FRAME_SAMPLE: usize = 64;
+
+/// Sweeps of widened boxes between two choices of the frame (and of the
+/// least travel): the lines' velocities change slowly as a whole, and
+/// the choice costs a tiny scene a few per cent.
+const FRAME_EVERY: u64 = 8;
 
 /// The part of the lines' mean travel at rest that their mean travel in a
 /// moving frame must be below for the frame to be taken.
@@ -601,11 +607,11 @@ impl Frame {
         // The lines whose ids are a multiple of `every`, in id order: the
         // same lines and sums however the lines are stored.
         let lines = stored.lines;
-        let every = (lines.len() / FRAME_SAMPLE).next_power_of_two() as u32;
+        let every = (lines.len() / FRAME_SAMPLE).next_power_of_two();
         sample.clear();
         for (k, line) in lines.iter().enumerate() {
             let id = stored.id(Slot(k as u32));
-            if id.0 & (every - 1) == 0 && line.v.x.is_finite() && line.v.y.is_finite() {
+            if id.0 as usize & (every - 1) == 0 && line.v.x.is_finite() && line.v.y.is_finite() {
                 sample.push((id, line.v));
             }
         }
@@ -626,7 +632,6 @@ impl Frame {
         }
         let counted = sample.len().max(1) as f64;
         let (moving, still) = (moving / counted, still / counted);
-        self.steps = 0;
         if moving < FRAME_PAYS * still {
             self.velocity = median;
             FRAME_FLOOR * moving
@@ -761,36 +766,6 @@ fn compare(
             found.test(stored, a, b, dt);
         }
     }
-}
-
-/// [`compare`] for the pairs kept, dropping (in place, in order) those of
-/// a slot `leaving` marks, whose pairs were found anew.
-#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
-#[cfg_attr(
-    screensaver_baseline,
-    multiversion(targets("x86_64+avx2"), dispatcher = "static")
-)]
-fn compare_dropping(
-    pairs: &mut Vec<(Slot, Slot)>,
-    leaving: &[bool],
-    boxes: &[Packed],
-    (stored, dt): (Stored, f64),
-    found: &mut Findings,
-) {
-    let mut kept = 0;
-    for k in 0..pairs.len() {
-        let (a, b) = pairs[k];
-        if leaving[a.0 as usize] | leaving[b.0 as usize] {
-            continue;
-        }
-        pairs[kept] = (a, b);
-        kept += 1;
-        if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
-            found.test(stored, a, b, dt);
-        }
-    }
-    pairs.truncate(kept);
-    found.met(kept as u64);
 }
 
 /// Whether box `b` lies in box `w`: each of its lanes is at least the
