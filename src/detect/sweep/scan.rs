@@ -221,15 +221,18 @@ pub(crate) fn meeting(hulls: &[Packed], reach: &Packed, met: &mut Vec<u32>) {
             }
         }
         _ => {
-            let each = hulls[..whole].iter().enumerate();
-            met.extend(each.filter(|(_, h)| overlaps(h, reach)).map(|(j, _)| j as u32));
+            for (j, h) in hulls[..whole].iter().enumerate() {
+                if overlaps(h, reach) {
+                    met.push(j as u32);
+                }
+            }
         }
     }
-    let rest = hulls[whole..].iter().enumerate();
-    met.extend(
-        rest.filter(|(_, h)| overlaps(h, reach))
-            .map(|(j, _)| (whole + j) as u32),
-    );
+    for (j, h) in hulls.iter().enumerate().skip(whole) {
+        if overlaps(h, reach) {
+            met.push(j as u32);
+        }
+    }
 }
 
 /// Whether a dense scene is scanned a block at a time where the processor
