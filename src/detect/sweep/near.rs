@@ -246,8 +246,7 @@ pub(crate) struct Near {
     leavers: Vec<Slot>,
     share_leavers: Vec<Vec<Slot>>,
     leaving: Vec<bool>,
-    /// Each share's widened boxes that a leaver's widened box overlaps,
-    /// as `(leaver, slot)`, and the share's own list of one leaver's.
+    /// Each share's widened boxes that the leavers' widened boxes overlap.
     share_met: Vec<ShareMet>,
     /// The pairs a mend found, kept in place of the leavers' old pairs by
     /// [`Near::test`].
@@ -358,8 +357,9 @@ impl Near {
         let parts = Parts::new(self.share_met.iter_mut());
         team.run(&|k| {
             let share = team::share(n, threads, k);
-            let (met, found) = parts.take(k);
+            let ShareMet { met, found, at } = parts.take(k);
             met.clear();
+            *at = 0;
             for (l, &Slot(i)) in leavers.iter().enumerate() {
                 scan::meeting(&wide[share.clone()], &reach(&wide[i as usize]), found);
                 met.extend(found.iter().map(|&j| (l as u32, share.start as u32 + j)));
@@ -369,17 +369,14 @@ impl Near {
         // In the order of the leavers, and of the boxes within each (as
         // one thread finds them).
         let leaving = &self.leaving;
-        let mut at = vec![0; threads];
         for (l, &Slot(i)) in self.leavers.iter().enumerate() {
-            for ((met, _), at) in self.share_met[..threads].iter().zip(&mut at) {
-                let run = met[*at..].iter().take_while(|&&(m, _)| m == l as u32);
-                let count = run.clone().count();
+            for ShareMet { met, at, .. } in &mut self.share_met[..threads] {
+                let run = &met[*at..][..met[*at..].partition_point(|&(m, _)| m == l as u32)];
+                *at += run.len();
                 // Two leavers meet once, from the lower slot.
-                let new = run
-                    .map(|&(_, j)| j)
-                    .filter(|&j| j != i && (j > i || !leaving[j as usize]));
+                let new = run.iter().map(|&(_, j)| j);
+                let new = new.filter(|&j| j != i && (j > i || !leaving[j as usize]));
                 self.fresh.extend(new.map(|j| (Slot(i), Slot(j))));
-                *at += count;
             }
         }
         true
@@ -527,9 +524,16 @@ impl Near {
     }
 }
 
-/// A share's widened boxes met in a mend, as `(leaver, slot)`, and its
-/// list of one leaver's.
-type ShareMet = (Vec<(u32, u32)>, Vec<u32>);
+/// A share's widened boxes met in a mend.
+#[derive(Debug, Default)]
+struct ShareMet {
+    /// `(leaver, slot)`, leaver by leaver.
+    met: Vec<(u32, u32)>,
+    /// One leaver's, as the share's boxes are compared.
+    found: Vec<u32>,
+    /// Where the next leaver's begin in `met`, as they are taken.
+    at: usize,
+}
 
 /// How far a line of velocity `v` travels along `x` and `y` together in a
 /// unit of time, relative to a frame moving with `frame`.
@@ -615,14 +619,18 @@ impl Frame {
                 sample.push((id, line.v));
             }
         }
+        // In id order, then each median picked in place: the same order
+        // of the sample for the sums below, however the lines are stored.
         sample.sort_unstable_by_key(|&(id, _)| id);
-        let median = |speed: fn(Vec2) -> f64| {
-            let mut speeds: Vec<f64> = sample.iter().map(|&(_, v)| speed(v)).collect();
-            let half = speeds.len() / 2;
-            match speeds.is_empty() {
-                true => 0.0,
-                false => *speeds.select_nth_unstable_by(half, f64::total_cmp).1,
+        let mut median = |speed: fn(Vec2) -> f64| {
+            if sample.is_empty() {
+                return 0.0;
             }
+            let by_speed =
+                |a: &(LineId, Vec2), b: &(LineId, Vec2)| speed(a.1).total_cmp(&speed(b.1));
+            let half = sample.len() / 2;
+            let (_, &mut (_, v), _) = sample.select_nth_unstable_by(half, by_speed);
+            speed(v)
         };
         let median = [median(|v| v.x), median(|v| v.y)];
         // The mean travel in the frame and at rest.
