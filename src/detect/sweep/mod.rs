@@ -62,6 +62,7 @@ mod boxes;
 pub(crate) mod hull;
 mod lanes;
 pub(crate) mod layout;
+mod mend;
 mod near;
 pub(crate) mod plan;
 pub(crate) mod scan;
@@ -262,7 +263,8 @@ impl Sweep {
         let keep = self.choice.keeping();
         self.keep = keep;
         self.steps += 1;
-        if keep && self.near.make(lines, dt, &self.team_for_kept(n)) {
+        let laid = (self.sorted.slice(n), self.plan.along);
+        if keep && self.near.make(lines, dt, &self.team_for_kept(n), laid) {
             // The pairs kept hold: no sweep this step.
             for phase in [HULLS, SORT, LAYOUT] {
                 self.lap(phase);

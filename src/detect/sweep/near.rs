@@ -17,8 +17,9 @@
 //! lane, so no rounding can let a box out unnoticed; the margin is only a
 //! guess at how long the boxes stay in.
 
+use super::boxes::BoxSlice;
 use super::hull::{self, overlaps, reach, Packed, NO_KEY};
-use super::scan;
+use super::mend::MendIndex;
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
 use crate::detect::{Findings, KeepPairs, Stored};
 use crate::geometry::Vec2;
@@ -246,8 +247,11 @@ pub(crate) struct Near {
     leavers: Vec<Slot>,
     share_leavers: Vec<Vec<Slot>>,
     leaving: Vec<bool>,
-    /// Each share's widened boxes that the leavers' widened boxes overlap.
-    share_met: Vec<ShareMet>,
+    /// The widened boxes as the last sweep laid them out, searched by the
+    /// mends, and the boxes one leaver's widened box meets.
+    index: MendIndex,
+    met: Vec<u32>,
+    found: Vec<u32>,
     /// The pairs a mend found, kept in place of the leavers' old pairs by
     /// [`Near::test`].
     fresh: Vec<(Slot, Slot)>,
@@ -273,12 +277,13 @@ impl Near {
         self.kept = false;
         self.frame_in = 0;
         self.pairs.clear();
+        self.index.forget();
     }
 
     /// Makes every line's box in slot order, a share a thread of `team`,
     /// and returns whether the pairs kept still hold: every box lies in
     /// its widened box.
-    pub(crate) fn make(&mut self, lines: &[Line], dt: f64, team: &Team) -> bool {
+    pub(crate) fn make(&mut self, lines: &[Line], dt: f64, team: &Team, laid: Laid) -> bool {
         let n = lines.len();
         if self.identity.len() != n {
             self.identity = (0..n as u32).map(Slot).collect();
@@ -319,7 +324,7 @@ impl Near {
         if !kept || self.leavers.len() > MEND_MOST {
             return false;
         }
-        self.leavers.is_empty() || self.mend(lines, dt, &shift, team)
+        self.leavers.is_empty() || self.mend(lines, dt, &shift, laid)
     }
 
     /// Widens again the boxes that left their widened boxes (the
@@ -328,8 +333,9 @@ impl Near {
     /// five instructions a box, far fewer than a sweep), a share of the
     /// boxes a thread of `team`.
     #[inline(never)] // Rare, and a phase of its own in profiles.
-    fn mend(&mut self, lines: &[Line], dt: f64, shift: &Shift, team: &Team) -> bool {
+    fn mend(&mut self, lines: &[Line], dt: f64, shift: &Shift, (laid, along): Laid) -> bool {
         let n = lines.len();
+        self.index.build(laid, along);
         for &Slot(i) in &self.leavers {
             let i = i as usize;
             let wide = widened(
@@ -345,39 +351,22 @@ impl Near {
             }
         }
         self.leaving.resize(n, false);
-        for &Slot(i) in &self.leavers {
-            self.leaving[i as usize] = true;
+        for &s in &self.leavers {
+            self.leaving[s.0 as usize] = true;
+            self.index.remake(s);
         }
         self.mended += self.leavers.len() as u64;
-        // Each share's boxes met, leaver by leaver: `(leaver, box)`.
-        let threads = team.threads();
-        self.share_met
-            .resize_with(threads.max(self.share_met.len()), Default::default);
-        let (wide, leavers) = (&self.wide, &self.leavers);
-        let parts = Parts::new(self.share_met.iter_mut());
-        team.run(&|k| {
-            let share = team::share(n, threads, k);
-            let ShareMet { met, found, at } = parts.take(k);
-            met.clear();
-            *at = 0;
-            for (l, &Slot(i)) in leavers.iter().enumerate() {
-                scan::meeting(&wide[share.clone()], &reach(&wide[i as usize]), found);
-                met.extend(found.iter().map(|&j| (l as u32, share.start as u32 + j)));
-            }
-        });
-        drop(parts);
-        // In the order of the leavers, and of the boxes within each (as
-        // one thread finds them).
-        let leaving = &self.leaving;
-        for (l, &Slot(i)) in self.leavers.iter().enumerate() {
-            for ShareMet { met, at, .. } in &mut self.share_met[..threads] {
-                let run = &met[*at..][..met[*at..].partition_point(|&(m, _)| m == l as u32)];
-                *at += run.len();
-                // Two leavers meet once, from the lower slot.
-                let new = run.iter().map(|&(_, j)| j);
-                let new = new.filter(|&j| j != i && (j > i || !leaving[j as usize]));
-                self.fresh.extend(new.map(|j| (Slot(i), Slot(j))));
-            }
+        // Each leaver's boxes met, in ascending order.
+        let (wide, leaving) = (&self.wide, &self.leaving);
+        for &Slot(i) in &self.leavers {
+            let met = &mut self.met;
+            let found = &mut self.found;
+            self.index
+                .meeting(laid, wide, &reach(&wide[i as usize]), (met, found));
+            // Two leavers meet once, from the lower slot.
+            let new = met.iter().copied();
+            let new = new.filter(|&j| j != i && (j > i || !leaving[j as usize]));
+            self.fresh.extend(new.map(|j| (Slot(i), Slot(j))));
         }
         true
     }
@@ -452,6 +441,7 @@ impl Near {
             piece.clear();
         }
         self.kept = true;
+        self.index.forget();
     }
 
     /// Compares the boxes of every pair kept and hands each pair whose
@@ -521,19 +511,14 @@ impl Near {
         for (a, b) in &mut self.pairs {
             (*a, *b) = (new_slot[a.0 as usize], new_slot[b.0 as usize]);
         }
+        self.index.reorder(&new_slot);
     }
 }
 
-/// A share's widened boxes met in a mend.
-#[derive(Debug, Default)]
-struct ShareMet {
-    /// `(leaver, slot)`, leaver by leaver.
-    met: Vec<(u32, u32)>,
-    /// One leaver's, as the share's boxes are compared.
-    found: Vec<u32>,
-    /// Where the next leaver's begin in `met`, as they are taken.
-    at: usize,
-}
+/// The widened boxes as the last sweep laid them out (all of the lines'),
+/// and the direction they are sorted along: what a mend searches
+/// ([`MendIndex`]).
+pub(crate) type Laid<'a> = (BoxSlice<'a>, usize);
 
 /// How far a line of velocity `v` travels along `x` and `y` together in a
 /// unit of time, relative to a frame moving with `frame`.
