@@ -2,7 +2,10 @@
 //! line moves by its velocity for one time step, then bounces off the
 //! walls it has crossed, exactly as the reference checks them.
 
-use crate::line::{Line, BOX_MAX, BOX_MIN, DT};
+use crate::detect::swept::One;
+use crate::geometry::Vec2;
+use crate::line::Line;
+use crate::team::Team;
 
 /// The move and wall phases for `lines`: each line moves by `v * dt`, then
 /// bounces off the walls. Returns the lines that hit a wall.
@@ -20,44 +23,124 @@ use crate::line::{Line, BOX_MAX, BOX_MIN, DT};
 pub(crate) fn advance_and_bounce(lines: &mut [Line]) -> u64 {
     let mut hits = 0;
     for line in lines {
-        line.p1 = line.p1 + line.v * DT;
-        line.p2 = line.p2 + line.v * DT;
-        hits += u64::from(bounce_off_walls(line));
+        hits += u64::from(advance_one(line));
     }
     hits
 }
 
-/// The wall phase for one line: reverses the velocity components that carry
-/// it further out of the box. Returns whether any wall was hit.
-///
-/// The reference's four checks, in its order (each sees the velocity the
-/// one before left), worked out with masks instead of branches, which
-/// take fewer instructions in a loop that runs over every line every step.
-#[inline(always)]
-pub fn bounce_off_walls(line: &mut Line) -> bool {
-    let (p1, p2) = (line.p1, line.p2);
-    let (vx, hit_max_x) = flip_if(line.v.x, (p1.x > BOX_MAX) | (p2.x > BOX_MAX), |v| v > 0.0);
-    let (vx, hit_min_x) = flip_if(vx, (p1.x < BOX_MIN) | (p2.x < BOX_MIN), |v| v < 0.0);
-    let (vy, hit_max_y) = flip_if(line.v.y, (p1.y > BOX_MAX) | (p2.y > BOX_MAX), |v| v > 0.0);
-    let (vy, hit_min_y) = flip_if(vy, (p1.y < BOX_MIN) | (p2.y < BOX_MIN), |v| v < 0.0);
-    line.v.x = vx;
-    line.v.y = vy;
-    hit_max_x | hit_min_x | hit_max_y | hit_min_y
+/// The move and wall phases for `lines` ([`advance_and_bounce`]), on
+/// `shared`'s team in as many pieces, if given.
+pub(crate) fn advance(lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
+    match shared {
+        Some((team, pieces)) => {
+            let parts = crate::team::split_mut(lines, pieces);
+            team.run_pieces_sum(pieces, &|k| advance_and_bounce(parts.take(k)))
+        }
+        None => advance_and_bounce(lines),
+    }
 }
 
-/// `v` negated (its sign bit flipped, exactly as `-v`) when `outside` and
-/// `heading(v)`, and whether it was.
+/// `a + b`, with `a`'s NaN (quieted) where both are NaN: the sum the
+/// move makes of a point and its travel, the same bits on every path.
+/// Which of two NaNs an addition gives is the compiler's choice (it may
+/// swap the operands), and the scalar and vector code of the move would
+/// choose differently; a NaN `a` gives `a + a` instead, whichever way
+/// round, as the addition with `a` first gives on x86-64.
 #[inline(always)]
-fn flip_if(v: f64, outside: bool, heading: impl Fn(f64) -> bool) -> (f64, bool) {
-    let flip = outside & heading(v);
-    (f64::from_bits(v.to_bits() ^ (u64::from(flip) << 63)), flip)
+pub(crate) fn add_first(a: f64, b: f64) -> f64 {
+    if a.is_nan() {
+        a + a
+    } else {
+        a + b
+    }
+}
+
+/// The move and the walls of lines in lanes, written once over a lane
+/// type `$L` whose lanes are lines (one value of each line a lane;
+/// [`One`] for a line alone, the hull batch's four at a time): given
+/// `[p1.x, p1.y, p2.x, p2.y]`, `v.x` and `v.y`, gives the points moved by
+/// `v * DT` ([`add_first`]), then [`bounce_lanes!`] of them: the velocity after the walls
+/// and the mask of the lines that hit one. Every lane type performs the
+/// same operations in the same order, so each gives the same bits.
+macro_rules! advance_lanes {
+    ($L:ty, $point:expr, $vx:expr, $vy:expr) => {{
+        type L = $L;
+        let [ax, ay, bx, by]: [L; 4] = $point;
+        let (vx, vy): (L, L) = ($vx, $vy);
+        let dt = L::splat($crate::line::DT);
+        let (dx, dy) = (vx.mul(dt), vy.mul(dt));
+        let point = [
+            ax.add_first(dx),
+            ay.add_first(dy),
+            bx.add_first(dx),
+            by.add_first(dy),
+        ];
+        let (vx, vy, hit) = $crate::motion::bounce_lanes!($L, point, vx, vy);
+        (point, vx, vy, hit)
+    }};
+}
+pub(crate) use advance_lanes;
+
+/// The walls of lines in lanes (as [`advance_lanes!`] takes them): the
+/// reference's four checks, in its order, each seeing the velocity the
+/// one before left, worked out with masks instead of branches (fewer
+/// instructions in a pass over every line every step); a velocity is
+/// turned by flipping its sign bit, exactly as `-v`. Gives the velocity
+/// after the walls and the mask of the lines that hit one.
+macro_rules! bounce_lanes {
+    ($L:ty, $point:expr, $vx:expr, $vy:expr) => {{
+        use $crate::line::{BOX_MAX, BOX_MIN};
+        type L = $L;
+        let [ax, ay, bx, by]: [L; 4] = $point;
+        let (vx, vy): (L, L) = ($vx, $vy);
+        let (high, low, zero) = (L::splat(BOX_MAX), L::splat(BOX_MIN), L::splat(0.0));
+        let hit_max_x = ax.gt(high).or(bx.gt(high)).and(vx.gt(zero));
+        let vx = vx.flip(hit_max_x);
+        let hit_min_x = ax.lt(low).or(bx.lt(low)).and(vx.lt(zero));
+        let vx = vx.flip(hit_min_x);
+        let hit_max_y = ay.gt(high).or(by.gt(high)).and(vy.gt(zero));
+        let vy = vy.flip(hit_max_y);
+        let hit_min_y = ay.lt(low).or(by.lt(low)).and(vy.lt(zero));
+        let vy = vy.flip(hit_min_y);
+        (vx, vy, hit_max_x.or(hit_min_x).or(hit_max_y.or(hit_min_y)))
+    }};
+}
+pub(crate) use bounce_lanes;
+
+/// The line's `[p1.x, p1.y, p2.x, p2.y]`, `v.x` and `v.y`, one lane each.
+#[inline(always)]
+fn lanes_of(line: &Line) -> ([One; 4], One, One) {
+    let (p1, p2, v) = (line.p1, line.p2, line.v);
+    ([p1.x, p1.y, p2.x, p2.y].map(One), One(v.x), One(v.y))
+}
+
+/// The move and wall phases for one line ([`advance_lanes!`] on the line
+/// alone); returns whether it hit a wall.
+#[inline(always)]
+pub(crate) fn advance_one(line: &mut Line) -> bool {
+    let (point, vx, vy) = lanes_of(line);
+    let ([ax, ay, bx, by], vx, vy, hit) = advance_lanes!(One, point, vx, vy);
+    line.p1 = Vec2::new(ax.0, ay.0);
+    line.p2 = Vec2::new(bx.0, by.0);
+    line.v = Vec2::new(vx.0, vy.0);
+    One::hits(hit) != 0
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Vec2;
+    use crate::line::{BOX_MAX, BOX_MIN};
     use crate::test_util::line;
+
+    /// The wall phase for one line ([`bounce_lanes!`] on the line alone):
+    /// reverses the velocity components that carry it further out of the
+    /// box. Returns whether any wall was hit.
+    fn bounce_off_walls(line: &mut Line) -> bool {
+        let (point, vx, vy) = lanes_of(line);
+        let (vx, vy, hit) = bounce_lanes!(One, point, vx, vy);
+        line.v = Vec2::new(vx.0, vy.0);
+        One::hits(hit) != 0
+    }
 
     #[test]
     fn a_corner_hit_counts_once_and_reverses_both_components() {
@@ -118,6 +201,39 @@ mod tests {
         let mut spanning = line((0.4, 0.7), (1.1, 0.7), (0.2, 0.0));
         assert!(bounce_off_walls(&mut spanning));
         assert_eq!(spanning.v.x, 0.2);
+    }
+
+    #[test]
+    fn a_line_moves_by_v_dt_then_bounces_as_the_reference_does() {
+        let coords = [0.4, 0.499, BOX_MIN, 0.75, 0.999, BOX_MAX, 1.1, f64::NAN];
+        let speeds = [-0.3, -0.003, -0.0, 0.0, 0.002, 0.2, f64::NAN, f64::INFINITY];
+        for &a in &coords {
+            for &b in &coords {
+                for &v in &speeds {
+                    let start = line((a, 0.75), (b, a), (v, -v));
+                    let mut expected = start;
+                    expected.p1 = expected.p1 + expected.v * crate::line::DT;
+                    expected.p2 = expected.p2 + expected.v * crate::line::DT;
+                    let hit = bounce_as_the_reference(&mut expected);
+                    let mut moved = start;
+                    assert_eq!(advance_one(&mut moved), hit);
+                    // Every NaN alike: which one an operation on NaNs gives
+                    // is the compiler's choice, and means nothing.
+                    let value = |x: f64| {
+                        if x.is_nan() {
+                            f64::NAN.to_bits()
+                        } else {
+                            x.to_bits()
+                        }
+                    };
+                    let bits = |l: &Line| [l.p1, l.p2, l.v].map(|p| [value(p.x), value(p.y)]);
+                    assert_eq!(bits(&moved), bits(&expected));
+                    let mut all = [start; 3];
+                    assert_eq!(advance_and_bounce(&mut all), 3 * u64::from(hit));
+                    assert!(all.iter().all(|l| bits(l) == bits(&expected)));
+                }
+            }
+        }
     }
 
     #[test]

@@ -7,7 +7,6 @@ use crate::detect::{
     Detector, DetectorConfig, DetectorKind, DetectorStats, Findings, PairCounts, DEFAULT_GRAIN,
 };
 use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, DT};
-use crate::motion::advance_and_bounce;
 use crate::narrow::{Event, Slot};
 use crate::response::Resolver;
 use crate::scene::Scene;
@@ -347,13 +346,13 @@ impl World {
             // The lines stored in the detector's order as they move (see
             // `crate::storage`), a share per member of the team.
             (self.storage).advance_in_order(&mut self.lines, &order, shared)
-        } else if let Some(team) = shared {
-            // The lines (by slot) in as many pieces as the schedule says.
-            let pieces = Schedule::world_pieces(n, self.grain, team.threads());
-            let parts = crate::team::split_mut(&mut self.lines, pieces);
-            team.run_pieces_sum(pieces, &|k| advance_and_bounce(parts.take(k)))
         } else {
-            advance_and_bounce(&mut self.lines)
+            // The lines (by slot) in as many pieces as the schedule says,
+            // moved by the detector, which may make its next boxes as
+            // they go.
+            let pieces = |team: &Team| Schedule::world_pieces(n, self.grain, team.threads());
+            let shared = shared.map(|team| (team, pieces(team)));
+            self.detector.advance(&mut self.lines, shared)
         };
         self.counters.wall += hits;
         self.lap(t2, |t, d| t.advance += d);

@@ -25,6 +25,8 @@ pub use sweep::Sweep;
 pub use swept::swept_box;
 
 use crate::index::Slot;
+use crate::line::Line;
+use crate::team::Team;
 pub(crate) use pairs::{Findings, PairCounts, Stored};
 use std::fmt;
 use std::str::FromStr;
@@ -56,6 +58,18 @@ pub(crate) trait Detector: Send {
     /// an event for. A detector that never gives a
     /// [`Detector::reorder`] is only handed lines stored by id.
     fn detect(&mut self, stored: Stored<'_>, dt: f64, found: &mut Findings);
+
+    /// The world's last phase of a step: moves every line by its velocity
+    /// for a step and bounces it off the walls
+    /// ([`advance_and_bounce`](crate::motion::advance_and_bounce)), on
+    /// `shared`'s team in as many pieces where the world shares the
+    /// phase; returns the lines that hit a wall. The world calls it where
+    /// it leaves the lines in their slots ([`Detector::reorder`] gave no
+    /// order), so a detector may make its next step's boxes in the same
+    /// pass, while each line is at hand.
+    fn advance(&mut self, lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
+        crate::motion::advance(lines, shared)
+    }
 
     /// Asked once after each step's detection: the order to store the
     /// lines in from the next step on, when it pays for the world to store

@@ -215,7 +215,9 @@ macro_rules! padded_hull {
 }
 pub(crate) use padded_hull;
 
-/// One line's value as a lane type of one lane, for [`padded_hull!`].
+/// One line's value as a lane type of one lane, for [`padded_hull!`] and
+/// [`advance_lanes!`](crate::motion::advance_lanes) (a mask is a value
+/// with every bit set, or none).
 #[derive(Clone, Copy)]
 pub(crate) struct One(pub f64);
 
@@ -227,6 +229,10 @@ impl One {
     #[inline(always)]
     pub fn add(self, o: Self) -> Self {
         One(self.0 + o.0)
+    }
+    #[inline(always)]
+    pub fn add_first(self, o: Self) -> Self {
+        One(crate::motion::add_first(self.0, o.0))
     }
     #[inline(always)]
     pub fn sub(self, o: Self) -> Self {
@@ -247,6 +253,37 @@ impl One {
     #[inline(always)]
     pub fn neg(self) -> Self {
         One(-self.0)
+    }
+    #[inline(always)]
+    fn mask(holds: bool) -> Self {
+        One(f64::from_bits(if holds { u64::MAX } else { 0 }))
+    }
+    #[inline(always)]
+    pub fn gt(self, o: Self) -> Self {
+        One::mask(self.0 > o.0)
+    }
+    #[inline(always)]
+    pub fn lt(self, o: Self) -> Self {
+        One::mask(self.0 < o.0)
+    }
+    #[inline(always)]
+    pub fn and(self, o: Self) -> Self {
+        One(f64::from_bits(self.0.to_bits() & o.0.to_bits()))
+    }
+    #[inline(always)]
+    pub fn or(self, o: Self) -> Self {
+        One(f64::from_bits(self.0.to_bits() | o.0.to_bits()))
+    }
+    /// The value with its sign flipped (exactly as `-v`) where `mask` is
+    /// set.
+    #[inline(always)]
+    pub fn flip(self, mask: Self) -> Self {
+        let sign = mask.0.to_bits() & (1 << 63);
+        One(f64::from_bits(self.0.to_bits() ^ sign))
+    }
+    #[inline(always)]
+    pub fn hits(mask: Self) -> u64 {
+        u64::from(mask.0.to_bits() != 0)
     }
 }
 

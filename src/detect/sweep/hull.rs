@@ -21,6 +21,7 @@ use super::lanes;
 use crate::detect::swept::{hull_bounds, padded_hull};
 use crate::index::Slot;
 use crate::line::Line;
+use crate::motion::advance_lanes;
 use multiversion::multiversion;
 
 /// The key of a box that takes no part in the sweep (a line without a
@@ -129,6 +130,103 @@ fn make_each_avx2<'a>(
     make_each(lines, hulls, keys, along, dt, batch);
 }
 
+/// The move and wall phases of `lines` (as
+/// [`advance_and_bounce`](crate::motion::advance_and_bounce) makes them),
+/// and in the same pass each line's packed hull for the next step, of
+/// `dt`, into `hulls` and its least value along `along` into `keys`
+/// ([`NO_KEY`] for a line without a hull): the line in slot `slots[k]`
+/// into `hulls[k]` (with `None`, line `k`): while each line is in
+/// registers, rather than read again in the next step's first phase.
+/// Every line must be named once. Returns the lines that hit a wall.
+/// Compiled as [`make`] is, with the same lanes; every path gives the
+/// same bits as the move and the walls of one line, then [`of_line`] of
+/// it.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+pub(crate) fn advance_and_make(
+    lines: &mut [Line],
+    slots: Option<&[Slot]>,
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+    (along, dt): (usize, f64),
+) -> u64 {
+    let n = hulls.len().min(keys.len());
+    let (hulls, keys) = (&mut hulls[..n], &mut keys[..n]);
+    multiversion::target::match_target! {
+        "x86_64+avx2" => advance_each_avx2(lines, slots, hulls, keys, (along, dt)),
+        _ => advance_each::<{ DefaultLanes::WIDTH }>(
+            lines, slots, hulls, keys, (along, dt), advance_default, advance_at_default
+        ),
+    }
+}
+
+/// [`advance_and_make`] of `W` lines at a time, the rest one at a time:
+/// in slot order a block of lines at a time (by `block`), or in the order
+/// of `slots` (by `anywhere`). Each batch (the lines at `at` moved and
+/// their hulls made, of `dt` and keyed along `along`, returning the lines
+/// that hit a wall) is called from one place, where it is inlined.
+#[inline(always)]
+fn advance_each<const W: usize>(
+    lines: &mut [Line],
+    slots: Option<&[Slot]>,
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+    (along, dt): (usize, f64),
+    block: impl Fn(&mut [Line], [usize; W], f64, usize, &mut [Packed], &mut [f32]) -> u64,
+    anywhere: impl Fn(&mut [Line], [usize; W], f64, usize, &mut [Packed], &mut [f32]) -> u64,
+) -> u64 {
+    let place = |k: usize| slots.map_or(k, |s| s[k].0 as usize);
+    let whole = hulls.len() - hulls.len() % W;
+    let (hulls, rest_hulls) = hulls.split_at_mut(whole);
+    let (keys, rest_keys) = keys.split_at_mut(whole);
+    let batches = hulls.chunks_exact_mut(W).zip(keys.chunks_exact_mut(W));
+    let mut hits = 0;
+    match slots {
+        None => {
+            for (lines, (hulls, keys)) in lines.chunks_exact_mut(W).zip(batches) {
+                let at = std::array::from_fn(|k| k);
+                hits += block(lines, at, dt, along, hulls, keys);
+            }
+        }
+        Some(slots) => {
+            for (slots, (hulls, keys)) in slots.chunks_exact(W).zip(batches) {
+                let at = std::array::from_fn(|k| slots[k].0 as usize);
+                hits += anywhere(lines, at, dt, along, hulls, keys);
+            }
+        }
+    }
+    for (k, (hull, key)) in rest_hulls.iter_mut().zip(rest_keys).enumerate() {
+        let line = &mut lines[place(whole + k)];
+        hits += u64::from(crate::motion::advance_one(line));
+        *key = make_one(line, dt, along, hull);
+    }
+    hits
+}
+
+/// [`advance_each`] with the AVX2 batches (the closures are compiled with
+/// AVX2, as the function they are in).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+#[target_feature(enable = "avx2")]
+fn advance_each_avx2(
+    lines: &mut [Line],
+    slots: Option<&[Slot]>,
+    hulls: &mut [Packed],
+    keys: &mut [f32],
+    along_dt: (usize, f64),
+) -> u64 {
+    let block = |lines: &mut [Line], at, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
+        advance_batch_avx2(lines, at, dt, along, hulls, keys)
+    };
+    let anywhere = |lines: &mut [Line], at, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
+        advance_batch_at_avx2(lines, at, dt, along, hulls, keys)
+    };
+    advance_each::<LANES>(lines, slots, hulls, keys, along_dt, block, anywhere)
+}
+
 /// Lines whose hulls the widest batch makes at once.
 pub(crate) const LANES: usize = 4;
 
@@ -150,11 +248,41 @@ macro_rules! batch {
             keys: &mut [f32],
         ) {
             type L = $lanes;
-            let point = L::points(batch);
-            let (vx, vy) = (L::gather(batch.map(|l| l.v.x)), L::gather(batch.map(|l| l.v.y)));
+            let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
             let (low, high, sum, magnitude) = padded_hull!($lanes, point, vx, vy, dt);
             let valid = L::valid(sum, magnitude, LARGEST);
             L::store(low, high, valid, along, hulls, keys);
+        }
+    };
+    // The move, the walls and the next step's hull of the lines at
+    // places `at` (as many as the lane type's lanes), in one pass: two
+    // copies, one for blocks of lines in slot order and one for lines
+    // anywhere, so that each is called from one place and inlined there.
+    (advance: $(#[$attr:meta])* fn $block:ident, $at:ident($lanes:ty)) => {
+        batch!(advance_one: $(#[$attr])* fn $block($lanes));
+        batch!(advance_one: $(#[$attr])* fn $at($lanes));
+    };
+    (advance_one: $(#[$attr:meta])* fn $name:ident($lanes:ty)) => {
+        $(#[$attr])*
+        fn $name(
+            lines: &mut [Line],
+            at: [usize; <$lanes>::WIDTH],
+            dt: f64,
+            along: usize,
+            hulls: &mut [Packed],
+            keys: &mut [f32],
+        ) -> u64 {
+            type L = $lanes;
+            let batch = at.map(|k| &lines[k]);
+            let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
+            let (point, vx, vy, hit) = advance_lanes!($lanes, point, vx, vy);
+            for (k, line) in at.into_iter().zip(L::lines(point, vx, vy)) {
+                lines[k] = line;
+            }
+            let (low, high, sum, magnitude) = padded_hull!($lanes, point, vx, vy, dt);
+            let valid = L::valid(sum, magnitude, LARGEST);
+            L::store(low, high, valid, along, hulls, keys);
+            L::hits(hit)
         }
     };
 }
@@ -187,18 +315,65 @@ batch!(
     fn batch_scalar(lanes::Scalar)
 );
 
+#[cfg(target_arch = "x86_64")]
+batch!(advance:
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn advance_batch_avx2, advance_batch_at_avx2(lanes::Avx2)
+);
+
+#[cfg(target_arch = "x86_64")]
+batch!(advance:
+    #[inline(always)]
+    fn advance_batch_sse2, advance_batch_at_sse2(lanes::Sse2)
+);
+
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+batch!(advance:
+    #[inline(always)]
+    fn advance_batch_simd128, advance_batch_at_simd128(lanes::Simd128)
+);
+
+batch!(advance:
+    #[inline(always)]
+    #[cfg_attr(
+        any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")),
+        allow(dead_code)
+    )]
+    fn advance_batch_scalar, advance_batch_at_scalar(lanes::Scalar)
+);
+
 #[cfg(not(any(
     target_arch = "x86_64",
     all(target_arch = "wasm32", target_feature = "simd128")
 )))]
-use batch_scalar as batch_default;
+use {
+    advance_batch_at_scalar as advance_at_default, advance_batch_scalar as advance_default,
+    batch_scalar as batch_default,
+};
+#[cfg(not(any(
+    target_arch = "x86_64",
+    all(target_arch = "wasm32", target_feature = "simd128")
+)))]
+type DefaultLanes = lanes::Scalar;
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-use batch_simd128 as batch_default;
+use {
+    advance_batch_at_simd128 as advance_at_default, advance_batch_simd128 as advance_default,
+    batch_simd128 as batch_default,
+};
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+type DefaultLanes = lanes::Simd128;
 /// The batch of the baseline: the target's lane type where it has one
 /// (every x86-64 processor has SSE2; WebAssembly with SIMD), else plain
 /// values.
 #[cfg(target_arch = "x86_64")]
-use batch_sse2 as batch_default;
+use {
+    advance_batch_at_sse2 as advance_at_default, advance_batch_sse2 as advance_default,
+    batch_sse2 as batch_default,
+};
+/// The lane type of the baseline's batches.
+#[cfg(target_arch = "x86_64")]
+type DefaultLanes = lanes::Sse2;
 
 /// Makes `line`'s packed hull into `hull` and returns its key (least value
 /// along `along`), or [`NO_KEY`] if it has no hull.
@@ -350,6 +525,101 @@ mod tests {
                         None => proptest::prop_assert_eq!(keys[k], NO_KEY, "{}", name),
                     }
                 }
+            }
+        }
+    }
+
+    proptest::proptest! {
+        /// Lines moved, bounced and boxed in one pass, four at a time
+        /// (with AVX2 where the processor has it), in slot order or in
+        /// any order, have the bits of each line moved and bounced alone,
+        /// then its hull made alone, and hit as many walls: whatever the
+        /// values, on either side of a wall, tiny, huge, NaN or infinite.
+        #[test]
+        fn lines_moved_and_boxed_at_once_get_the_bits_of_each_alone(
+            values in proptest::collection::vec(
+                proptest::prop_oneof![
+                    4 => 0.4f64..1.1,
+                    1 => -1e-3f64..1e-3,
+                    1 => proptest::sample::select(vec![
+                        0.0, -0.0, 0.5, 1.0, 1e-310, -1e-310, 1e29, -3e30, 1e300,
+                        f64::NAN, -f64::NAN, f64::from_bits(0x7ff0_0000_0000_0001),
+                        f64::from_bits(0xfff8_0000_dead_beef), f64::INFINITY, f64::NEG_INFINITY,
+                    ]),
+                ],
+                6..120,
+            ),
+            along in 0..DIRECTIONS,
+            in_order in proptest::bool::ANY,
+        ) {
+            let lines: Vec<Line> = values
+                .chunks_exact(6)
+                .map(|v| crate::test_util::line((v[0], v[1]), (v[2], v[3]), (v[4], v[5])))
+                .collect();
+            let n = lines.len();
+            let reversed: Vec<Slot> = (0..n as u32).rev().map(Slot).collect();
+            let slots = (!in_order).then_some(&reversed[..]);
+            let place = |k: usize| slots.map_or(k, |s| s[k].0 as usize);
+            let dt = crate::line::DT;
+            // Each alone.
+            let mut alone = lines.clone();
+            let hits: u64 = alone.iter_mut().map(|l| u64::from(crate::motion::advance_one(l))).sum();
+            // What the processor runs, and every lane type this target has.
+            let mut made = Vec::new();
+            type Pass<'a> = &'a dyn Fn(&mut [Line], &mut [Packed], &mut [f32]) -> u64;
+            let run = |f: Pass| {
+                let (mut moved, mut hulls, mut keys) = (lines.clone(), vec![[0.0; 8]; n], vec![0.0; n]);
+                let hits = f(&mut moved, &mut hulls, &mut keys);
+                (moved, hulls, keys, hits)
+            };
+            made.push(("dispatched", run(&|l, h, k| advance_and_make(l, slots, h, k, (along, dt)))));
+            made.push(("scalar", run(&|l, h, k| {
+                advance_each::<LANES>(l, slots, h, k, (along, dt), advance_batch_scalar, advance_batch_at_scalar)
+            })));
+            made.push(("default", run(&|l, h, k| {
+                advance_each::<{ DefaultLanes::WIDTH }>(l, slots, h, k, (along, dt), advance_default, advance_at_default)
+            })));
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                made.push(("avx2", run(&|l, h, k| advance_avx2(l, slots, h, k, (along, dt)))));
+            }
+            for (name, (moved, hulls, keys, made_hits)) in &made {
+                proptest::prop_assert_eq!(*made_hits, hits, "{}", name);
+                // NaNs by sign and payload too (the move's sums take the
+                // point's NaN, `motion::add_first`).
+                let bits = |l: &Line| [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits);
+                for (a, b) in moved.iter().zip(&alone) {
+                    proptest::prop_assert_eq!(bits(a), bits(b), "{}", name);
+                }
+                for k in 0..n {
+                    match of_line(&alone[place(k)], dt) {
+                        Some(packed) => {
+                            proptest::prop_assert_eq!(packed.map(f32::to_bits), hulls[k].map(f32::to_bits), "{}", name);
+                            proptest::prop_assert_eq!(keys[k].to_bits(), packed[along].to_bits(), "{}", name);
+                        }
+                        None => proptest::prop_assert_eq!(keys[k], NO_KEY, "{}", name),
+                    }
+                }
+            }
+        }
+    }
+
+    /// [`advance_each_avx2`] where the processor has AVX2 (the test checks
+    /// first), through a clone compiled with it.
+    #[cfg(target_arch = "x86_64")]
+    #[multiversion(targets("x86_64+avx2"))]
+    fn advance_avx2(
+        lines: &mut [Line],
+        slots: Option<&[Slot]>,
+        hulls: &mut [Packed],
+        keys: &mut [f32],
+        along_dt: (usize, f64),
+    ) -> u64 {
+        multiversion::target::match_target! {
+            "x86_64+avx2" => advance_each_avx2(lines, slots, hulls, keys, along_dt),
+            _ => {
+                let _ = (lines, slots, hulls, keys, along_dt);
+                panic!("the test runs this only where the processor has AVX2")
             }
         }
     }

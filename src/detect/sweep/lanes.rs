@@ -14,6 +14,7 @@
 //!   them into what vectors the target has).
 
 use super::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
+use crate::geometry::Vec2;
 use crate::line::Line;
 
 /// Methods `name(self, o)` of a lane type over one register, each the
@@ -35,6 +36,19 @@ macro_rules! lanewise {
 #[inline(always)]
 fn row(l: &Line) -> [f64; 4] {
     [l.p1.x, l.p1.y, l.p2.x, l.p2.y]
+}
+
+/// The sign bit of an `f64`.
+const SIGN: u64 = 1 << 63;
+
+/// A line from `[p1.x, p1.y, p2.x, p2.y]` and `[v.x, v.y]`.
+#[inline(always)]
+fn line_of(p: [f64; 4], v: [f64; 2]) -> Line {
+    Line {
+        p1: Vec2::new(p[0], p[1]),
+        p2: Vec2::new(p[2], p[3]),
+        v: Vec2::new(v[0], v[1]),
+    }
 }
 
 /// Writes four lines' hulls and keys from their `f32` bounds by
@@ -107,6 +121,10 @@ impl Scalar {
         self.map2(o, |a, b| a + b)
     }
     #[inline(always)]
+    pub fn add_first(self, o: Self) -> Self {
+        self.map2(o, crate::motion::add_first)
+    }
+    #[inline(always)]
     pub fn sub(self, o: Self) -> Self {
         self.map2(o, |a, b| a - b)
     }
@@ -125,6 +143,46 @@ impl Scalar {
     #[inline(always)]
     pub fn neg(self) -> Self {
         Self(self.0.map(|a| -a))
+    }
+    #[inline(always)]
+    pub fn velocities(batch: [&Line; LANES]) -> (Self, Self) {
+        (Self(batch.map(|l| l.v.x)), Self(batch.map(|l| l.v.y)))
+    }
+    #[inline(always)]
+    pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
+        std::array::from_fn(|k| line_of(point.map(|c| c.0[k]), [vx.0[k], vy.0[k]]))
+    }
+    #[inline(always)]
+    fn mask(self, o: Self, f: impl Fn(f64, f64) -> bool) -> Self {
+        self.map2(o, |a, b| f64::from_bits(if f(a, b) { u64::MAX } else { 0 }))
+    }
+    #[inline(always)]
+    fn bits(self, o: Self, f: impl Fn(u64, u64) -> u64) -> Self {
+        self.map2(o, |a, b| f64::from_bits(f(a.to_bits(), b.to_bits())))
+    }
+    #[inline(always)]
+    pub fn gt(self, o: Self) -> Self {
+        self.mask(o, |a, b| a > b)
+    }
+    #[inline(always)]
+    pub fn lt(self, o: Self) -> Self {
+        self.mask(o, |a, b| a < b)
+    }
+    #[inline(always)]
+    pub fn and(self, o: Self) -> Self {
+        self.bits(o, |a, b| a & b)
+    }
+    #[inline(always)]
+    pub fn or(self, o: Self) -> Self {
+        self.bits(o, |a, b| a | b)
+    }
+    #[inline(always)]
+    pub fn flip(self, mask: Self) -> Self {
+        self.bits(mask, |a, m| a ^ (m & SIGN))
+    }
+    #[inline(always)]
+    pub fn hits(mask: Self) -> u64 {
+        mask.0.iter().map(|m| u64::from(m.to_bits() != 0)).sum()
     }
     /// Bit `k` set where lane `k` of `sum` is finite and of `magnitude` at
     /// most `largest`.
@@ -157,22 +215,24 @@ pub(super) use x86::{Avx2, Sse2};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{row, Line, Packed, DIRECTIONS, LANES, NO_KEY};
+    use super::{line_of, row, Line, Packed, DIRECTIONS, LANES, NO_KEY};
     use safe_arch::{
-        add_m128d, bitand_m128, bitand_m128d, bitandnot_m128, bitor_m128, bitxor_m128,
-        bitxor_m128d, cast_to_m128_from_m128d, cmp_le_mask_m128d, cmp_lt_mask_m128d,
-        convert_to_m128_from_m128d, m128, m128d, max_m128d, min_m128d, move_high_low_m128,
-        move_low_high_m128, mul_m128d, set_splat_m128, set_splat_m128d, shuffle_abi_f32_all_m128,
-        sub_m128d, unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
+        add_m128d, bitand_m128, bitand_m128d, bitandnot_m128, bitandnot_m128d, bitor_m128,
+        bitor_m128d, bitxor_m128, bitxor_m128d, cast_to_m128_from_m128d, cmp_gt_mask_m128d,
+        cmp_le_mask_m128d, cmp_lt_mask_m128d, cmp_unord_mask_m128d, convert_to_m128_from_m128d,
+        m128, m128d, max_m128d, min_m128d, move_high_low_m128, move_low_high_m128, move_mask_m128d,
+        mul_m128d, set_splat_m128, set_splat_m128d, shuffle_abi_f32_all_m128, sub_m128d,
+        unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
     };
     use std::arch::x86_64::{
-        __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_castpd_si256, _mm256_castps256_ps128,
-        _mm256_castsi256_si128, _mm256_cmp_pd, _mm256_cvtpd_ps, _mm256_max_pd, _mm256_min_pd,
-        _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_permutevar8x32_epi32, _mm256_set1_pd,
-        _mm256_set_m128, _mm256_setr_epi32, _mm256_setzero_ps, _mm256_shuffle_ps, _mm256_sub_pd,
+        __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_blendv_pd, _mm256_castpd_si256,
+        _mm256_castps256_ps128, _mm256_castsi256_si128, _mm256_cmp_pd, _mm256_cvtpd_ps,
+        _mm256_max_pd, _mm256_min_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_or_pd,
+        _mm256_permute2f128_pd, _mm256_permutevar8x32_epi32, _mm256_set1_pd, _mm256_set_m128,
+        _mm256_set_m128d, _mm256_setr_epi32, _mm256_setzero_ps, _mm256_shuffle_ps, _mm256_sub_pd,
         _mm256_unpackhi_pd, _mm256_unpackhi_ps, _mm256_unpacklo_pd, _mm256_unpacklo_ps,
-        _mm256_xor_pd, _mm_blendv_ps, _mm_castsi128_ps, _mm_set1_ps, _mm_xor_ps, _CMP_LE_OQ,
-        _CMP_LT_OQ,
+        _mm256_xor_pd, _mm_blendv_ps, _mm_castsi128_ps, _mm_set1_ps, _mm_xor_ps, _CMP_GT_OQ,
+        _CMP_LE_OQ, _CMP_LT_OQ, _CMP_UNORD_Q,
     };
 
     /// `f64` with every bit but the sign: `x & ABS` is `|x|`.
@@ -191,11 +251,6 @@ mod x86 {
         #[target_feature(enable = "avx2")]
         pub fn splat(x: f64) -> Self {
             Self(_mm256_set1_pd(x))
-        }
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn gather(v: [f64; LANES]) -> Self {
-            Self(bytemuck::cast(v))
         }
         /// Rows `p1.x p1.y p2.x p2.y`, one a line, turned into columns.
         #[inline]
@@ -227,6 +282,87 @@ mod x86 {
         #[target_feature(enable = "avx2")]
         pub fn neg(self) -> Self {
             Self(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn add_first(self, o: Self) -> Self {
+            let (a, b) = (self.0, o.0);
+            let nan = _mm256_cmp_pd::<_CMP_UNORD_Q>(a, a);
+            Self(_mm256_blendv_pd(
+                _mm256_add_pd(a, b),
+                _mm256_add_pd(a, a),
+                nan,
+            ))
+        }
+        /// Each line's `[v.x, v.y]` loaded whole: lines 0 and 2 in one
+        /// register, 1 and 3 in another, then interleaved.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn velocities(batch: [&Line; LANES]) -> (Self, Self) {
+            let v = batch.map(|l| m128d::from([l.v.x, l.v.y]).0);
+            let (a, b) = (_mm256_set_m128d(v[2], v[0]), _mm256_set_m128d(v[3], v[1]));
+            (
+                Self(_mm256_unpacklo_pd(a, b)),
+                Self(_mm256_unpackhi_pd(a, b)),
+            )
+        }
+        /// The four lines from their values in lanes: the points turned
+        /// back into rows (the same shuffles as [`Avx2::points`]: the turn
+        /// is its own inverse), the velocities interleaved by pairs.
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
+            let [ax, ay, bx, by] = point.map(|c| c.0);
+            let (t0, t1) = (_mm256_unpacklo_pd(ax, ay), _mm256_unpackhi_pd(ax, ay));
+            let (t2, t3) = (_mm256_unpacklo_pd(bx, by), _mm256_unpackhi_pd(bx, by));
+            let rows: [[f64; 4]; LANES] = [
+                bytemuck::cast(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                bytemuck::cast(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                bytemuck::cast(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                bytemuck::cast(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+            ];
+            let v02: [f64; 4] = bytemuck::cast(_mm256_unpacklo_pd(vx.0, vy.0));
+            let v13: [f64; 4] = bytemuck::cast(_mm256_unpackhi_pd(vx.0, vy.0));
+            let v = [
+                [v02[0], v02[1]],
+                [v13[0], v13[1]],
+                [v02[2], v02[3]],
+                [v13[2], v13[3]],
+            ];
+            std::array::from_fn(|k| line_of(rows[k], v[k]))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn gt(self, o: Self) -> Self {
+            Self(_mm256_cmp_pd::<_CMP_GT_OQ>(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn lt(self, o: Self) -> Self {
+            Self(_mm256_cmp_pd::<_CMP_LT_OQ>(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn and(self, o: Self) -> Self {
+            Self(_mm256_and_pd(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn or(self, o: Self) -> Self {
+            Self(_mm256_or_pd(self.0, o.0))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn flip(self, mask: Self) -> Self {
+            Self(_mm256_xor_pd(
+                self.0,
+                _mm256_and_pd(mask.0, _mm256_set1_pd(-0.0)),
+            ))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn hits(mask: Self) -> u64 {
+            u64::from(_mm256_movemask_pd(mask.0).count_ones())
         }
         /// All ones in each lane whose `sum` is finite (NaN and infinities
         /// fail) and whose `magnitude` is at most `largest`.
@@ -305,10 +441,6 @@ mod x86 {
         pub fn splat(x: f64) -> Self {
             Self(set_splat_m128d(x))
         }
-        #[inline(always)]
-        pub fn gather(v: [f64; 2]) -> Self {
-            Self(m128d::from(v))
-        }
         /// Rows `p1.x p1.y` and `p2.x p2.y` of two lines turned into
         /// columns.
         #[inline(always)]
@@ -333,6 +465,62 @@ mod x86 {
         #[inline(always)]
         pub fn neg(self) -> Self {
             Self(bitxor_m128d(self.0, set_splat_m128d(-0.0)))
+        }
+        #[inline(always)]
+        pub fn add_first(self, o: Self) -> Self {
+            let (a, b) = (self.0, o.0);
+            let nan = cmp_unord_mask_m128d(a, a);
+            let (sum, twice) = (add_m128d(a, b), add_m128d(a, a));
+            Self(bitor_m128d(
+                bitand_m128d(nan, twice),
+                bitandnot_m128d(nan, sum),
+            ))
+        }
+        #[inline(always)]
+        pub fn velocities(batch: [&Line; 2]) -> (Self, Self) {
+            let v = batch.map(|l| m128d::from([l.v.x, l.v.y]));
+            (
+                Self(unpack_low_m128d(v[0], v[1])),
+                Self(unpack_high_m128d(v[0], v[1])),
+            )
+        }
+        #[inline(always)]
+        pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; 2] {
+            let [ax, ay, bx, by] = point.map(|c| c.0);
+            let p1 = [unpack_low_m128d(ax, ay), unpack_high_m128d(ax, ay)];
+            let p2 = [unpack_low_m128d(bx, by), unpack_high_m128d(bx, by)];
+            let v = [unpack_low_m128d(vx.0, vy.0), unpack_high_m128d(vx.0, vy.0)];
+            std::array::from_fn(|k| {
+                let (a, b): ([f64; 2], [f64; 2]) = (p1[k].into(), p2[k].into());
+                line_of([a[0], a[1], b[0], b[1]], v[k].into())
+            })
+        }
+        #[inline(always)]
+        pub fn gt(self, o: Self) -> Self {
+            Self(cmp_gt_mask_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn lt(self, o: Self) -> Self {
+            Self(cmp_lt_mask_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn and(self, o: Self) -> Self {
+            Self(bitand_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn or(self, o: Self) -> Self {
+            Self(bitor_m128d(self.0, o.0))
+        }
+        #[inline(always)]
+        pub fn flip(self, mask: Self) -> Self {
+            Self(bitxor_m128d(
+                self.0,
+                bitand_m128d(mask.0, set_splat_m128d(-0.0)),
+            ))
+        }
+        #[inline(always)]
+        pub fn hits(mask: Self) -> u64 {
+            u64::from(move_mask_m128d(mask.0).count_ones())
         }
         /// All ones in each lane whose `sum` is finite (NaN and infinities
         /// fail) and whose `magnitude` is at most `largest`.
@@ -389,10 +577,11 @@ pub(super) use wasm::Simd128;
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod wasm {
-    use super::{row, store_bounds, Line, Packed, DIRECTIONS, LANES};
+    use super::{line_of, row, store_bounds, Line, Packed, DIRECTIONS, LANES};
     use core::arch::wasm32::{
         f32x4_demote_f64x2_zero, f32x4_extract_lane, f64x2, f64x2_add, f64x2_extract_lane,
-        f64x2_mul, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat, f64x2_sub, v128,
+        f64x2_gt, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat,
+        f64x2_sub, i64x2_bitmask, v128, v128_and, v128_bitselect, v128_or, v128_xor,
     };
 
     /// Four lanes in two of WebAssembly's 128-bit vectors.
@@ -455,6 +644,50 @@ mod wasm {
         #[inline(always)]
         pub fn neg(self) -> Self {
             Self(self.0.map(|a| f64x2_neg(a)))
+        }
+        #[inline(always)]
+        pub fn add_first(self, o: Self) -> Self {
+            self.map2(o, |a, b| {
+                let nan = f64x2_ne(a, a);
+                v128_bitselect(f64x2_add(a, a), f64x2_add(a, b), nan)
+            })
+        }
+        #[inline(always)]
+        pub fn velocities(batch: [&Line; LANES]) -> (Self, Self) {
+            (
+                Self::gather(batch.map(|l| l.v.x)),
+                Self::gather(batch.map(|l| l.v.y)),
+            )
+        }
+        #[inline(always)]
+        pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
+            let (point, vx, vy) = (point.map(|c| c.lanes()), vx.lanes(), vy.lanes());
+            std::array::from_fn(|k| line_of(point.map(|c| c[k]), [vx[k], vy[k]]))
+        }
+        #[inline(always)]
+        pub fn gt(self, o: Self) -> Self {
+            self.map2(o, |a, b| f64x2_gt(a, b))
+        }
+        #[inline(always)]
+        pub fn lt(self, o: Self) -> Self {
+            self.map2(o, |a, b| f64x2_lt(a, b))
+        }
+        #[inline(always)]
+        pub fn and(self, o: Self) -> Self {
+            self.map2(o, |a, b| v128_and(a, b))
+        }
+        #[inline(always)]
+        pub fn or(self, o: Self) -> Self {
+            self.map2(o, |a, b| v128_or(a, b))
+        }
+        #[inline(always)]
+        pub fn flip(self, mask: Self) -> Self {
+            self.map2(mask, |a, m| v128_xor(a, v128_and(m, f64x2_splat(-0.0))))
+        }
+        #[inline(always)]
+        pub fn hits(mask: Self) -> u64 {
+            let [a, b] = mask.0.map(|m| i64x2_bitmask(m).count_ones());
+            u64::from(a + b)
         }
         #[inline(always)]
         pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {

@@ -6,7 +6,8 @@
 //! thread, and for scenes too small to share), in the same code whatever
 //! its size. A step runs down this folder's files in order:
 //! 1. [`hull`]: every line's box, made in last step's order (with several
-//!    bands, the movers noted as they are made);
+//!    bands, the movers noted as they are made), on one thread already in
+//!    the move that ended last step ([`Detector::advance`]);
 //! 2. [`plan`]: now and then, the direction to sweep along and the bands
 //!    to cut the plane into, chosen on a sample;
 //! 3. with one band, [`boxes`]: the boxes sorted in place by key (nearly
@@ -20,7 +21,8 @@
 //! 6. [`near`], where it pays: the boxes widened before the sweep, and the
 //!    pairs it finds kept instead of tested; on the steps after, while
 //!    every box lies in its widened box, steps 1 to 5 give way to the
-//!    boxes made in slot order and the kept pairs' boxes compared.
+//!    boxes made in slot order (in the move before) and the kept pairs'
+//!    boxes compared, the few boxes that left mended through [`mend`].
 //!
 //! Lines without a finite hull are tested against every line (wild) or
 //! left out (inert), as for every broad phase (see [`super::swept`]).
@@ -70,7 +72,7 @@ pub(crate) mod scan;
 use super::clock::PhaseClock;
 use super::{Detector, DetectorConfig, Findings, Stored};
 use crate::index::Slot;
-use crate::line::Line;
+use crate::line::{Line, DT};
 use crate::schedule::Schedule;
 use crate::team::{self, Team};
 use boxes::Boxes;
@@ -152,6 +154,9 @@ pub struct Sweep {
     choice: Choice,
     /// Whether this step keeps pairs.
     keep: bool,
+    /// Whether the move before this step made its boxes, in `sorted`'s
+    /// order, and of what time step ([`Detector::advance`]).
+    made: Option<f64>,
     /// Steps detected.
     steps: u64,
 }
@@ -193,11 +198,12 @@ impl Sweep {
     }
 
     /// Makes every line's box and key, in last step's order, a share a
-    /// thread (where pairs are kept, the widened boxes, gathered). When
+    /// thread (where pairs are kept, the widened boxes, gathered; where
+    /// the move before `made` them, none). When
     /// last step's layout may be kept, each share notes its movers as it
     /// goes ([`Layout::mover_check`]), a block at a time while its boxes
     /// are at hand.
-    fn make_hulls(&mut self, lines: &[Line], dt: f64, keep: bool) {
+    fn make_hulls(&mut self, lines: &[Line], dt: f64, (keep, made): (bool, bool)) {
         let along = self.plan.along;
         let n = self.sorted.len();
         let team = self.team_for(n);
@@ -215,6 +221,7 @@ impl Sweep {
                 let block = share.at(at..(at + NOTE_BLOCK).min(share.len()));
                 match near {
                     Some(near) => near.gather(block.slots, block.hulls, block.keys, along),
+                    None if made => {}
                     None => hull::make(lines, block.slots, block.hulls, block.keys, along, dt),
                 }
                 if let Some(check) = &check {
@@ -222,6 +229,38 @@ impl Sweep {
                 }
             }
         });
+    }
+
+    /// [`Detector::advance`] making the boxes by slot, for a step that
+    /// keeps pairs ([`Near::make`]), in `shared`'s pieces.
+    fn advance_by_slot(&mut self, lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
+        let (hulls, keys) = self.near.boxes_to_make(lines.len());
+        let hits = match shared {
+            Some((team, pieces)) => {
+                let lines = team::split_mut(lines, pieces);
+                let (hulls, keys) = (
+                    team::split_mut(hulls, pieces),
+                    team::split_mut(keys, pieces),
+                );
+                team.run_pieces_sum(pieces, &|k| {
+                    let (lines, hulls, keys) = (lines.take(k), hulls.take(k), keys.take(k));
+                    hull::advance_and_make(lines, None, hulls, keys, (0, DT))
+                })
+            }
+            None => hull::advance_and_make(lines, None, hulls, keys, (0, DT)),
+        };
+        self.near.made(DT);
+        hits
+    }
+
+    /// [`Detector::advance`] making the boxes in this step's order, for a
+    /// step that sweeps on this thread ([`Sweep::make_hulls`]).
+    fn advance_in_order(&mut self, lines: &mut [Line]) -> u64 {
+        let (n, along, b) = (lines.len(), self.plan.along, &mut self.sorted);
+        let (slots, hulls, keys) = (&b.slots[..n], &mut b.hulls[..n], &mut b.keys[..n]);
+        let hits = hull::advance_and_make(lines, Some(slots), hulls, keys, (along, DT));
+        self.made = Some(DT);
+        hits
     }
 
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
@@ -256,12 +295,19 @@ impl Sweep {
         }
         if self.sorted.len() != n {
             self.sorted.reset(n);
+            self.made = None;
             self.layout.forget();
             self.near.forget();
             self.until_plan = 0;
         }
         let keep = self.choice.keeping();
         self.keep = keep;
+        // Whether the move before made this step's boxes in the sweep's
+        // order (taken once: the next move makes them anew or not at all).
+        let made = self.made.take() == Some(dt);
+        if !keep {
+            self.near.discard_made();
+        }
         self.steps += 1;
         let laid = (self.sorted.slice(n), self.plan.along);
         if keep && self.near.make(lines, dt, &self.team_for_kept(n), laid) {
@@ -278,7 +324,7 @@ impl Sweep {
         if keep {
             self.near.widen(stored, dt, &self.team_for_kept(n));
         }
-        self.make_hulls(lines, dt, keep);
+        self.make_hulls(lines, dt, (keep, made && !keep));
         if self.until_plan == 0 {
             self.make_plan();
         }
@@ -439,6 +485,21 @@ impl Detector for Sweep {
         self.detect_lines(stored, dt, found);
     }
 
+    /// The move and the walls, and in the same pass every line's box for
+    /// the next step ([`hull::advance_and_make`]), which then makes none:
+    /// where it keeps pairs, in slot order, a share a thread as the world
+    /// splits the lines; where it sweeps on this thread alone, in this
+    /// step's order (reading and writing each line where it is stored).
+    /// A sweep shared among threads makes its own boxes.
+    fn advance(&mut self, lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
+        match self.choice.keeping() {
+            true => self.advance_by_slot(lines, shared),
+            false if shared.is_none() && self.sorted.len() == lines.len() => {
+                self.advance_in_order(lines)
+            }
+            false => crate::motion::advance(lines, shared),
+        }
+    }
     /// The boxes' order, band by band, where the lines are read by more
     /// than one thread or do not fit the cache
     /// ([`Schedule::stores_in_order`]), every [`Schedule::STORE_EVERY`]

@@ -232,6 +232,9 @@ pub(crate) struct Near {
     identity: Vec<Slot>,
     /// The lines without a box this step.
     unboxed: usize,
+    /// Whether the boxes by slot were made in the move before this step,
+    /// and of what time step.
+    made: Option<f64>,
     /// The least travel a box was widened for at the last sweep
     /// ([`Frame::choose`]).
     least: f64,
@@ -280,18 +283,53 @@ impl Near {
         self.index.forget();
     }
 
-    /// Makes every line's box in slot order, a share a thread of `team`,
-    /// and returns whether the pairs kept still hold: every box lies in
-    /// its widened box.
-    pub(crate) fn make(&mut self, lines: &[Line], dt: f64, team: &Team, laid: Laid) -> bool {
-        let n = lines.len();
+    /// Makes room for `n` lines' boxes by slot (forgetting the pairs
+    /// where the number of lines changed).
+    fn fit(&mut self, n: usize) {
         if self.identity.len() != n {
             self.identity = (0..n as u32).map(Slot).collect();
             self.boxes.resize(n, NOWHERE);
             self.keys.resize(n, NO_KEY);
             self.wide.resize(n, NOWHERE);
             self.kept = false;
+            self.made = None;
         }
+    }
+
+    /// The boxes by slot and their least `x`, for `n` lines, to make in
+    /// the world's move ([`Detector::advance`](crate::detect::Detector));
+    /// [`Near::made`] says when they are.
+    pub(crate) fn boxes_to_make(&mut self, n: usize) -> (&mut [Packed], &mut [f32]) {
+        self.fit(n);
+        (&mut self.boxes, &mut self.keys)
+    }
+
+    /// The boxes by slot were made of `dt` for the lines as they are now
+    /// stored, for the next step.
+    pub(crate) fn made(&mut self, dt: f64) {
+        self.made = Some(dt);
+    }
+
+    /// Forgets that the move made the boxes by slot: this step sweeps.
+    pub(crate) fn discard_made(&mut self) {
+        self.made = None;
+    }
+
+    /// Whether this step's boxes by slot were made (of `dt`) in the move
+    /// before it; asked once a step.
+    fn take_made(&mut self, n: usize, dt: f64) -> bool {
+        self.fit(n);
+        self.made.take() == Some(dt)
+    }
+
+    /// Makes every line's box in slot order (unless the move before this
+    /// step made them), checks it lies in its widened box, a share a
+    /// thread of `team`, and returns whether the pairs kept still hold:
+    /// every box lies in its widened box, or the few that left were
+    /// mended.
+    pub(crate) fn make(&mut self, lines: &[Line], dt: f64, team: &Team, laid: Laid) -> bool {
+        let n = lines.len();
+        let made = self.take_made(n, dt);
         self.steps += 1;
         if self.kept {
             self.frame.steps += 1;
@@ -310,7 +348,9 @@ impl Near {
         let unboxed = team.run_sum(&|k| {
             let share = team::share(n, threads, k);
             let (boxes, keys, leavers) = (boxes.take(k), keys.take(k), leavers.take(k));
-            hull::make(lines, &identity[share.clone()], boxes, keys, 0, dt);
+            if !made {
+                hull::make(lines, &identity[share.clone()], boxes, keys, 0, dt);
+            }
             leavers.clear();
             let wide = &wide[share.clone()];
             settle(boxes, keys, (wide, kept, &shift), (share.start, leavers))
@@ -418,13 +458,14 @@ impl Near {
         keys: &mut [f32],
         along: usize,
     ) {
+        let along = along % hull::DIRECTIONS;
         for ((s, hull), key) in slots.iter().zip(hulls).zip(keys) {
-            let w = &self.wide[s.0 as usize];
+            let (w, by_key) = (&self.wide[s.0 as usize], self.keys[s.0 as usize]);
             *hull = *w;
-            *key = match self.keys[s.0 as usize] == NO_KEY {
-                true => NO_KEY,
-                false => hull::lo(w, along),
-            };
+            // Read from the box in place (a copy indexed by `along` would
+            // go through memory).
+            let lo = hull::lo(w, along);
+            *key = if by_key == NO_KEY { NO_KEY } else { lo };
         }
     }
 
