@@ -49,6 +49,7 @@ pub(crate) mod geometry;
 pub(crate) mod index;
 #[cfg(feature = "window")]
 pub mod job;
+pub(crate) mod lanes;
 pub(crate) mod line;
 pub mod maths;
 pub(crate) mod motion;

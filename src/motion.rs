@@ -4,14 +4,18 @@
 
 use crate::detect::swept::One;
 use crate::geometry::Vec2;
+use crate::lanes::DefaultLanes;
 use crate::line::Line;
 use crate::team::Team;
 
 /// The move and wall phases for `lines`: each line moves by `v * dt`, then
 /// bounces off the walls. Returns the lines that hit a wall.
 ///
-/// Compiled for the baseline and for AVX2, chosen when the program starts;
-/// both clones perform the same operations in the same order.
+/// [`advance_lanes!`] a batch of lines at a time in the target's lanes
+/// ([`crate::lanes`]: four with AVX2, two with the baseline's SSE2 and in
+/// WebAssembly), the rest one at a time. Compiled for the baseline and for
+/// AVX2, chosen when the program starts; every path performs the same
+/// operations in the same order, so their results are the same bits.
 #[cfg_attr(
     not(screensaver_baseline),
     multiversion::multiversion(targets("x86_64+avx2"))
@@ -21,12 +25,66 @@ use crate::team::Team;
     multiversion::multiversion(targets("x86_64+avx2"), dispatcher = "static")
 )]
 pub(crate) fn advance_and_bounce(lines: &mut [Line]) -> u64 {
+    multiversion::target::match_target! {
+        "x86_64+avx2" => advance_each_avx2(lines),
+        _ => advance_each::<{ DefaultLanes::WIDTH }>(lines, batch_default),
+    }
+}
+
+/// [`advance_and_bounce`] of `W` lines at a time by `batch`, the rest one
+/// at a time.
+#[inline(always)]
+fn advance_each<const W: usize>(lines: &mut [Line], batch: impl Fn(&mut [Line]) -> u64) -> u64 {
+    let mut blocks = lines.chunks_exact_mut(W);
     let mut hits = 0;
-    for line in lines {
+    for block in &mut blocks {
+        hits += batch(block);
+    }
+    for line in blocks.into_remainder() {
         hits += u64::from(advance_one(line));
     }
     hits
 }
+
+/// [`advance_each`] with the AVX2 batch (the closure is compiled with
+/// AVX2, as the function it is in).
+#[cfg(target_arch = "x86_64")]
+#[inline]
+#[target_feature(enable = "avx2")]
+fn advance_each_avx2(lines: &mut [Line]) -> u64 {
+    advance_each::<{ crate::lanes::Avx2::WIDTH }>(lines, |block: &mut [Line]| batch_avx2(block))
+}
+
+/// The batch: [`advance_lanes!`] of the lines in `block` (as many as a lane
+/// type's lanes), written back; returns the lines that hit a wall. Stamped
+/// out for each lane type, with the attributes its target needs.
+macro_rules! batch {
+    ($(#[$attr:meta])* fn $name:ident($lanes:ty)) => {
+        $(#[$attr])*
+        fn $name(block: &mut [Line]) -> u64 {
+            type L = $lanes;
+            let batch: [&Line; <$lanes>::WIDTH] = std::array::from_fn(|k| &block[k]);
+            let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
+            let (point, vx, vy, hit) = advance_lanes!($lanes, point, vx, vy);
+            for (line, moved) in block.iter_mut().zip(L::lines(point, vx, vy)) {
+                *line = moved;
+            }
+            L::hits(hit)
+        }
+    };
+}
+
+#[cfg(target_arch = "x86_64")]
+batch!(
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    fn batch_avx2(crate::lanes::Avx2)
+);
+
+batch!(
+    #[inline(always)]
+    fn batch_default(DefaultLanes)
+);
 
 /// The move and wall phases for `lines` ([`advance_and_bounce`]), on
 /// `shared`'s team in as many pieces, if given.

@@ -1,7 +1,8 @@
-//! Four `f64` lanes, one type per target, for the hull batch
-//! ([`super::hull`]), which is written once over them: the gather of four
-//! lines' coordinates into lanes, the elementary operations, and the
-//! scatter of four hulls' bounds out of them. Each operation is the IEEE
+//! Four `f64` lanes, one type per target, for the batches written once
+//! over them: the move and the walls ([`crate::motion`]) and the sweep's
+//! hulls ([`crate::detect::sweep::hull`]). Each type gathers lines'
+//! values into lanes and scatters them back, makes the elementary
+//! operations, and scatters hulls' bounds out of them. Each operation is the IEEE
 //! operation on every lane (`min(a, b)` is `a < b ? a : b`, `max(a, b)`
 //! is `a > b ? a : b`, conversions to `f32` round to nearest), so every
 //! type gives the same bits as the others and as one line made alone.
@@ -13,7 +14,7 @@
 //! - [`Scalar`]: plain values, for the other targets (the compiler turns
 //!   them into what vectors the target has).
 
-use super::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
+use crate::detect::sweep::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
 use crate::geometry::Vec2;
 use crate::line::Line;
 
@@ -86,7 +87,7 @@ fn store_bounds(
     ),
     allow(dead_code)
 )]
-pub(super) struct Scalar([f64; LANES]);
+pub(crate) struct Scalar([f64; LANES]);
 
 #[cfg_attr(
     any(
@@ -211,7 +212,7 @@ impl Scalar {
 }
 
 #[cfg(target_arch = "x86_64")]
-pub(super) use x86::{Avx2, Sse2};
+pub(crate) use x86::{Avx2, Sse2};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
@@ -573,7 +574,7 @@ mod x86 {
 }
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-pub(super) use wasm::Simd128;
+pub(crate) use wasm::Simd128;
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod wasm {
@@ -722,3 +723,16 @@ mod wasm {
         }
     }
 }
+
+/// The lane type of the baseline's batches: the target's own where it has
+/// one (every x86-64 processor has SSE2; WebAssembly with SIMD), else
+/// plain values.
+#[cfg(target_arch = "x86_64")]
+pub(crate) type DefaultLanes = Sse2;
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+pub(crate) type DefaultLanes = Simd128;
+#[cfg(not(any(
+    target_arch = "x86_64",
+    all(target_arch = "wasm32", target_feature = "simd128")
+)))]
+pub(crate) type DefaultLanes = Scalar;
