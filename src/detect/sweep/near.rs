@@ -369,9 +369,9 @@ impl Near {
 
     /// Widens again the boxes that left their widened boxes (the
     /// *leavers*, a few), and keeps anew the pairs they are in: each
-    /// leaver's widened box against every other, eight at a time (about
-    /// five instructions a box, far fewer than a sweep), a share of the
-    /// boxes a thread of `team`.
+    /// leaver's widened box against those the last sweep laid out near it
+    /// and those mended since ([`MendIndex`]), on this thread (a few
+    /// dozen boxes a leaver, far fewer than a sweep).
     #[inline(never)] // Rare, and a phase of its own in profiles.
     fn mend(&mut self, lines: &[Line], dt: f64, shift: &Shift, (laid, along): Laid) -> bool {
         let n = lines.len();
