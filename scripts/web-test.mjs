@@ -344,7 +344,13 @@ await check("the link follows what is on show: a file from disk has none, a URL 
       document.getElementById(id).value = value;
     }
     document.querySelector("[data-action=run]").click();`);
-  await until("the ring on show", async () => (await chosen()) === "ring", wait);
+  // The form names the ring at once (the test filled it in); the world on
+  // show is the ring once the worker has started it, after the steps it
+  // was running, and then the link names it.
+  await until("the ring on show", async () => {
+    const [href] = await link();
+    return (await chosen()) === "ring" && new URLSearchParams(href).get("kind") === "ring";
+  }, wait);
   const [generated] = await link();
   const p = new URLSearchParams(generated);
   if (p.get("scene") !== null || p.get("kind") !== "ring" || p.get("lines") !== "300" || p.get("seed") !== "9"
