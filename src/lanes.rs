@@ -578,7 +578,7 @@ pub(crate) use wasm::Simd128;
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod wasm {
-    use super::{line_of, row, store_bounds, Line, Packed, DIRECTIONS, LANES};
+    use super::{row, store_bounds, Line, Packed, Scalar, DIRECTIONS, LANES};
     use core::arch::wasm32::{
         f32x4_demote_f64x2_zero, f32x4_extract_lane, f64x2, f64x2_add, f64x2_extract_lane,
         f64x2_gt, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat,
@@ -596,6 +596,11 @@ mod wasm {
         #[inline(always)]
         fn map2(self, o: Self, f: impl Fn(v128, v128) -> v128) -> Self {
             Self([f(self.0[0], o.0[0]), f(self.0[1], o.0[1])])
+        }
+        /// The same values as plain lanes.
+        #[inline(always)]
+        fn scalar(self) -> Scalar {
+            Scalar(self.lanes())
         }
         #[inline(always)]
         fn lanes(self) -> [f64; LANES] {
@@ -660,10 +665,10 @@ mod wasm {
                 Self::gather(batch.map(|l| l.v.y)),
             )
         }
+        /// The lines (as [`Scalar::lines`] makes them of the same values).
         #[inline(always)]
         pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
-            let (point, vx, vy) = (point.map(|c| c.lanes()), vx.lanes(), vy.lanes());
-            std::array::from_fn(|k| line_of(point.map(|c| c[k]), [vx[k], vy[k]]))
+            Scalar::lines(point.map(Self::scalar), vx.scalar(), vy.scalar())
         }
         #[inline(always)]
         pub fn gt(self, o: Self) -> Self {
@@ -690,13 +695,10 @@ mod wasm {
             let [a, b] = mask.0.map(|m| i64x2_bitmask(m).count_ones());
             u64::from(a + b)
         }
+        /// As [`Scalar::valid`] of the same values.
         #[inline(always)]
         pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
-            let (sum, magnitude) = (sum.lanes(), magnitude.lanes());
-            (0..LANES).fold(0, |bits, k| {
-                let ok = sum[k].is_finite() && magnitude[k] <= largest;
-                bits | (u32::from(ok) << k)
-            })
+            Scalar::valid(sum.scalar(), magnitude.scalar(), largest)
         }
         /// Writes the hulls and keys (see [`super::store_bounds`]); each
         /// conversion rounds to nearest, as `as f32` does.

@@ -323,7 +323,7 @@ impl Sweep {
         if keep {
             self.near.widen(stored, dt, &self.team_for_kept(n));
         }
-        self.make_hulls(lines, dt, (keep, made && !keep));
+        self.make_hulls(lines, dt, (keep, made));
         if self.until_plan == 0 {
             self.make_plan();
         }
