@@ -6,7 +6,8 @@
 use super::swept::{magnitude, max};
 use crate::index::{LineId, Slot};
 use crate::line::Line;
-use crate::narrow::{intersect, may_intersect, Event};
+use crate::narrow::{intersect, may_intersect, Event, IntersectionKind};
+use multiversion::multiversion;
 
 /// The lines as the world stores them this step: the line in slot `s` is
 /// `lines[s]`, with id `ids[s]`, or id `s` while they are stored by id.
@@ -143,11 +144,17 @@ impl Findings {
         (first, second): (Slot, Slot),
         dt: f64,
     ) {
-        let bound = max(magnitude(l1, dt), magnitude(l2, dt));
-        if !may_intersect(l1, l2, dt, bound) {
+        let Some(kind) = screen(l1, l2, dt) else {
             return;
+        };
+        self.counts.exact += 1;
+        if let Some(kind) = kind {
+            self.events.push(Event {
+                first,
+                second,
+                kind,
+            });
         }
-        self.exact(l1, l2, (first, second), dt);
     }
 
     /// The exact test alone of `l1` and `l2` (as [`Findings::test_ordered`]
@@ -182,6 +189,27 @@ impl Findings {
                 let ((a, ()), (b, ())) = stored.lower_first((w, ()), (other, ()));
                 self.exact(stored.line(a), stored.line(b), (a, b), dt);
             }
+        }
+    }
+}
+
+/// The prefilter ([`may_intersect`]) of `l1` and `l2` (the lower id
+/// first), then, where it keeps the pair, the exact test: `None` for a pair
+/// the prefilter rules out, else `Some` of what [`intersect`] finds. With
+/// AVX2 both are made in lanes, the exact test's orientation tests four
+/// at a time ([`crate::narrow::four`]), chosen when the program starts;
+/// the answers are the same.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
+    multiversion::target::match_target! {
+        "x86_64+avx2" => crate::narrow::four::screen(l1, l2, dt),
+        _ => {
+            let bound = max(magnitude(l1, dt), magnitude(l2, dt));
+            may_intersect(l1, l2, dt, bound).then(|| intersect(l1, l2, dt))
         }
     }
 }
@@ -242,5 +270,80 @@ mod tests {
             .collect();
         pairs.sort_unstable();
         assert_eq!(pairs, vec![(0, 1), (0, 3), (1, 3)]);
+    }
+
+    use crate::line::DT;
+    use proptest::prelude::*;
+
+    /// [`crate::narrow::four::screen`] where the processor has AVX2 (the
+    /// test checks first), through a clone compiled with it.
+    #[cfg(target_arch = "x86_64")]
+    #[multiversion(targets("x86_64+avx2"))]
+    fn screen_avx2(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
+        multiversion::target::match_target! {
+            "x86_64+avx2" => crate::narrow::four::screen(l1, l2, dt),
+            _ => {
+                let _ = (l1, l2, dt);
+                panic!("the test runs this only where the processor has AVX2")
+            }
+        }
+    }
+
+    /// What the scalar code answers: the prefilter, then the exact test.
+    fn scalar(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
+        let bound = max(magnitude(l1, dt), magnitude(l2, dt));
+        may_intersect(l1, l2, dt, bound).then(|| intersect(l1, l2, dt))
+    }
+
+    /// A coordinate: mostly on a small grid, so that points are often
+    /// collinear and orientations exactly zero, with segments touching,
+    /// sharing endpoints or of no length; sometimes anywhere, tiny, huge,
+    /// infinite or NaN.
+    fn value() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            6 => (0..6i32).prop_map(|k| f64::from(k) * 0.25),
+            2 => 0.0f64..1.5,
+            1 => prop::sample::select(vec![
+                -0.0, 1e-310, -1e-300, 1e-9, 1e30, -1e300, f64::MAX, f64::NAN, -f64::NAN,
+                f64::INFINITY, f64::NEG_INFINITY,
+            ]),
+        ]
+    }
+
+    /// A velocity: still, on a grid that moves points onto the grid, or
+    /// anything.
+    fn speed() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            3 => (-4..5i32).prop_map(|k| f64::from(k) * 0.5),
+            2 => -2.0f64..2.0,
+            1 => value(),
+        ]
+    }
+
+    fn any_line() -> impl Strategy<Value = Line> {
+        (value(), value(), value(), value(), speed(), speed())
+            .prop_map(|(a, b, c, d, vx, vy)| line((a, b), (c, d), (vx, vy)))
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(20_000))]
+
+        /// The prefilter and the exact test as the processor runs them,
+        /// and in lanes where it has AVX2, answer every pair as the scalar
+        /// code does.
+        #[test]
+        fn the_screen_answers_every_pair_as_the_scalar_tests_do(
+            l1 in any_line(),
+            l2 in any_line(),
+            dt in prop_oneof![3 => Just(DT), 1 => Just(0.5), 1 => Just(1.0)],
+        ) {
+            for (a, b) in [(&l1, &l2), (&l2, &l1)] {
+                prop_assert_eq!(screen(a, b, dt), scalar(a, b, dt));
+                #[cfg(target_arch = "x86_64")]
+                if std::arch::is_x86_feature_detected!("avx2") {
+                    prop_assert_eq!(screen_avx2(a, b, dt), scalar(a, b, dt));
+                }
+            }
+        }
     }
 }

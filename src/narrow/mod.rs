@@ -4,6 +4,9 @@ use crate::geometry::{inside_parallelogram, segments_cross, Vec2};
 pub use crate::index::{LineId, Slot};
 use crate::line::Line;
 
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod four;
+
 /// How two lines meet during a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum IntersectionKind {
@@ -64,26 +67,34 @@ pub fn intersect(l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
     if segments_cross(l1.p1, l1.p2, l2.p1, l2.p2) {
         return Some(IntersectionKind::AlreadyIntersected);
     }
-    let mut crossings = 0;
-    let mut top = false;
-    let mut bottom = false;
-    if segments_cross(l1.p1, l1.p2, q1, q2) {
-        crossings += 1;
-    }
-    if segments_cross(l1.p1, l1.p2, q1, l2.p1) {
-        crossings += 1;
-        top = true;
-    }
-    if segments_cross(l1.p1, l1.p2, q2, l2.p2) {
-        crossings += 1;
-        bottom = true;
-    }
+    let top = segments_cross(l1.p1, l1.p2, q1, l2.p1);
+    let bottom = segments_cross(l1.p1, l1.p2, q2, l2.p2);
+    let crossings =
+        u32::from(segments_cross(l1.p1, l1.p2, q1, q2)) + u32::from(top) + u32::from(bottom);
+    let inside = || {
+        inside_parallelogram(l1.p1, l2.p1, l2.p2, q1, q2)
+            && inside_parallelogram(l1.p2, l2.p1, l2.p2, q1, q2)
+    };
+    kind_of(l1, l2, (crossings, top, bottom), inside)
+}
+
+/// The rest of [`intersect`] once the lines are known not to overlap
+/// already: how `l1` and the parallelogram `l2` sweeps meet, from how many
+/// of the parallelogram's three other sides `l1` crosses (the far side,
+/// and whether the `top` one from `l2.p1` and the `bottom` one from
+/// `l2.p2` are among them) and whether both of `l1`'s endpoints lie
+/// `inside` it (asked only when it decides).
+#[inline(always)]
+pub(crate) fn kind_of(
+    l1: &Line,
+    l2: &Line,
+    (crossings, top, bottom): (u32, bool, bool),
+    inside: impl FnOnce() -> bool,
+) -> Option<IntersectionKind> {
     if crossings == 2 {
         return Some(IntersectionKind::L2WithL1);
     }
-    if inside_parallelogram(l1.p1, l2.p1, l2.p2, q1, q2)
-        && inside_parallelogram(l1.p2, l2.p1, l2.p2, q1, q2)
-    {
+    if inside() {
         return Some(IntersectionKind::L1WithL2);
     }
     if crossings == 0 {
