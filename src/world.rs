@@ -45,6 +45,8 @@ pub struct World {
     /// named them so (else `found` holds them, slots being ids).
     events: Vec<Event>,
     named: bool,
+    /// Scratch for the sort of the events in id order.
+    order_keys: Vec<u64>,
     /// The pair work of every step so far, and the events found.
     pairs: PairCounts,
     events_found: u64,
@@ -109,6 +111,7 @@ impl World {
             found: Findings::default(),
             events: Vec::new(),
             named: false,
+            order_keys: Vec::new(),
             pairs: PairCounts::default(),
             events_found: 0,
             resolver: Resolver::default(),
@@ -318,9 +321,7 @@ impl World {
             self.storage.name_by_id(&found.events, &mut self.events);
         } else {
             // Pairs are unique, so an unstable sort gives the one order.
-            found
-                .events
-                .sort_unstable_by_key(|e| e.named(|s| s.as_id()).order_key());
+            crate::narrow::sort_in_order(&mut found.events, &mut self.order_keys);
         }
         self.pairs.add(&found.counts);
         self.events_found += found.events.len() as u64;
