@@ -111,13 +111,6 @@ impl Findings {
         piece.counts = PairCounts::default();
     }
 
-    /// Tests the pair in slots `a` and `b` of `stored`, whose hulls
-    /// overlap: [`Findings::test_copies`] of the stored lines.
-    #[inline(always)]
-    pub(crate) fn test(&mut self, stored: Stored, a: Slot, b: Slot, dt: f64) {
-        self.test_copies(stored, (a, stored.line(a)), (b, stored.line(b)), dt);
-    }
-
     /// Tests the lines in slots `a` and `b` of `stored`, given as they are
     /// or as copies, whose hulls overlap: [`Findings::test_ordered`] with
     /// the lower id first.
@@ -144,7 +137,33 @@ impl Findings {
         (first, second): (Slot, Slot),
         dt: f64,
     ) {
-        let Some(kind) = screen(l1, l2, dt) else {
+        self.keep(screen(l1, l2, dt), (first, second));
+    }
+
+    /// Tests the pair in slots `a` and `b` of `stored`, whose hulls
+    /// overlap, the lower id first, with the prefilter and the exact test
+    /// made by `screen` (as [`screen`] answers): from code compiled for
+    /// AVX2, [`crate::narrow::four::screen`] (inlined where the compiler
+    /// finds it pays) rather than [`screen`], which chooses the
+    /// processor's code at each call.
+    #[inline(always)]
+    pub(crate) fn test_with(
+        &mut self,
+        stored: Stored,
+        (a, b): (Slot, Slot),
+        dt: f64,
+        screen: impl Fn(&Line, &Line, f64) -> Option<Option<IntersectionKind>>,
+    ) {
+        let ((a, l1), (b, l2)) = stored.lower_first((a, stored.line(a)), (b, stored.line(b)));
+        self.keep(screen(l1, l2, dt), (a, b));
+    }
+
+    /// Counts an exact test where the prefilter kept the pair (`screened`
+    /// is `Some`), and keeps the event of the lines in slots `first` and
+    /// `second`, if it found one.
+    #[inline(always)]
+    fn keep(&mut self, screened: Option<Option<IntersectionKind>>, (first, second): (Slot, Slot)) {
+        let Some(kind) = screened else {
             return;
         };
         self.counts.exact += 1;
@@ -204,7 +223,7 @@ impl Findings {
     screensaver_baseline,
     multiversion(targets("x86_64+avx2"), dispatcher = "static")
 )]
-fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
+pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
     multiversion::target::match_target! {
         "x86_64+avx2" => crate::narrow::four::screen(l1, l2, dt),
         _ => {
@@ -228,7 +247,7 @@ mod tests {
         let (lines, ids) = ([a, b], [LineId(9), LineId(4)]);
         let stored = Stored::by_slot(&lines, &ids);
         let mut found = Findings::default();
-        found.test(stored, Slot(0), Slot(1), 0.5);
+        found.test_with(stored, (Slot(0), Slot(1)), 0.5, screen);
         assert_eq!(found.counts.exact, 1);
         assert_eq!(
             found.events,

@@ -868,9 +868,28 @@ fn compare(
     found: &mut Findings,
 ) {
     found.met(pairs.len() as u64);
+    multiversion::target::match_target! {
+        "x86_64+avx2" => {
+            let screen = |l1: &Line, l2: &Line, dt| crate::narrow::four::screen(l1, l2, dt);
+            compare_each(pairs, boxes, (stored, dt), found, screen)
+        }
+        _ => compare_each(pairs, boxes, (stored, dt), found, crate::detect::pairs::screen),
+    }
+}
+
+/// [`compare`]'s loop, with the prefilter and exact test `screen` (see
+/// [`Findings::test_with`]).
+#[inline(always)]
+fn compare_each(
+    pairs: &[(Slot, Slot)],
+    boxes: &[Packed],
+    (stored, dt): (Stored, f64),
+    found: &mut Findings,
+    screen: impl Fn(&Line, &Line, f64) -> Option<Option<crate::narrow::IntersectionKind>>,
+) {
     for &(a, b) in pairs {
         if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
-            found.test(stored, a, b, dt);
+            found.test_with(stored, (a, b), dt, &screen);
         }
     }
 }

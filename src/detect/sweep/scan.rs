@@ -8,7 +8,8 @@ use super::layout::GroupView;
 use super::Chunk;
 use crate::detect::{Findings, Stored};
 use crate::index::Slot;
-use crate::line::{read_ahead, LARGE_SCENE, READ_AHEAD};
+use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
+use crate::narrow::IntersectionKind;
 use multiversion::multiversion;
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::_mm256_set1_ps;
@@ -17,8 +18,14 @@ use std::arch::x86_64::_mm256_set1_ps;
 /// pair's slot from `first`, the second's from `second`. In scenes larger
 /// than the cache, each pair's lines are read a few pairs ahead of its
 /// test, so that their loads wait on memory together (docs/DESIGN.md,
-/// "Reading ahead").
-#[inline(always)]
+/// "Reading ahead"). Compiled for the baseline and for AVX2, chosen when
+/// the program starts: with AVX2 the test's own lanes are called from
+/// here (see [`Findings::test_with`]).
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
 pub(crate) fn test_pairs(
     found: &mut Findings,
     (stored, dt): (Stored, f64),
@@ -26,17 +33,38 @@ pub(crate) fn test_pairs(
     first: &[Slot],
     second: &[Slot],
 ) {
+    let slots = (first, second);
+    multiversion::target::match_target! {
+        "x86_64+avx2" => {
+            let screen = |l1: &Line, l2: &Line, dt| crate::narrow::four::screen(l1, l2, dt);
+            test_each(found, (stored, dt), pairs, slots, screen)
+        }
+        _ => test_each(found, (stored, dt), pairs, slots, crate::detect::pairs::screen),
+    }
+}
+
+/// [`test_pairs`]'s loop, with the prefilter and exact test `screen`.
+#[inline(always)]
+fn test_each(
+    found: &mut Findings,
+    (stored, dt): (Stored, f64),
+    pairs: &[(u32, u32)],
+    (first, second): (&[Slot], &[Slot]),
+    screen: impl Fn(&Line, &Line, f64) -> Option<Option<IntersectionKind>>,
+) {
     let slots = |&(i, j): &(u32, u32)| (first[i as usize], second[j as usize]);
     if stored.lines.len() < LARGE_SCENE {
-        return (pairs.iter().map(slots)).for_each(|(a, b)| found.test(stored, a, b, dt));
+        for (a, b) in pairs.iter().map(slots) {
+            found.test_with(stored, (a, b), dt, &screen);
+        }
+        return;
     }
     for (k, pair) in pairs.iter().enumerate() {
         if let Some((a, b)) = pairs.get(k + READ_AHEAD).map(slots) {
             read_ahead(stored.line(a));
             read_ahead(stored.line(b));
         }
-        let (a, b) = slots(pair);
-        found.test(stored, a, b, dt);
+        found.test_with(stored, slots(pair), dt, &screen);
     }
 }
 
