@@ -13,21 +13,20 @@
 //! exactly what [`orient`](crate::geometry::orient) computes (the same
 //! subtractions in the same order, then two products and their
 //! difference, never fused), so every sign is the same; only the signs
-//! are used. The few lanes whose test rests on an orientation of zero
-//! (or NaN), where the scalar test then looks at the segment's box, are
-//! answered by the scalar test, and the decision after the signs is
-//! [`kind_of`], shared with the scalar test.
+//! are used. Where an orientation is zero the scalar test looks whether
+//! the point lies in the other segment's box; so do the lanes, with the
+//! same comparisons, when any lane needs it. The decision after the signs
+//! is [`kind_of`], shared with the scalar test.
 
 use super::{kind_of, may_intersect, IntersectionKind};
 use crate::detect::swept::max;
-use crate::geometry::segments_cross;
 use crate::line::Line;
 use std::arch::x86_64::{
-    __m128d, __m256d, _mm256_add_pd, _mm256_cmp_pd, _mm256_max_pd, _mm256_min_pd,
-    _mm256_movemask_pd, _mm256_mul_pd, _mm256_permute2f128_pd, _mm256_permute4x64_pd,
+    __m128d, __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_max_pd, _mm256_min_pd,
+    _mm256_movemask_pd, _mm256_mul_pd, _mm256_or_pd, _mm256_permute2f128_pd, _mm256_permute4x64_pd,
     _mm256_permute_pd, _mm256_set1_pd, _mm256_set_m128d, _mm256_setzero_pd, _mm256_sub_pd,
     _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd, _mm_mul_pd, _mm_set1_pd, _mm_sub_pd,
-    _CMP_GT_OQ, _CMP_LT_OQ,
+    _CMP_EQ_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ,
 };
 
 /// The signs of four lanes: bit `k` of `.0` set where lane `k` is
@@ -97,7 +96,7 @@ pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<Intersectio
     if !may_intersect(l1, l2, dt, lines.magnitude()) {
         return None;
     }
-    Some(lines.intersect(l1, l2, dt))
+    Some(lines.intersect(l1, l2))
 }
 
 /// The values of a pair of lines in lanes, as both tests take them.
@@ -154,7 +153,7 @@ impl Lanes {
     /// lanes hold.
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn intersect(self, l1: &Line, l2: &Line, dt: f64) -> Option<IntersectionKind> {
+    fn intersect(self, l1: &Line, l2: &Line) -> Option<IntersectionKind> {
         let (one, two, moved) = (self.one, self.two, self.relative);
         // The four segments `a`-`b` that `l1` may cross, a lane each:
         // `l2` (`p1`-`p2`), the far side `q1`-`q2`, the top `q1`-`p1`, the
@@ -167,15 +166,19 @@ impl Lanes {
         let b = (pick::<0x8E>(xs), pick::<0x8E>(ys)); // [p2, q2, p1, p2]
         let p1 = (pick::<0x00>(one), pick::<0x55>(one));
         let p2 = (pick::<0xAA>(one), pick::<0xFF>(one));
-        let d1 = Signs::of(orient(a, b, p1));
-        let d2 = Signs::of(orient(a, b, p2));
-        let d3 = Signs::of(orient(p1, p2, a));
-        let d4 = Signs::of(orient(p1, p2, b));
+        let orientations = [
+            orient(a, b, p1),
+            orient(a, b, p2),
+            orient(p1, p2, a),
+            orient(p1, p2, b),
+        ];
+        let (d1, d2) = (Signs::of(orientations[0]), Signs::of(orientations[1]));
+        let (d3, d4) = (Signs::of(orientations[2]), Signs::of(orientations[3]));
         let mut crossed = d1.opposite(d2) & d3.opposite(d4);
-        // Where an orientation is zero (or NaN) the scalar test decides.
-        let unsure = (d1.neither() | d2.neither() | d3.neither() | d4.neither()) & !crossed;
-        if unsure != 0 {
-            crossed |= unsure_crossings(l1, l2, dt, unsure);
+        // Where an orientation is zero (or NaN), a point of one segment on
+        // the line of the other may lie on that segment too.
+        if (d1.neither() | d2.neither() | d3.neither() | d4.neither()) & !crossed != 0 {
+            crossed |= touching([a, b, p1, p2], &orientations);
         }
         if crossed & 1 != 0 {
             return Some(IntersectionKind::AlreadyIntersected);
@@ -198,18 +201,39 @@ impl Lanes {
     }
 }
 
-/// The crossings ([`segments_cross`]) of `l1` with the segments of the
-/// lanes set in `lanes`, as the bits of those lanes.
-#[cold]
+/// The lanes where a segment `a`-`b` and `l1` (`p1`-`p2`) touch though no
+/// two of the `orientations` ([`Lanes::intersect`]'s four) have opposite
+/// signs: an orientation is zero and its point lies in the other segment's
+/// box, as [`segments_cross`](crate::geometry::segments_cross) finds.
+/// Rare but for scenes on a grid, and kept out of the common path.
 #[inline(never)]
-fn unsure_crossings(l1: &Line, l2: &Line, dt: f64, lanes: u32) -> u32 {
-    let rel = l2.v - l1.v;
-    let (q1, q2) = (l2.p1 + rel * dt, l2.p2 + rel * dt);
-    let segments = [(l2.p1, l2.p2), (q1, q2), (q1, l2.p1), (q2, l2.p2)];
-    (0..4)
-        .filter(|k| lanes & (1 << k) != 0)
-        .filter(|&k| segments_cross(l1.p1, l1.p2, segments[k].0, segments[k].1))
-        .fold(0, |bits, k| bits | 1 << k)
+#[target_feature(enable = "avx2")]
+fn touching([a, b, p1, p2]: [(__m256d, __m256d); 4], orientations: &[__m256d; 4]) -> u32 {
+    let zero = |k: usize| _mm256_cmp_pd::<_CMP_EQ_OQ>(orientations[k], _mm256_setzero_pd());
+    let on = [
+        _mm256_and_pd(zero(0), on_segment(a, b, p1)),
+        _mm256_and_pd(zero(1), on_segment(a, b, p2)),
+        _mm256_and_pd(zero(2), on_segment(p1, p2, a)),
+        _mm256_and_pd(zero(3), on_segment(p1, p2, b)),
+    ];
+    let any = _mm256_or_pd(_mm256_or_pd(on[0], on[1]), _mm256_or_pd(on[2], on[3]));
+    _mm256_movemask_pd(any) as u32
+}
+
+/// [`on_segment`](crate::geometry::on_segment)`(i, j, k)` of points given
+/// by coordinates in lanes, lane by lane: all ones where `k` lies in the
+/// closed box of `i` and `j` (the same comparisons; NaN lies nowhere).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn on_segment(i: (__m256d, __m256d), j: (__m256d, __m256d), k: (__m256d, __m256d)) -> __m256d {
+    let le = |a, b| _mm256_cmp_pd::<_CMP_LE_OQ>(a, b);
+    let between = |i, j, k| {
+        _mm256_or_pd(
+            _mm256_and_pd(le(i, k), le(k, j)),
+            _mm256_and_pd(le(j, k), le(k, i)),
+        )
+    };
+    _mm256_and_pd(between(i.0, j.0, k.0), between(i.1, j.1, k.1))
 }
 
 /// The low halves of `a` and `b` in one register, and their high halves
