@@ -61,26 +61,30 @@ impl IntersectionKind {
 
 /// Sorts `events`, whose slots are ids (the lines in id order), in the
 /// contract's order of resolution (ascending `(first, second)`), using
-/// `keys` for scratch. Each event is packed into one `u64` that sorts as
-/// its order key (`first`, `second`, then the kind in the low bits; slots
-/// below `2^31`), so the sort compares plain integers; found nearly in
-/// order (as where the sweep runs along the ids), they are put in order
-/// by insertion.
+/// `keys` for scratch. Found nearly in order (as where the sweep runs
+/// along the ids), they are put in order by insertion; else each is
+/// packed into one `u64` that sorts as its order key (`first`, `second`,
+/// then the kind in the low bits; slots below `2^31`), so that the sort
+/// compares plain integers.
 pub(crate) fn sort_in_order(events: &mut [Event<Slot>], keys: &mut Vec<u64>) {
     const SLOT: u32 = (1 << 31) - 1;
+    let order = |e: &Event<Slot>| (u64::from(e.first.0) << 32) | u64::from(e.second.0);
+    let descents = events
+        .windows(2)
+        .filter(|w| order(&w[0]) > order(&w[1]))
+        .count();
+    if descents <= events.len() / 16 && insertion_sort(events, order) {
+        return;
+    }
+    if events.iter().any(|e| (e.first.0 | e.second.0) > SLOT) {
+        return events.sort_unstable_by_key(order);
+    }
     let pack = |e: &Event<Slot>| {
         (u64::from(e.first.0) << 33) | (u64::from(e.second.0) << 2) | e.kind.number()
     };
-    if events.iter().any(|e| (e.first.0 | e.second.0) > SLOT) {
-        return events.sort_unstable_by_key(|e| e.named(|s| s.as_id()).order_key());
-    }
     keys.clear();
     keys.extend(events.iter().map(pack));
-    let descents = keys.windows(2).filter(|w| w[0] > w[1]).count();
-    match descents <= keys.len() / 16 {
-        true => insertion_sort(keys),
-        false => keys.sort_unstable(),
-    }
+    keys.sort_unstable();
     for (e, &key) in events.iter_mut().zip(keys.iter()) {
         *e = Event {
             first: Slot((key >> 33) as u32),
@@ -90,25 +94,28 @@ pub(crate) fn sort_in_order(events: &mut [Event<Slot>], keys: &mut Vec<u64>) {
     }
 }
 
-/// Sorts `keys` by insertion: each moved back past the larger ones before
-/// it (cheap when few are out of place); past a budget of moves a few times
-/// their number, by the standard library's sort instead.
-fn insertion_sort(keys: &mut [u64]) {
-    let mut budget = 8 * keys.len();
-    for i in 1..keys.len() {
-        let key = keys[i];
+/// Sorts `items` by `key` by insertion: each moved back past the larger
+/// ones before it (cheap when few are out of place). Gives up past a
+/// budget of moves a few times their number, returning false (the items
+/// then in some order).
+fn insertion_sort<T: Copy>(items: &mut [T], key: impl Fn(&T) -> u64) -> bool {
+    let mut budget = 8 * items.len();
+    for i in 1..items.len() {
+        let item = items[i];
+        let k = key(&item);
         let mut j = i;
-        while j > 0 && keys[j - 1] > key {
+        while j > 0 && key(&items[j - 1]) > k {
             if budget == 0 {
-                keys[j] = key;
-                return keys.sort_unstable();
+                items[j] = item;
+                return false;
             }
             budget -= 1;
-            keys[j] = keys[j - 1];
+            items[j] = items[j - 1];
             j -= 1;
         }
-        keys[j] = key;
+        items[j] = item;
     }
+    true
 }
 
 impl<I> Event<I> {
