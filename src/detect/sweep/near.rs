@@ -780,7 +780,11 @@ fn settle(
             let whole = lanes::blocks_not_within(boxes, wide, shift, &mut check);
             check(whole, boxes.len());
         }
-        _ => (0..boxes.len()).filter(|&k| !within(k, &boxes[k], &wide[k])).for_each(leave),
+        _ => {
+            let each = boxes.iter().zip(wide).enumerate();
+            let mut leave = leave;
+            each.filter(|&(k, (b, w))| !within(k, b, w)).for_each(|(k, _)| leave(k));
+        }
     }
     unboxed
 }
