@@ -130,9 +130,10 @@ impl Lanes {
         }
     }
 
-    /// The larger of the two lines' [`magnitude`](crate::detect::swept::magnitude)s: the same operations
-    /// as [`magnitude`](crate::detect::swept::magnitude) of each (the least and greatest of the endpoints,
-    /// then of those ahead, then of the two), two lines a register.
+    /// The larger of the two lines' magnitudes: the same operations as
+    /// [`magnitude`](crate::detect::swept::magnitude) of each (the least
+    /// and greatest of the endpoints, then of those ahead, then of the
+    /// two), two lines a register.
     #[inline]
     #[target_feature(enable = "avx2")]
     fn magnitude(self) -> f64 {
@@ -150,7 +151,7 @@ impl Lanes {
     }
 
     /// [`intersect`](super::intersect)`(l1, l2, dt)` of the lines these
-    /// lanes hold.
+    /// lanes hold (`dt` taken in the relative move).
     #[inline]
     #[target_feature(enable = "avx2")]
     fn intersect(self, l1: &Line, l2: &Line) -> Option<IntersectionKind> {
