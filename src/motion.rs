@@ -14,19 +14,21 @@ use crate::team::Team;
 /// [`advance_lanes!`] a batch of lines at a time in the target's lanes
 /// ([`crate::lanes`]: four with AVX2, two with the baseline's SSE2 and in
 /// WebAssembly), the rest one at a time. Compiled for the baseline and for
-/// AVX2, chosen when the program starts; every path performs the same
+/// AVX2 (with POPCNT, which every processor with AVX2 has, to count the
+/// lines that hit a wall in one instruction), chosen when the program
+/// starts; every path performs the same
 /// operations in the same order, so their results are the same bits.
 #[cfg_attr(
     not(screensaver_baseline),
-    multiversion::multiversion(targets("x86_64+avx2"))
+    multiversion::multiversion(targets("x86_64+avx2+popcnt"))
 )]
 #[cfg_attr(
     screensaver_baseline,
-    multiversion::multiversion(targets("x86_64+avx2"), dispatcher = "static")
+    multiversion::multiversion(targets("x86_64+avx2+popcnt"), dispatcher = "static")
 )]
 pub(crate) fn advance_and_bounce(lines: &mut [Line]) -> u64 {
     multiversion::target::match_target! {
-        "x86_64+avx2" => advance_each_avx2(lines),
+        "x86_64+avx2+popcnt" => advance_each_avx2(lines),
         _ => advance_each::<{ DefaultLanes::WIDTH }>(lines, batch_default),
     }
 }

@@ -153,13 +153,13 @@ pub(crate) fn moves_with_boxes() -> bool {
 /// into `hulls[k]` (with `None`, line `k`): while each line is in
 /// registers, rather than read again in the next step's first phase.
 /// Every line must be named once. Returns the lines that hit a wall.
-/// Compiled as [`make`] is, with the same lanes; every path gives the
-/// same bits as the move and the walls of one line, then [`of_line`] of
-/// it.
-#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+/// Compiled as [`make`] is, with the same lanes (the AVX2 clone with
+/// POPCNT too, as the world's move is); every path gives the same bits
+/// as the move and the walls of one line, then [`of_line`] of it.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2+popcnt")))]
 #[cfg_attr(
     screensaver_baseline,
-    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+    multiversion(targets("x86_64+avx2+popcnt"), dispatcher = "static")
 )]
 pub(crate) fn advance_and_make(
     lines: &mut [Line],
@@ -171,7 +171,7 @@ pub(crate) fn advance_and_make(
     let n = hulls.len().min(keys.len());
     let (hulls, keys) = (&mut hulls[..n], &mut keys[..n]);
     multiversion::target::match_target! {
-        "x86_64+avx2" => advance_each_avx2(lines, slots, hulls, keys, (along, dt)),
+        "x86_64+avx2+popcnt" => advance_each_avx2(lines, slots, hulls, keys, (along, dt)),
         _ => advance_each::<{ DefaultLanes::WIDTH }>(
             lines, slots, hulls, keys, (along, dt), advance_default, advance_at_default
         ),
