@@ -18,10 +18,17 @@ use crate::detect::sweep::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
 use crate::geometry::Vec2;
 use crate::line::Line;
 
-/// Methods `name(self, o)` of a lane type over one register, each the
-/// operation `op` on every lane, with the attributes given.
-#[cfg(target_arch = "x86_64")]
+/// Methods `name(self, o)` of a lane type, each the operation `op` on
+/// every lane, with the attributes given: of its one register, or with
+/// `map2` first, of each of its registers (through the type's `map2`).
+#[cfg(any(
+    target_arch = "x86_64",
+    all(target_arch = "wasm32", target_feature = "simd128")
+))]
 macro_rules! lanewise {
+    (map2 $attrs:tt $($name:ident => $op:path),* $(,)?) => {
+        $(lanewise!(@map2 $attrs $name $op);)*
+    };
     ($attrs:tt $($name:ident => $op:path),* $(,)?) => {
         $(lanewise!(@one $attrs $name $op);)*
     };
@@ -29,6 +36,12 @@ macro_rules! lanewise {
         $(#[$attr])*
         pub fn $name(self, o: Self) -> Self {
             Self($op(self.0, o.0))
+        }
+    };
+    (@map2 [$($attr:meta),*] $name:ident $op:path) => {
+        $(#[$attr])*
+        pub fn $name(self, o: Self) -> Self {
+            self.map2(o, |a, b| $op(a, b))
         }
     };
 }
@@ -625,18 +638,11 @@ mod wasm {
             let rows = batch.map(row);
             std::array::from_fn(|c| Self::gather(std::array::from_fn(|k| rows[k][c])))
         }
-        #[inline(always)]
-        pub fn add(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_add(a, b))
-        }
-        #[inline(always)]
-        pub fn sub(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_sub(a, b))
-        }
-        #[inline(always)]
-        pub fn mul(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_mul(a, b))
-        }
+        lanewise!(
+            map2 [inline(always)]
+            add => f64x2_add, sub => f64x2_sub, mul => f64x2_mul,
+            gt => f64x2_gt, lt => f64x2_lt, and => v128_and, or => v128_or,
+        );
         /// `a < b ? a : b` (`pmin(x, y)` is `y < x ? y : x`).
         #[inline(always)]
         pub fn min(self, o: Self) -> Self {
@@ -669,22 +675,6 @@ mod wasm {
         #[inline(always)]
         pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
             Scalar::lines(point.map(Self::scalar), vx.scalar(), vy.scalar())
-        }
-        #[inline(always)]
-        pub fn gt(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_gt(a, b))
-        }
-        #[inline(always)]
-        pub fn lt(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_lt(a, b))
-        }
-        #[inline(always)]
-        pub fn and(self, o: Self) -> Self {
-            self.map2(o, |a, b| v128_and(a, b))
-        }
-        #[inline(always)]
-        pub fn or(self, o: Self) -> Self {
-            self.map2(o, |a, b| v128_or(a, b))
         }
         #[inline(always)]
         pub fn flip(self, mask: Self) -> Self {

@@ -179,15 +179,8 @@ impl Findings {
     /// The exact test alone of `l1` and `l2` (as [`Findings::test_ordered`]
     /// takes them), as the all-pairs loop makes it.
     #[inline(always)]
-    pub(crate) fn exact(&mut self, l1: &Line, l2: &Line, (first, second): (Slot, Slot), dt: f64) {
-        self.counts.exact += 1;
-        if let Some(kind) = intersect(l1, l2, dt) {
-            self.events.push(Event {
-                first,
-                second,
-                kind,
-            });
-        }
+    pub(crate) fn exact(&mut self, l1: &Line, l2: &Line, pair: (Slot, Slot), dt: f64) {
+        self.keep(Some(intersect(l1, l2, dt)), pair);
     }
 
     /// Tests every wild line (a finite segment with a non-finite velocity or
@@ -236,8 +229,10 @@ pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<Intersectio
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::line::DT;
     use crate::narrow::IntersectionKind;
     use crate::test_util::line;
+    use proptest::prelude::*;
 
     #[test]
     fn a_pair_is_tested_with_the_lower_id_first_whatever_its_slots() {
@@ -291,23 +286,6 @@ mod tests {
         assert_eq!(pairs, vec![(0, 1), (0, 3), (1, 3)]);
     }
 
-    use crate::line::DT;
-    use proptest::prelude::*;
-
-    /// [`crate::narrow::four::screen`] where the processor has AVX2 (the
-    /// test checks first), through a clone compiled with it.
-    #[cfg(target_arch = "x86_64")]
-    #[multiversion(targets("x86_64+avx2"))]
-    fn screen_avx2(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
-        multiversion::target::match_target! {
-            "x86_64+avx2" => crate::narrow::four::screen(l1, l2, dt),
-            _ => {
-                let _ = (l1, l2, dt);
-                panic!("the test runs this only where the processor has AVX2")
-            }
-        }
-    }
-
     /// What the scalar code answers: the prefilter, then the exact test.
     fn scalar(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
         let bound = max(magnitude(l1, dt), magnitude(l2, dt));
@@ -347,8 +325,8 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(20_000))]
 
-        /// The prefilter and the exact test as the processor runs them,
-        /// and in lanes where it has AVX2, answer every pair as the scalar
+        /// The prefilter and the exact test as the processor runs them
+        /// (in lanes where it has AVX2) answer every pair as the scalar
         /// code does.
         #[test]
         fn the_screen_answers_every_pair_as_the_scalar_tests_do(
@@ -358,10 +336,6 @@ mod tests {
         ) {
             for (a, b) in [(&l1, &l2), (&l2, &l1)] {
                 prop_assert_eq!(screen(a, b, dt), scalar(a, b, dt));
-                #[cfg(target_arch = "x86_64")]
-                if std::arch::is_x86_feature_detected!("avx2") {
-                    prop_assert_eq!(screen_avx2(a, b, dt), scalar(a, b, dt));
-                }
             }
         }
     }

@@ -499,7 +499,8 @@ mod tests {
             let slots: Vec<Slot> = (0..lines.len() as u32).rev().map(Slot).collect();
             let n = slots.len();
             let line = (&lines[..], &slots[..]);
-            // What the processor runs, and every lane type this target has.
+            // What the processor runs (the AVX2 batches where it has
+            // AVX2), and every lane type this target has.
             let mut made = Vec::new();
             let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
             make(&lines, &slots, &mut hulls, &mut keys, along, dt);
@@ -510,12 +511,6 @@ mod tests {
             let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
             make_each(line, &mut hulls, &mut keys, along, dt, batch_default);
             made.push(("default", hulls, keys));
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") {
-                let (mut hulls, mut keys) = (vec![[0.0; 8]; n], vec![0.0; n]);
-                make_avx2(line, &mut hulls, &mut keys, along, dt);
-                made.push(("avx2", hulls, keys));
-            }
             for (name, hulls, keys) in &made {
                 for (k, &slot) in slots.iter().enumerate() {
                     match of_line(&lines[slot.0 as usize], dt) {
@@ -569,7 +564,8 @@ mod tests {
             // Each alone.
             let mut alone = lines.clone();
             let hits: u64 = alone.iter_mut().map(|l| u64::from(crate::motion::advance_one(l))).sum();
-            // What the processor runs, and every lane type this target has.
+            // What the processor runs (the AVX2 batches where it has
+            // AVX2), and every lane type this target has.
             let mut made = Vec::new();
             type Pass<'a> = &'a dyn Fn(&mut [Line], &mut [Packed], &mut [f32]) -> u64;
             let run = |f: Pass| {
@@ -584,10 +580,6 @@ mod tests {
             made.push(("default", run(&|l, h, k| {
                 advance_each::<{ DefaultLanes::WIDTH }>(l, slots, h, k, (along, dt), advance_default, advance_at_default)
             })));
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") {
-                made.push(("avx2", run(&|l, h, k| advance_avx2(l, slots, h, k, (along, dt)))));
-            }
             for (name, (moved, hulls, keys, made_hits)) in &made {
                 proptest::prop_assert_eq!(*made_hits, hits, "{}", name);
                 // NaNs by sign and payload too (the move's sums take the
@@ -605,46 +597,6 @@ mod tests {
                         None => proptest::prop_assert_eq!(keys[k], NO_KEY, "{}", name),
                     }
                 }
-            }
-        }
-    }
-
-    /// [`advance_each_avx2`] where the processor has AVX2 (the test checks
-    /// first), through a clone compiled with it.
-    #[cfg(target_arch = "x86_64")]
-    #[multiversion(targets("x86_64+avx2"))]
-    fn advance_avx2(
-        lines: &mut [Line],
-        slots: Option<&[Slot]>,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-        along_dt: (usize, f64),
-    ) -> u64 {
-        multiversion::target::match_target! {
-            "x86_64+avx2" => advance_each_avx2(lines, slots, hulls, keys, along_dt),
-            _ => {
-                let _ = (lines, slots, hulls, keys, along_dt);
-                panic!("the test runs this only where the processor has AVX2")
-            }
-        }
-    }
-
-    /// [`make_each_avx2`] where the processor has AVX2 (the test checks
-    /// first), through a clone compiled with it.
-    #[cfg(target_arch = "x86_64")]
-    #[multiversion(targets("x86_64+avx2"))]
-    fn make_avx2(
-        line: (&[Line], &[Slot]),
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-        along: usize,
-        dt: f64,
-    ) {
-        multiversion::target::match_target! {
-            "x86_64+avx2" => make_each_avx2(line, hulls, keys, along, dt),
-            _ => {
-                let _ = (line, hulls, keys, along, dt);
-                panic!("the test runs this only where the processor has AVX2")
             }
         }
     }
