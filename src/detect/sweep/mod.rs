@@ -75,11 +75,11 @@ use crate::line::{Line, DT};
 use crate::schedule::Schedule;
 use crate::team::{self, Team};
 use boxes::Boxes;
-use hull::{lo, NO_KEY};
+use hull::{lo, Packed, NO_KEY};
 use layout::{GroupView, Layout};
-use near::{Choice, Near};
+use near::{Choice, Near, ToMake};
 use plan::Plan;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -233,22 +233,33 @@ impl Sweep {
     /// [`Detector::advance`] making the boxes by slot, for a step that
     /// keeps pairs ([`Near::make`]), in `shared`'s pieces.
     fn advance_by_slot(&mut self, lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
-        let (hulls, keys) = self.near.boxes_to_make(lines.len());
+        let n = lines.len();
+        let pieces = shared.map_or(1, |(_, pieces)| pieces);
+        let ToMake { boxes, keys, check } = self.near.boxes_to_make(n, pieces, DT);
+        let unboxed = AtomicU64::new(0);
+        // Each piece moves its lines, makes their boxes and checks them.
+        let piece = |k: usize, lines: &mut [Line], boxes: &mut [Packed], keys: &mut [f32]| {
+            let hits = hull::advance_and_make(lines, None, boxes, keys, (0, DT));
+            let slots = team::share(n, pieces, k);
+            let found = check.settle(k, slots, (boxes, keys));
+            unboxed.fetch_add(found, Ordering::Relaxed);
+            hits
+        };
         let hits = match shared {
             Some((team, pieces)) => {
                 let lines = team::split_mut(lines, pieces);
-                let (hulls, keys) = (
-                    team::split_mut(hulls, pieces),
+                let (boxes, keys) = (
+                    team::split_mut(boxes, pieces),
                     team::split_mut(keys, pieces),
                 );
                 team.run_pieces_sum(pieces, &|k| {
-                    let (lines, hulls, keys) = (lines.take(k), hulls.take(k), keys.take(k));
-                    hull::advance_and_make(lines, None, hulls, keys, (0, DT))
+                    piece(k, lines.take(k), boxes.take(k), keys.take(k))
                 })
             }
-            None => hull::advance_and_make(lines, None, hulls, keys, (0, DT)),
+            None => piece(0, lines, boxes, keys),
         };
-        self.near.made(DT);
+        drop(check);
+        self.near.made(DT, (unboxed.into_inner(), pieces));
         hits
     }
 

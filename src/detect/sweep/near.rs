@@ -47,6 +47,11 @@ const MEND_MOST: usize = 16;
 /// Pairs compared at a time by a member of a team.
 const PAIRS_A_PIECE: usize = 4096;
 
+/// Pairs kept from which their comparison is shared among the team, a
+/// piece a thread at least: `koch`'s 4,000 or so take about 5 us a step
+/// on one thread, well over a hand-off.
+const SHARED_PAIRS_FROM: usize = 1024;
+
 /// The widened box of a line that had no box at the sweep: no box lies
 /// inside it, so a line that has a box again calls for a sweep.
 const NOWHERE: Packed = [f32::INFINITY; 8];
@@ -235,6 +240,10 @@ pub(crate) struct Near {
     /// Whether the boxes by slot were made in the move before this step,
     /// and of what time step.
     made: Option<f64>,
+    /// Whether that move also checked them against their widened boxes
+    /// ([`Check`]): the lines it found without a box, and the pieces whose
+    /// leavers are in `share_leavers`.
+    checked: Option<(u64, usize)>,
     /// The least travel a box was widened for at the last sweep
     /// ([`Frame::choose`]).
     least: f64,
@@ -258,8 +267,10 @@ pub(crate) struct Near {
     /// The pairs a mend found, kept in place of the leavers' old pairs by
     /// [`Near::test`].
     fresh: Vec<(Slot, Slot)>,
-    /// The findings of each piece of the comparison.
+    /// The findings of each piece of the comparison, and the pairs it
+    /// kept.
     pieces: Vec<Findings>,
+    piece_kept: Vec<usize>,
     /// Steps, and sweeps among them, while kept pairs were used, and the
     /// boxes mended in them.
     pub(crate) steps: u64,
@@ -292,34 +303,57 @@ impl Near {
             self.keys.resize(n, NO_KEY);
             self.wide.resize(n, NOWHERE);
             self.kept = false;
-            self.made = None;
+            (self.made, self.checked) = (None, None);
         }
     }
 
     /// The boxes by slot and their least `x`, for `n` lines, to make in
-    /// the world's move ([`Detector::advance`](crate::detect::Detector));
-    /// [`Near::made`] says when they are.
-    pub(crate) fn boxes_to_make(&mut self, n: usize) -> (&mut [Packed], &mut [f32]) {
+    /// the world's move ([`Detector::advance`](crate::detect::Detector))
+    /// of `dt`, in `pieces` pieces, and what checks each piece's boxes
+    /// against their widened boxes as [`Near::make`] would next step;
+    /// [`Near::made`] says when they are made and checked.
+    pub(crate) fn boxes_to_make(&mut self, n: usize, pieces: usize, dt: f64) -> ToMake<'_> {
         self.fit(n);
-        (&mut self.boxes, &mut self.keys)
+        // The frame's shift next step, as `make` will count it.
+        let steps = self.frame.steps + u64::from(self.kept);
+        let pieces = pieces.max(1);
+        self.share_leavers
+            .resize_with(pieces.max(self.share_leavers.len()), Vec::new);
+        ToMake {
+            boxes: &mut self.boxes,
+            keys: &mut self.keys,
+            check: Check {
+                wide: &self.wide,
+                kept: self.kept,
+                shift: self.frame.shift_after(steps, dt),
+                leavers: Parts::new(self.share_leavers[..pieces].iter_mut()),
+            },
+        }
     }
 
     /// The boxes by slot were made of `dt` for the lines as they are now
-    /// stored, for the next step.
-    pub(crate) fn made(&mut self, dt: f64) {
+    /// stored, for the next step, and checked in `pieces` pieces
+    /// ([`Check::settle`]), which found `unboxed` lines without a box.
+    pub(crate) fn made(&mut self, dt: f64, (unboxed, pieces): (u64, usize)) {
         self.made = Some(dt);
+        self.checked = Some((unboxed, pieces.max(1)));
     }
 
     /// Forgets that the move made the boxes by slot: this step sweeps.
     pub(crate) fn discard_made(&mut self) {
-        self.made = None;
+        (self.made, self.checked) = (None, None);
     }
 
     /// Whether this step's boxes by slot were made (of `dt`) in the move
-    /// before it; asked once a step.
-    fn take_made(&mut self, n: usize, dt: f64) -> bool {
+    /// before it, and checked there (the lines without a box, and the
+    /// pieces of leavers); asked once a step.
+    fn take_made(&mut self, n: usize, dt: f64) -> (bool, Option<(u64, usize)>) {
         self.fit(n);
-        self.made.take() == Some(dt)
+        let checked = self.checked.take();
+        match self.made.take() == Some(dt) {
+            true => (true, checked),
+            false => (false, None),
+        }
     }
 
     /// Makes every line's box in slot order (unless the move before this
@@ -329,12 +363,16 @@ impl Near {
     /// mended.
     pub(crate) fn make(&mut self, lines: &[Line], dt: f64, team: &Team, laid: Laid) -> bool {
         let n = lines.len();
-        let made = self.take_made(n, dt);
+        let (made, checked) = self.take_made(n, dt);
         self.steps += 1;
         if self.kept {
             self.frame.steps += 1;
         }
         let shift = self.frame.shift(dt);
+        if let Some((unboxed, pieces)) = checked {
+            // The move checked the boxes as it made them.
+            return self.settled(unboxed, pieces, (lines, dt, &shift, laid));
+        }
         let threads = team.threads();
         let (boxes, keys) = (
             team::split_mut(&mut self.boxes, threads),
@@ -356,15 +394,27 @@ impl Near {
             settle(boxes, keys, (wide, kept, &shift), (share.start, leavers))
         });
         drop(leavers);
+        self.settled(unboxed, threads, (lines, dt, &shift, laid))
+    }
+
+    /// The end of [`Near::make`], the boxes checked in `pieces` pieces
+    /// and `unboxed` lines found without one: whether the pairs kept
+    /// hold, with this step's leavers mended.
+    fn settled(
+        &mut self,
+        unboxed: u64,
+        pieces: usize,
+        (lines, dt, shift, laid): (&[Line], f64, &Shift, Laid),
+    ) -> bool {
         self.unboxed = unboxed as usize;
         self.leavers.clear();
-        for share in &self.share_leavers[..threads] {
+        for share in &self.share_leavers[..pieces] {
             self.leavers.extend_from_slice(share);
         }
-        if !kept || self.leavers.len() > MEND_MOST {
+        if !self.kept || self.leavers.len() > MEND_MOST {
             return false;
         }
-        self.leavers.is_empty() || self.mend(lines, dt, &shift, laid)
+        self.leavers.is_empty() || self.mend(lines, dt, shift, laid)
     }
 
     /// Widens again the boxes that left their widened boxes (the
@@ -487,34 +537,52 @@ impl Near {
 
     /// Compares the boxes of every pair kept and hands each pair whose
     /// boxes overlap to `found`'s test, in pieces among `team`, the
-    /// pieces' findings put together in order.
+    /// pieces' findings put together in order. Where leavers were mended,
+    /// each piece first drops its pairs of a leaver, and their fresh pairs
+    /// are compared after the pieces, and kept after the others.
     pub(crate) fn test(&mut self, (stored, dt): (Stored, f64), found: &mut Findings, team: &Team) {
-        if !self.leavers.is_empty() {
-            // Mended: the leavers' old pairs give way to their fresh ones.
-            let leaving = &self.leaving;
-            let drop = |&(a, b): &(Slot, Slot)| leaving[a.0 as usize] | leaving[b.0 as usize];
-            self.pairs.retain(|pair| !drop(pair));
-            self.pairs.append(&mut self.fresh);
-            self.end_mend();
-        }
+        let mended = !self.leavers.is_empty();
+        let leaving = mended.then_some(&self.leaving[..]);
+        let total = self.pairs.len();
         let pieces = match team.threads() {
-            1 => 1,
-            _ => self.pairs.len().div_ceil(PAIRS_A_PIECE).max(1),
+            threads if threads > 1 && total >= SHARED_PAIRS_FROM => {
+                total.div_ceil(PAIRS_A_PIECE).max(threads)
+            }
+            _ => 1,
         };
         self.pieces
             .resize_with(pieces.max(self.pieces.len()), Findings::default);
-        let (pairs, boxes) = (&self.pairs, &self.boxes);
+        self.piece_kept.resize(pieces, 0);
+        let boxes = &self.boxes;
         let parts = Parts::new(self.pieces[..pieces].iter_mut());
+        let shares = team::split_mut(&mut self.pairs, pieces);
+        let kept = Parts::new(self.piece_kept.iter_mut());
         team.run_pieces(pieces, &|k| {
-            let found = parts.take(k);
+            let (found, pairs, kept) = (parts.take(k), shares.take(k), kept.take(k));
             found.clear();
-            let pairs = &pairs[team::share(pairs.len(), pieces, k)];
-            compare(pairs, boxes, (stored, dt), found);
+            *kept = match leaving {
+                Some(leaving) => drop_leavers(pairs, leaving),
+                None => pairs.len(),
+            };
+            compare(&pairs[..*kept], boxes, (stored, dt), found);
         });
-        drop(parts);
+        drop((parts, shares, kept));
         self.pieces[..pieces]
             .iter_mut()
             .for_each(|piece| found.append(piece));
+        if mended {
+            // The pieces' pairs kept, closed up in order, then the fresh.
+            let mut end = 0;
+            for (k, &kept) in self.piece_kept.iter().enumerate() {
+                let from = team::share(total, pieces, k).start;
+                self.pairs.copy_within(from..from + kept, end);
+                end += kept;
+            }
+            self.pairs.truncate(end);
+            compare(&self.fresh, boxes, (stored, dt), found);
+            self.pairs.append(&mut self.fresh);
+            self.end_mend();
+        }
     }
 
     /// The lines with a box and, into `wild`, those without one that are
@@ -553,6 +621,48 @@ impl Near {
             (*a, *b) = (new_slot[a.0 as usize], new_slot[b.0 as usize]);
         }
         self.index.reorder(&new_slot);
+    }
+}
+
+/// The boxes by slot for the world's move to make, and their check
+/// ([`Near::boxes_to_make`]).
+pub(crate) struct ToMake<'a> {
+    /// Every line's box, by slot.
+    pub(crate) boxes: &'a mut [Packed],
+    /// Every line's least value along `x`, or [`NO_KEY`].
+    pub(crate) keys: &'a mut [f32],
+    /// The check of each piece's boxes once made.
+    pub(crate) check: Check<'a>,
+}
+
+/// [`Near::make`]'s check of the boxes against their widened boxes,
+/// made by the world's move a piece at a time while the boxes are at
+/// hand, and in the same hand-off.
+pub(crate) struct Check<'a> {
+    wide: &'a [Packed],
+    kept: bool,
+    shift: Shift,
+    leavers: Parts<&'a mut Vec<Slot>>,
+}
+
+impl Check<'_> {
+    /// Checks piece `k`'s boxes and keys, made for the lines at `slots`,
+    /// noting its leavers; returns the lines it found without a box.
+    pub(crate) fn settle(
+        &self,
+        k: usize,
+        slots: std::ops::Range<usize>,
+        (boxes, keys): (&mut [Packed], &[f32]),
+    ) -> u64 {
+        let leavers = self.leavers.take(k);
+        leavers.clear();
+        let wide = &self.wide[slots.clone()];
+        settle(
+            boxes,
+            keys,
+            (wide, self.kept, &self.shift),
+            (slots.start, leavers),
+        )
     }
 }
 
@@ -677,7 +787,12 @@ impl Frame {
 
     /// How far the frame has moved since the widened boxes were made.
     fn shift(&self, dt: f64) -> Shift {
-        let t = self.steps as f64 * dt;
+        self.shift_after(self.steps, dt)
+    }
+
+    /// How far the frame moves in `steps` steps of `dt`.
+    fn shift_after(&self, steps: u64, dt: f64) -> Shift {
+        let t = steps as f64 * dt;
         let (x, y) = (t * self.velocity[0], t * self.velocity[1]);
         if x == 0.0 && y == 0.0 {
             return Shift::Still;
@@ -787,6 +902,18 @@ fn settle(
         }
     }
     unboxed
+}
+
+/// Moves the pairs of `pairs` that have no line `leaving` to its front,
+/// in order, and returns how many they are.
+fn drop_leavers(pairs: &mut [(Slot, Slot)], leaving: &[bool]) -> usize {
+    let mut kept = 0;
+    for k in 0..pairs.len() {
+        let (a, b) = pairs[k];
+        pairs[kept] = (a, b);
+        kept += usize::from(!(leaving[a.0 as usize] | leaving[b.0 as usize]));
+    }
+    kept
 }
 
 /// [`settle`]'s check of a block of boxes at once with AVX2.
