@@ -354,8 +354,9 @@ impl Sweep {
         let candidates = found.counts.candidates - before.candidates;
         self.dense = candidates as f64 > DENSE * swept as f64;
         if keep {
+            let groups = self.team_for_kept(n).threads();
             let chunks = self.chunks.iter_mut();
-            self.near.keep(chunks.map(|c| &mut c.near));
+            self.near.keep(chunks.map(|c| &mut c.near), groups);
             self.test_kept((stored, dt), found, &self.team_for_kept(n));
         } else {
             let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);

@@ -44,9 +44,6 @@ const DIAGONAL: f64 = if DIAGONAL_X > DIAGONAL_Y {
 /// The most leavers mended one at a time rather than by a sweep.
 const MEND_MOST: usize = 16;
 
-/// Pairs compared at a time by a member of a team.
-const PAIRS_A_PIECE: usize = 4096;
-
 /// Pairs kept from which their comparison is shared among the team, a
 /// piece a thread at least: `koch`'s 4,000 or so take about 5 us a step
 /// on one thread, well over a hand-off.
@@ -229,8 +226,11 @@ pub(crate) struct Near {
     /// Each slot's widened box, from the last sweep.
     wide: Vec<Packed>,
     /// The pairs of slots whose widened boxes overlapped at the last
-    /// sweep, each once.
-    pairs: Vec<(Slot, Slot)>,
+    /// sweep, each once, in groups: group `k` holds those whose first slot
+    /// lies in share `k` of the slots ([`owner`]), as the move splits the
+    /// lines among the team, so each thread compares the pairs of the
+    /// boxes it made, which are in its core's cache.
+    pairs: Vec<Vec<(Slot, Slot)>>,
     /// Whether `wide` and `pairs` are of the lines as stored now.
     kept: bool,
     /// `0..n` as slots: the boxes are made in slot order.
@@ -265,12 +265,11 @@ pub(crate) struct Near {
     met: Vec<u32>,
     found: Vec<u32>,
     /// The pairs a mend found, kept in place of the leavers' old pairs by
-    /// [`Near::test`].
+    /// [`Near::test`], and they in their groups.
     fresh: Vec<(Slot, Slot)>,
-    /// The findings of each piece of the comparison, and the pairs it
-    /// kept.
+    fresh_groups: Vec<Vec<(Slot, Slot)>>,
+    /// The findings of each group's comparison.
     pieces: Vec<Findings>,
-    piece_kept: Vec<usize>,
     /// Steps, and sweeps among them, while kept pairs were used, and the
     /// boxes mended in them.
     pub(crate) steps: u64,
@@ -283,14 +282,14 @@ pub(crate) struct Near {
 impl Near {
     /// The pairs kept.
     pub(crate) fn pairs(&self) -> usize {
-        self.pairs.len()
+        self.pairs.iter().map(Vec::len).sum()
     }
 
     /// Forgets the pairs kept: the next step that keeps pairs sweeps.
     pub(crate) fn forget(&mut self) {
         self.kept = false;
         self.frame_in = 0;
-        self.pairs.clear();
+        self.pairs.iter_mut().for_each(Vec::clear);
         self.index.forget();
     }
 
@@ -521,14 +520,24 @@ impl Near {
 
     /// Keeps the pairs of slots whose widened boxes overlap (each once),
     /// as the pieces of the sweep found them, in place of the pairs kept
-    /// before; empties the pieces.
-    pub(crate) fn keep<'a>(&mut self, swept: impl Iterator<Item = &'a mut Vec<(Slot, Slot)>>) {
+    /// before, in `groups` groups (the threads of the team that compares
+    /// them); empties the pieces.
+    pub(crate) fn keep<'a>(
+        &mut self,
+        swept: impl Iterator<Item = &'a mut Vec<(Slot, Slot)>>,
+        groups: usize,
+    ) {
         // Leavers that called for this sweep have nothing to mend.
         debug_assert!(self.fresh.is_empty() && !self.leaving.contains(&true));
         self.leavers.clear();
-        self.pairs.clear();
+        self.pairs.iter_mut().for_each(Vec::clear);
+        self.pairs.resize_with(groups.max(1), Vec::new);
+        let n = self.boxes.len();
+        let (pairs, groups) = (&mut self.pairs, groups.max(1));
         for piece in swept {
-            self.pairs.extend_from_slice(piece);
+            for &pair in piece.iter() {
+                pairs[owner(pair.0, n, groups)].push(pair);
+            }
             piece.clear();
         }
         self.kept = true;
@@ -536,51 +545,47 @@ impl Near {
     }
 
     /// Compares the boxes of every pair kept and hands each pair whose
-    /// boxes overlap to `found`'s test, in pieces among `team`, the
-    /// pieces' findings put together in order. Where leavers were mended,
-    /// each piece first drops its pairs of a leaver, and their fresh pairs
-    /// are compared after the pieces, and kept after the others.
+    /// boxes overlap to `found`'s test, a group a piece among `team` (on
+    /// this thread where they are few), the groups' findings put together
+    /// in order. Where leavers were mended, each group first drops its
+    /// pairs of a leaver and takes their fresh pairs of its own.
     pub(crate) fn test(&mut self, (stored, dt): (Stored, f64), found: &mut Findings, team: &Team) {
         let mended = !self.leavers.is_empty();
         let leaving = mended.then_some(&self.leaving[..]);
-        let total = self.pairs.len();
-        let pieces = match team.threads() {
-            threads if threads > 1 && total >= SHARED_PAIRS_FROM => {
-                total.div_ceil(PAIRS_A_PIECE).max(threads)
-            }
-            _ => 1,
-        };
+        let (n, groups) = (self.boxes.len(), self.pairs.len());
+        self.fresh_groups.resize_with(groups, Vec::new);
+        for &pair in &self.fresh {
+            self.fresh_groups[owner(pair.0, n, groups)].push(pair);
+        }
+        self.fresh.clear();
         self.pieces
-            .resize_with(pieces.max(self.pieces.len()), Findings::default);
-        self.piece_kept.resize(pieces, 0);
+            .resize_with(groups.max(self.pieces.len()), Findings::default);
+        let total = self.pairs();
         let boxes = &self.boxes;
-        let parts = Parts::new(self.pieces[..pieces].iter_mut());
-        let shares = team::split_mut(&mut self.pairs, pieces);
-        let kept = Parts::new(self.piece_kept.iter_mut());
-        team.run_pieces(pieces, &|k| {
-            let (found, pairs, kept) = (parts.take(k), shares.take(k), kept.take(k));
+        let parts = Parts::new(self.pieces[..groups].iter_mut());
+        let (pairs, fresh) = (
+            Parts::new(self.pairs.iter_mut()),
+            Parts::new(self.fresh_groups.iter_mut()),
+        );
+        let job = |k: usize| {
+            let (found, pairs, fresh) = (parts.take(k), pairs.take(k), fresh.take(k));
             found.clear();
-            *kept = match leaving {
-                Some(leaving) => drop_leavers(pairs, leaving),
-                None => pairs.len(),
-            };
-            compare(&pairs[..*kept], boxes, (stored, dt), found);
-        });
-        drop((parts, shares, kept));
-        self.pieces[..pieces]
+            if let Some(leaving) = leaving {
+                let kept = drop_leavers(pairs, leaving);
+                pairs.truncate(kept);
+            }
+            pairs.append(fresh);
+            compare(pairs, boxes, (stored, dt), found);
+        };
+        match team.threads() > 1 && total >= SHARED_PAIRS_FROM {
+            true => team.run_pieces(groups, &job),
+            false => (0..groups).for_each(job),
+        }
+        drop((parts, pairs, fresh));
+        self.pieces[..groups]
             .iter_mut()
             .for_each(|piece| found.append(piece));
         if mended {
-            // The pieces' pairs kept, closed up in order, then the fresh.
-            let mut end = 0;
-            for (k, &kept) in self.piece_kept.iter().enumerate() {
-                let from = team::share(total, pieces, k).start;
-                self.pairs.copy_within(from..from + kept, end);
-                end += kept;
-            }
-            self.pairs.truncate(end);
-            compare(&self.fresh, boxes, (stored, dt), found);
-            self.pairs.append(&mut self.fresh);
             self.end_mend();
         }
     }
@@ -617,9 +622,20 @@ impl Near {
         for (k, s) in order.iter().enumerate() {
             new_slot[s.0 as usize] = Slot(k as u32);
         }
-        for (a, b) in &mut self.pairs {
-            (*a, *b) = (new_slot[a.0 as usize], new_slot[b.0 as usize]);
+        // Each pair by its new slots, in the group of its new first slot.
+        let (n, groups) = (order.len(), self.pairs.len());
+        let mut all = std::mem::take(&mut self.fresh_groups);
+        all.resize_with(groups, Vec::new);
+        for (group, old) in all.iter_mut().zip(&mut self.pairs) {
+            group.clear();
+            group.append(old);
         }
+        for &(a, b) in all.iter().flatten() {
+            let (a, b) = (new_slot[a.0 as usize], new_slot[b.0 as usize]);
+            self.pairs[owner(a, n, groups)].push((a, b));
+        }
+        all.iter_mut().for_each(Vec::clear);
+        self.fresh_groups = all;
         self.index.reorder(&new_slot);
     }
 }
@@ -902,6 +918,13 @@ fn settle(
         }
     }
     unboxed
+}
+
+/// The group of the pairs whose first slot is `a`, among `groups` groups
+/// of `n` slots: the share of the slots ([`team::share`]) that holds `a`.
+fn owner(a: Slot, n: usize, groups: usize) -> usize {
+    // Share `k` starts at `n k / groups`, rounded down.
+    (groups * (a.0 as usize + 1) - 1) / n.max(1)
 }
 
 /// Moves the pairs of `pairs` that have no line `leaving` to its front,
