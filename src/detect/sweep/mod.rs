@@ -614,4 +614,35 @@ mod tests {
         alone.detect(Stored::by_id(&lines), 0.5, &mut found);
         assert!((0..40).all(|_| alone.reorder().is_none()));
     }
+
+    /// Where pairs are kept, the move checks the boxes it makes against
+    /// their widened boxes as the next step would (each step asserts it,
+    /// `Near::check_again`): on one thread and shared, with the widened
+    /// boxes at rest and moving with most lines, leavers every few steps.
+    #[test]
+    fn the_move_checks_the_boxes_as_the_next_step_would() {
+        use crate::detect::{DetectorKind, KeepPairs};
+        use crate::generate::{generate, SceneKind};
+        use crate::world::World;
+        for (threads, as_one) in [(1, false), (2, false), (2, true), (3, true)] {
+            let mut scene = generate(SceneKind::Uniform, 2500, 5);
+            if as_one {
+                let v = scene.lines[0].v * 4.0;
+                let alike = scene.lines.iter_mut().filter(|l| l.p1.x.to_bits() % 8 != 0);
+                alike.for_each(|line| line.v = v);
+            }
+            let config = DetectorConfig {
+                threads,
+                keep_pairs: KeepPairs::Always,
+                ..DetectorConfig::default()
+            };
+            let mut world = World::with_config(&scene, DetectorKind::Sweep, &config).unwrap();
+            (0..150).for_each(|_| world.step());
+            let described = world.detector().describe();
+            assert!(described.contains("boxes mended"), "{described}");
+            assert!(!described.contains(" 0.0 boxes mended"), "{described}");
+            let moving = !described.contains("no sweep in a moving frame");
+            assert_eq!(moving, as_one, "{described}");
+        }
+    }
 }

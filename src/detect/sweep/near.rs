@@ -370,6 +370,8 @@ impl Near {
         let shift = self.frame.shift(dt);
         if let Some((unboxed, pieces)) = checked {
             // The move checked the boxes as it made them.
+            #[cfg(test)]
+            self.check_again((unboxed, pieces), &shift);
             return self.settled(unboxed, pieces, (lines, dt, &shift, laid));
         }
         let threads = team.threads();
