@@ -398,6 +398,27 @@ impl Near {
         self.settled(unboxed, threads, (lines, dt, &shift, laid))
     }
 
+    /// Tests: the move's check of the boxes (the lines without a box, the
+    /// pieces' leavers) is the one this step makes of them.
+    #[cfg(test)]
+    fn check_again(&mut self, (unboxed, pieces): (u64, usize), shift: &Shift) {
+        let moved: Vec<Slot> = self.share_leavers[..pieces].concat();
+        let mut leavers = Vec::new();
+        let (wide, kept) = (&self.wide[..], self.kept);
+        let again = settle(
+            &mut self.boxes,
+            &self.keys,
+            (wide, kept, shift),
+            (0, &mut leavers),
+        );
+        assert!(
+            (unboxed, &moved) == (again, &leavers),
+            "the move found {} leavers and {unboxed} lines without a box, the step {} and {again}",
+            moved.len(),
+            leavers.len(),
+        );
+    }
+
     /// The end of [`Near::make`], the boxes checked in `pieces` pieces
     /// and `unboxed` lines found without one: whether the pairs kept
     /// hold, with this step's leavers mended.
