@@ -945,19 +945,28 @@ fn settle(
 
 /// The group of the pairs whose first slot is `a`, among `groups` groups
 /// of `n` slots: the share of the slots ([`team::share`]) that holds `a`.
+#[inline]
 fn owner(a: Slot, n: usize, groups: usize) -> usize {
-    // Share `k` starts at `n k / groups`, rounded down.
-    (groups * (a.0 as usize + 1) - 1) / n.max(1)
+    match groups {
+        1 => 0,
+        // Share `k` starts at `n k / groups`, rounded down.
+        _ => (groups * (a.0 as usize + 1) - 1) / n.max(1),
+    }
 }
 
 /// Moves the pairs of `pairs` that have no line `leaving` to its front,
 /// in order, and returns how many they are.
 fn drop_leavers(pairs: &mut [(Slot, Slot)], leaving: &[bool]) -> usize {
-    let mut kept = 0;
-    for k in 0..pairs.len() {
-        let (a, b) = pairs[k];
-        pairs[kept] = (a, b);
-        kept += usize::from(!(leaving[a.0 as usize] | leaving[b.0 as usize]));
+    let leaves = |&(a, b): &(Slot, Slot)| leaving[a.0 as usize] | leaving[b.0 as usize];
+    // Read only up to the first pair to drop (most are kept).
+    let Some(first) = pairs.iter().position(leaves) else {
+        return pairs.len();
+    };
+    let mut kept = first;
+    for k in first + 1..pairs.len() {
+        let pair = pairs[k];
+        pairs[kept] = pair;
+        kept += usize::from(!leaves(&pair));
     }
     kept
 }
