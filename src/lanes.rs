@@ -198,6 +198,17 @@ impl Scalar {
     pub fn hits(mask: Self) -> u64 {
         mask.0.iter().map(|m| u64::from(m.to_bits() != 0)).sum()
     }
+    /// Set where `low <= x <= high` (neither for NaN).
+    #[inline(always)]
+    pub fn inside(self, low: Self, high: Self) -> Self {
+        self.mask(low, |x, l| l <= x)
+            .and(self.mask(high, |x, h| x <= h))
+    }
+    /// Whether every lane of `mask` is set.
+    #[inline(always)]
+    pub fn all(mask: Self) -> bool {
+        mask.0.iter().all(|m| m.to_bits() != 0)
+    }
     /// Bit `k` set where lane `k` of `sum` is finite and of `magnitude` at
     /// most `largest`.
     #[inline(always)]
@@ -232,11 +243,11 @@ mod x86 {
     use super::{line_of, row, Line, Packed, DIRECTIONS, LANES, NO_KEY};
     use safe_arch::{
         add_m128d, bitand_m128, bitand_m128d, bitandnot_m128, bitandnot_m128d, bitor_m128,
-        bitor_m128d, bitxor_m128, bitxor_m128d, cast_to_m128_from_m128d, cmp_gt_mask_m128d,
-        cmp_le_mask_m128d, cmp_lt_mask_m128d, cmp_unord_mask_m128d, convert_to_m128_from_m128d,
-        m128, m128d, max_m128d, min_m128d, move_high_low_m128, move_low_high_m128, move_mask_m128d,
-        mul_m128d, set_splat_m128, set_splat_m128d, shuffle_abi_f32_all_m128, sub_m128d,
-        unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
+        bitor_m128d, bitxor_m128, bitxor_m128d, cast_to_m128_from_m128d, cmp_ge_mask_m128d,
+        cmp_gt_mask_m128d, cmp_le_mask_m128d, cmp_lt_mask_m128d, cmp_unord_mask_m128d,
+        convert_to_m128_from_m128d, m128, m128d, max_m128d, min_m128d, move_high_low_m128,
+        move_low_high_m128, move_mask_m128d, mul_m128d, set_splat_m128, set_splat_m128d,
+        shuffle_abi_f32_all_m128, sub_m128d, unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
     };
     use std::arch::x86_64::{
         __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_blendv_pd, _mm256_castpd_si256,
@@ -245,8 +256,8 @@ mod x86 {
         _mm256_permute2f128_pd, _mm256_permutevar8x32_epi32, _mm256_set1_pd, _mm256_set_m128,
         _mm256_set_m128d, _mm256_setr_epi32, _mm256_setzero_ps, _mm256_shuffle_ps, _mm256_sub_pd,
         _mm256_unpackhi_pd, _mm256_unpackhi_ps, _mm256_unpacklo_pd, _mm256_unpacklo_ps,
-        _mm256_xor_pd, _mm_blendv_ps, _mm_castsi128_ps, _mm_set1_ps, _mm_xor_ps, _CMP_GT_OQ,
-        _CMP_LE_OQ, _CMP_LT_OQ, _CMP_UNORD_Q,
+        _mm256_xor_pd, _mm_blendv_ps, _mm_castsi128_ps, _mm_set1_ps, _mm_xor_ps, _CMP_GE_OQ,
+        _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_UNORD_Q,
     };
 
     /// `f64` with every bit but the sign: `x & ABS` is `|x|`.
@@ -377,6 +388,19 @@ mod x86 {
         #[target_feature(enable = "avx2")]
         pub fn hits(mask: Self) -> u64 {
             u64::from(_mm256_movemask_pd(mask.0).count_ones())
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn inside(self, low: Self, high: Self) -> Self {
+            Self(_mm256_and_pd(
+                _mm256_cmp_pd::<_CMP_GE_OQ>(self.0, low.0),
+                _mm256_cmp_pd::<_CMP_LE_OQ>(self.0, high.0),
+            ))
+        }
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn all(mask: Self) -> bool {
+            _mm256_movemask_pd(mask.0) == 0b1111
         }
         /// All ones in each lane whose `sum` is finite (NaN and infinities
         /// fail) and whose `magnitude` is at most `largest`.
@@ -536,6 +560,17 @@ mod x86 {
         pub fn hits(mask: Self) -> u64 {
             u64::from(move_mask_m128d(mask.0).count_ones())
         }
+        #[inline(always)]
+        pub fn inside(self, low: Self, high: Self) -> Self {
+            Self(bitand_m128d(
+                cmp_ge_mask_m128d(self.0, low.0),
+                cmp_le_mask_m128d(self.0, high.0),
+            ))
+        }
+        #[inline(always)]
+        pub fn all(mask: Self) -> bool {
+            move_mask_m128d(mask.0) == 0b11
+        }
         /// All ones in each lane whose `sum` is finite (NaN and infinities
         /// fail) and whose `magnitude` is at most `largest`.
         #[inline(always)]
@@ -594,8 +629,9 @@ mod wasm {
     use super::{row, store_bounds, Line, Packed, Scalar, DIRECTIONS, LANES};
     use core::arch::wasm32::{
         f32x4_demote_f64x2_zero, f32x4_extract_lane, f64x2, f64x2_add, f64x2_extract_lane,
-        f64x2_gt, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_neg, f64x2_pmax, f64x2_pmin, f64x2_splat,
-        f64x2_sub, i64x2_bitmask, v128, v128_and, v128_bitselect, v128_or, v128_xor,
+        f64x2_ge, f64x2_gt, f64x2_le, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_neg, f64x2_pmax,
+        f64x2_pmin, f64x2_splat, f64x2_sub, i64x2_bitmask, v128, v128_and, v128_bitselect, v128_or,
+        v128_xor,
     };
 
     /// Four lanes in two of WebAssembly's 128-bit vectors.
@@ -684,6 +720,17 @@ mod wasm {
         pub fn hits(mask: Self) -> u64 {
             let [a, b] = mask.0.map(|m| i64x2_bitmask(m).count_ones());
             u64::from(a + b)
+        }
+        #[inline(always)]
+        pub fn inside(self, low: Self, high: Self) -> Self {
+            let ge = self.map2(low, |x, l| f64x2_ge(x, l));
+            ge.map2(self.map2(high, |x, h| f64x2_le(x, h)), |a, b| {
+                v128_and(a, b)
+            })
+        }
+        #[inline(always)]
+        pub fn all(mask: Self) -> bool {
+            i64x2_bitmask(mask.0[0]) & i64x2_bitmask(mask.0[1]) == 0b11
         }
         /// As [`Scalar::valid`] of the same values.
         #[inline(always)]

@@ -285,6 +285,16 @@ impl One {
     pub fn hits(mask: Self) -> u64 {
         u64::from(mask.0.to_bits() != 0)
     }
+    /// Set where `low <= x <= high` (not for NaN).
+    #[inline(always)]
+    pub fn inside(self, low: Self, high: Self) -> Self {
+        One::mask(low.0 <= self.0 && self.0 <= high.0)
+    }
+    /// Whether `mask` is set.
+    #[inline(always)]
+    pub fn all(mask: Self) -> bool {
+        mask.0.to_bits() != 0
+    }
 }
 
 /// Relative padding of swept boxes: far above the rounding errors of the
