@@ -594,8 +594,7 @@ impl Near {
             let (found, pairs, fresh) = (parts.take(k), pairs.take(k), fresh.take(k));
             found.clear();
             if let Some(leaving) = leaving {
-                let kept = drop_leavers(pairs, leaving);
-                pairs.truncate(kept);
+                drop_leavers(pairs, leaving);
             }
             pairs.append(fresh);
             compare(pairs, boxes, (stored, dt), found);
@@ -954,21 +953,18 @@ fn owner(a: Slot, n: usize, groups: usize) -> usize {
     }
 }
 
-/// Moves the pairs of `pairs` that have no line `leaving` to its front,
-/// in order, and returns how many they are.
-fn drop_leavers(pairs: &mut [(Slot, Slot)], leaving: &[bool]) -> usize {
+/// Drops the pairs that have a line `leaving`, each replaced by the last
+/// pair: the pairs are only read up to each that is dropped (a few in
+/// thousands), not moved up one by one. The order of the pairs changes,
+/// which changes nothing found: events are resolved in the contract's
+/// order, whatever order they are found in.
+fn drop_leavers(pairs: &mut Vec<(Slot, Slot)>, leaving: &[bool]) {
     let leaves = |&(a, b): &(Slot, Slot)| leaving[a.0 as usize] | leaving[b.0 as usize];
-    // Read only up to the first pair to drop (most are kept).
-    let Some(first) = pairs.iter().position(leaves) else {
-        return pairs.len();
-    };
-    let mut kept = first;
-    for k in first + 1..pairs.len() {
-        let pair = pairs[k];
-        pairs[kept] = pair;
-        kept += usize::from(!leaves(&pair));
+    let mut from = 0;
+    while let Some(k) = pairs[from..].iter().position(leaves) {
+        pairs.swap_remove(from + k);
+        from += k;
     }
-    kept
 }
 
 /// [`settle`]'s check of a block of boxes at once with AVX2.
