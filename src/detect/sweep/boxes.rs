@@ -332,8 +332,11 @@ pub(crate) fn insert(
     until_in_place: bool,
 ) -> Option<usize> {
     let BoxSliceMut { keys, hulls, slots } = b;
+    // All three as long as the keys: no bound to check on the others.
+    let n = keys.len();
+    let (hulls, slots) = (&mut hulls[..n], &mut slots[..n]);
     let mut moves = 0;
-    for i in from.max(1)..keys.len() {
+    for i in from.max(1)..n {
         let key = keys[i];
         if keys[i - 1] <= key {
             if until_in_place {
