@@ -55,6 +55,12 @@ fn row(l: &Line) -> [f64; 4] {
 /// The sign bit of an `f64`.
 const SIGN: u64 = 1 << 63;
 
+/// Sets `line`'s endpoints to `[p1.x, p1.y, p2.x, p2.y]`.
+#[inline(always)]
+pub(crate) fn set_points(line: &mut Line, p: [f64; 4]) {
+    (line.p1, line.p2) = (Vec2::new(p[0], p[1]), Vec2::new(p[2], p[3]));
+}
+
 /// A line from `[p1.x, p1.y, p2.x, p2.y]` and `[v.x, v.y]`.
 #[inline(always)]
 fn line_of(p: [f64; 4], v: [f64; 2]) -> Line {
@@ -165,6 +171,11 @@ impl Scalar {
     #[inline(always)]
     pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
         std::array::from_fn(|k| line_of(point.map(|c| c.0[k]), [vx.0[k], vy.0[k]]))
+    }
+    /// Each line's `[p1.x, p1.y, p2.x, p2.y]`.
+    #[inline(always)]
+    pub fn rows(point: [Self; 4]) -> [[f64; 4]; LANES] {
+        std::array::from_fn(|k| point.map(|c| c.0[k]))
     }
     #[inline(always)]
     fn mask(self, o: Self, f: impl Fn(f64, f64) -> bool) -> Self {
@@ -337,15 +348,7 @@ mod x86 {
         #[inline]
         #[target_feature(enable = "avx2")]
         pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
-            let [ax, ay, bx, by] = point.map(|c| c.0);
-            let (t0, t1) = (_mm256_unpacklo_pd(ax, ay), _mm256_unpackhi_pd(ax, ay));
-            let (t2, t3) = (_mm256_unpacklo_pd(bx, by), _mm256_unpackhi_pd(bx, by));
-            let rows: [[f64; 4]; LANES] = [
-                bytemuck::cast(_mm256_permute2f128_pd::<0x20>(t0, t2)),
-                bytemuck::cast(_mm256_permute2f128_pd::<0x20>(t1, t3)),
-                bytemuck::cast(_mm256_permute2f128_pd::<0x31>(t0, t2)),
-                bytemuck::cast(_mm256_permute2f128_pd::<0x31>(t1, t3)),
-            ];
+            let rows = Self::rows(point);
             let v02: [f64; 4] = bytemuck::cast(_mm256_unpacklo_pd(vx.0, vy.0));
             let v13: [f64; 4] = bytemuck::cast(_mm256_unpackhi_pd(vx.0, vy.0));
             let v = [
@@ -355,6 +358,22 @@ mod x86 {
                 [v13[2], v13[3]],
             ];
             std::array::from_fn(|k| line_of(rows[k], v[k]))
+        }
+        /// Each line's `[p1.x, p1.y, p2.x, p2.y]`: the points turned back
+        /// into rows (the same shuffles as [`Avx2::points`]: the turn is
+        /// its own inverse).
+        #[inline]
+        #[target_feature(enable = "avx2")]
+        pub fn rows(point: [Self; 4]) -> [[f64; 4]; LANES] {
+            let [ax, ay, bx, by] = point.map(|c| c.0);
+            let (t0, t1) = (_mm256_unpacklo_pd(ax, ay), _mm256_unpackhi_pd(ax, ay));
+            let (t2, t3) = (_mm256_unpacklo_pd(bx, by), _mm256_unpackhi_pd(bx, by));
+            [
+                bytemuck::cast(_mm256_permute2f128_pd::<0x20>(t0, t2)),
+                bytemuck::cast(_mm256_permute2f128_pd::<0x20>(t1, t3)),
+                bytemuck::cast(_mm256_permute2f128_pd::<0x31>(t0, t2)),
+                bytemuck::cast(_mm256_permute2f128_pd::<0x31>(t1, t3)),
+            ]
         }
         #[inline]
         #[target_feature(enable = "avx2")]
@@ -531,6 +550,17 @@ mod x86 {
             std::array::from_fn(|k| {
                 let (a, b): ([f64; 2], [f64; 2]) = (p1[k].into(), p2[k].into());
                 line_of([a[0], a[1], b[0], b[1]], v[k].into())
+            })
+        }
+        /// Each line's `[p1.x, p1.y, p2.x, p2.y]`.
+        #[inline(always)]
+        pub fn rows(point: [Self; 4]) -> [[f64; 4]; 2] {
+            let [ax, ay, bx, by] = point.map(|c| c.0);
+            let p1 = [unpack_low_m128d(ax, ay), unpack_high_m128d(ax, ay)];
+            let p2 = [unpack_low_m128d(bx, by), unpack_high_m128d(bx, by)];
+            std::array::from_fn(|k| {
+                let (a, b): ([f64; 2], [f64; 2]) = (p1[k].into(), p2[k].into());
+                [a[0], a[1], b[0], b[1]]
             })
         }
         #[inline(always)]
@@ -711,6 +741,11 @@ mod wasm {
         #[inline(always)]
         pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
             Scalar::lines(point.map(Self::scalar), vx.scalar(), vy.scalar())
+        }
+        /// Each line's `[p1.x, p1.y, p2.x, p2.y]`.
+        #[inline(always)]
+        pub fn rows(point: [Self; 4]) -> [[f64; 4]; LANES] {
+            Scalar::rows(point.map(Self::scalar))
         }
         #[inline(always)]
         pub fn flip(self, mask: Self) -> Self {

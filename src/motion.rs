@@ -4,7 +4,7 @@
 
 use crate::detect::swept::One;
 use crate::geometry::Vec2;
-use crate::lanes::DefaultLanes;
+use crate::lanes::{set_points, DefaultLanes};
 use crate::line::Line;
 use crate::team::Team;
 
@@ -68,10 +68,14 @@ macro_rules! batch {
             let batch: [&Line; <$lanes>::WIDTH] = std::array::from_fn(|k| &block[k]);
             let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
             let (point, vx, vy, hit) = advance_lanes!($lanes, point, vx, vy);
-            for (line, moved) in block.iter_mut().zip(L::lines(point, vx, vy)) {
-                *line = moved;
+            let hits = L::hits(hit);
+            // Without a hit the velocities are as they were: only the
+            // points are written.
+            match hits {
+                0 => block.iter_mut().zip(L::rows(point)).for_each(|(line, p)| set_points(line, p)),
+                _ => block.iter_mut().zip(L::lines(point, vx, vy)).for_each(|(line, l)| *line = l),
             }
-            L::hits(hit)
+            hits
         }
     };
 }

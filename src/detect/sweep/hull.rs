@@ -291,13 +291,19 @@ macro_rules! batch {
             let batch = at.map(|k| &lines[k]);
             let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
             let (point, vx, vy, hit) = advance_lanes!($lanes, point, vx, vy);
-            for (k, line) in at.into_iter().zip(L::lines(point, vx, vy)) {
-                lines[k] = line;
+            let hits = L::hits(hit);
+            // Without a hit the velocities are as they were: only the
+            // points are written.
+            match hits {
+                0 => at.into_iter().zip(L::rows(point)).for_each(|(k, p)| {
+                    lanes::set_points(&mut lines[k], p)
+                }),
+                _ => at.into_iter().zip(L::lines(point, vx, vy)).for_each(|(k, l)| lines[k] = l),
             }
             let (low, high, sum, magnitude) = padded_hull!($lanes, point, vx, vy, dt);
             let valid = L::valid(sum, magnitude, LARGEST);
             L::store(low, high, valid, along, hulls, keys);
-            L::hits(hit)
+            hits
         }
     };
 }
