@@ -24,7 +24,7 @@ import tempfile
 PHASES = [
     ("hulls", [r"hull::make", r"make_hulls", r"MoverCheck::note", r"update::close_up",
                r"near::settle", r"Near::make", r"Near::widen", r"near::widened",
-               r"Near::gather", r"Near::mend", r"MendIndex"]),
+               r"Near::gather", r"Near::mend", r"MendIndex", r"mend::find_runs"]),
     ("layout", [r"boxes::insert", r"__mem(cpy|move)", r"end_guests", r"Layout>::lay_out",
                 r"radix_sort", r"BoxSliceMut::copy", r"BoxList::extend", r"sort_nearly_sorted",
                 r"sweep::plan::", r"Boxes::sort", r"layout::"]),
@@ -33,7 +33,8 @@ PHASES = [
                                r"Vec<T,A>::retain"]),
     ("resolution", [r"response::", r"hypot", r"atan2", r"storage::Storage::name_by_id",
                     r"slice::sort"]),
-    ("move and walls", [r"advance_and_bounce", r"advance_in_order", r"advance_and_make"]),
+    ("move and walls", [r"advance_and_bounce", r"advance_in_order", r"advance_and_make",
+                        r"advance_by_slot"]),
 ]
 
 

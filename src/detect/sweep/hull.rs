@@ -130,21 +130,6 @@ fn make_each_avx2<'a>(
     make_each(lines, hulls, keys, along, dt, batch);
 }
 
-/// Whether the move makes the next step's boxes in the same pass
-/// ([`advance_and_make`]): where the batch takes four lines a register
-/// (AVX2). With two a register it gains little or nothing over the two
-/// passes it replaces: the x86-64 baseline's SSE2 `koch` 1000 frames
-/// 921.6 M instructions against 939.8 M, `sin_wave` 4000 1,354.1 M
-/// against 1,352.2 M; WebAssembly under Node 10,000 lines 0.506 s
-/// against 0.471, `koch` and `mit` the same.
-#[inline]
-pub(crate) fn moves_with_boxes() -> bool {
-    #[cfg(all(target_arch = "x86_64", not(screensaver_baseline)))]
-    return std::arch::is_x86_feature_detected!("avx2");
-    #[cfg(not(all(target_arch = "x86_64", not(screensaver_baseline))))]
-    return false;
-}
-
 /// The move and wall phases of `lines` (as
 /// [`advance_and_bounce`](crate::motion::advance_and_bounce) makes them),
 /// and in the same pass each line's packed hull for the next step, of

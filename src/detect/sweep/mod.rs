@@ -501,12 +501,8 @@ impl Detector for Sweep {
     /// where it keeps pairs, in slot order, a share a thread as the world
     /// splits the lines; where it sweeps on this thread alone, in this
     /// step's order (reading and writing each line where it is stored).
-    /// A sweep shared among threads makes its own boxes, and so does every
-    /// step where the batch is narrower than AVX2's ([`hull::moves_with_boxes`]).
+    /// A sweep shared among threads makes its own boxes.
     fn advance(&mut self, lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
-        if !hull::moves_with_boxes() {
-            return crate::motion::advance(lines, shared);
-        }
         match self.choice.keeping() {
             true => self.advance_by_slot(lines, shared),
             false if shared.is_none() && self.sorted.len() == lines.len() => {
