@@ -45,8 +45,9 @@ const DIAGONAL: f64 = if DIAGONAL_X > DIAGONAL_Y {
 const MEND_MOST: usize = 16;
 
 /// Pairs kept from which their comparison is shared among the team, a
-/// piece a thread at least: `koch`'s 4,000 or so take about 5 us a step
-/// on one thread, well over a hand-off.
+/// group a thread (fewer are compared on the stepping thread): `koch`'s
+/// 4,000 or so take about 5 us a step on one thread, well over a
+/// hand-off.
 const SHARED_PAIRS_FROM: usize = 1024;
 
 /// The widened box of a line that had no box at the sweep: no box lies
@@ -677,9 +678,13 @@ pub(crate) struct ToMake<'a> {
 /// made by the world's move a piece at a time while the boxes are at
 /// hand, and in the same hand-off.
 pub(crate) struct Check<'a> {
+    /// Each slot's widened box, and whether they are of the lines as
+    /// stored now.
     wide: &'a [Packed],
     kept: bool,
+    /// The frame's shift at the next step.
     shift: Shift,
+    /// Each piece's leavers.
     leavers: Parts<&'a mut Vec<Slot>>,
 }
 
