@@ -3,7 +3,7 @@
 //! ones its packed hull overlaps are reported.
 
 use super::boxes::BoxSlice;
-use super::hull::{hi, overlaps, reach, Packed};
+use super::hull::{hi, overlaps, reach, Packed, DIRECTIONS};
 use super::layout::GroupView;
 use super::Chunk;
 use crate::detect::{Findings, Stored};
@@ -220,9 +220,14 @@ pub(crate) fn sweep(
                     (blocks::within(k8, end8), blocks::overlapping(h8, reach8))
                 }
             };
-            sweep_with(keys, hulls, range, along, dense, found, masks, true)
+            let reaching = |k8: &[f32; BLOCK], h8: &[Packed; BLOCK]| blocks::reaching(k8, h8, along);
+            let blocks = (masks, Some(reaching));
+            sweep_with(keys, hulls, range, along, dense, found, blocks, true)
         }
-        _ => sweep_with(keys, hulls, range, along, dense && DENSE_WITHOUT_AVX2, found, masks, false),
+        _ => {
+            let blocks = (masks, None::<Reaching>);
+            sweep_with(keys, hulls, range, along, dense && DENSE_WITHOUT_AVX2, found, blocks, false)
+        }
     }
 }
 
@@ -274,6 +279,9 @@ const DENSE_WITHOUT_AVX2: bool = cfg!(all(target_arch = "wasm32", target_feature
 /// Boxes compared at a time by a block.
 const BLOCK: usize = 8;
 
+/// Which of a block of boxes meet the key after them (see [`sweep_with`]).
+type Reaching = fn(&[f32; BLOCK], &[Packed; BLOCK]) -> u32;
+
 /// [`sweep`], given `masks(end, reach)`, which makes a box's masks of a
 /// block, `(keys, hulls)` to `(within, overlapping)`: bit `k` of the first
 /// set where `keys[k] <= end`, of the second where `hulls[k]` overlaps the
@@ -281,6 +289,12 @@ const BLOCK: usize = 8;
 /// `DENSE` in the parent module) every box meets its candidates a block at
 /// a time, with no branch on how many it has; otherwise a box does so from
 /// two candidates on if `blocks_from_two`, and one at a time below.
+///
+/// Most boxes of a sparse scene meet nothing, not even the key after
+/// them. With `reaching(next_keys, hulls)`, whose bit `k` is set where
+/// `next_keys[k]`, the key after box `k` of the block `hulls`, lies
+/// within that box's extent, those boxes are passed over a block at a
+/// time rather than one at a time.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn sweep_with<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
@@ -290,7 +304,10 @@ fn sweep_with<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
     along: usize,
     dense: bool,
     found: &mut Vec<(u32, u32)>,
-    masks: impl Fn(f32, &Packed) -> M,
+    (masks, reaching): (
+        impl Fn(f32, &Packed) -> M,
+        Option<impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> u32>,
+    ),
     blocks_from_two: bool,
 ) -> u64 {
     let mut candidates = 0;
@@ -309,29 +326,64 @@ fn sweep_with<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
         candidates += (met - start) as u64;
         i += 1;
     }
-    for i in i..range.end {
-        let hull = &hulls[i];
-        // Keys are at most f32::MAX, so a box reaching to +inf still
-        // stops at the sentinel.
-        let end = hi(hull, along).min(f32::MAX);
-        if keys.get(i + 1).is_none_or(|&k| k > end) {
-            // Most boxes of sparse scenes: nothing within the extent (keys
-            // are never NaN).
-            continue;
-        }
-        let reach = reach(hull);
-        // A box with a single candidate is quicker one at a time.
-        let j = match blocks_from_two && keys.get(i + 2).is_some_and(|&k| k <= end) {
-            true => {
-                let block = masks(end, &reach);
-                sweep_box((keys, hulls), i, i + 1, found, &mut candidates, &block)
+    let one = (&masks, blocks_from_two);
+    // Keys are at most f32::MAX, so a box reaching to +inf still stops at
+    // the sentinel.
+    let end = |i: usize| hi(&hulls[i], along).min(f32::MAX);
+    if let Some(reaching) = reaching {
+        // Whole blocks whose keys after them are all in the arrays.
+        let blocks = range
+            .end
+            .min(keys.len().saturating_sub(1))
+            .saturating_sub(i)
+            / BLOCK
+            * BLOCK;
+        let next_keys = keys.get(i + 1..).unwrap_or_default()[..blocks].chunks_exact(BLOCK);
+        for (next, block) in next_keys.zip(hulls[i..][..blocks].chunks_exact(BLOCK)) {
+            let next: &[f32; BLOCK] = next.try_into().expect("a block");
+            let mut near = reaching(next, block.try_into().expect("a block"));
+            while near != 0 {
+                let k = i + near.trailing_zeros() as usize;
+                candidates += sweep_one((keys, hulls), (k, end(k)), found, one);
+                near &= near - 1;
             }
-            false => i + 1,
-        };
-        let met = meet((keys, hulls), j, end, &reach, |j| found.push((i as u32, j)));
-        candidates += (met - j) as u64;
+            i += BLOCK;
+        }
+    }
+    for i in i..range.end {
+        let end = end(i);
+        // Most boxes of sparse scenes: nothing within the extent (keys are
+        // never NaN).
+        if keys.get(i + 1).is_some_and(|&k| k <= end) {
+            candidates += sweep_one((keys, hulls), (i, end), found, one);
+        }
     }
     candidates
+}
+
+/// Sweeps box `i`, whose extent ends at `end` and which meets the key
+/// after it, as [`sweep_with`] does: a block at a time (by `masks`) from
+/// two candidates on if `blocks_from_two`, else one at a time. Returns the
+/// candidates it met.
+#[inline(always)]
+fn sweep_one<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
+    (keys, hulls): (&[f32], &[Packed]),
+    (i, end): (usize, f32),
+    found: &mut Vec<(u32, u32)>,
+    (masks, blocks_from_two): (&impl Fn(f32, &Packed) -> M, bool),
+) -> u64 {
+    let mut candidates = 0;
+    let reach = reach(&hulls[i]);
+    // A box with a single candidate is quicker one at a time.
+    let j = match blocks_from_two && keys.get(i + 2).is_some_and(|&k| k <= end) {
+        true => {
+            let block = masks(end, &reach);
+            sweep_box((keys, hulls), i, i + 1, found, &mut candidates, &block)
+        }
+        false => i + 1,
+    };
+    let met = meet((keys, hulls), j, end, &reach, |j| found.push((i as u32, j)));
+    candidates + (met - j) as u64
 }
 
 /// Sweeps box `i` against the boxes from `j` on, eight at a time: all
@@ -425,12 +477,12 @@ fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -
 /// The masks of a block (see [`sweep_with`]) with AVX2.
 #[cfg(target_arch = "x86_64")]
 mod blocks {
-    use super::{Packed, BLOCK};
+    use super::{Packed, BLOCK, DIRECTIONS};
     use std::arch::x86_64::{
-        __m256, __m256i, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps,
-        _mm256_cmpeq_epi32, _mm256_movemask_ps, _mm256_or_si256, _mm256_packs_epi16,
-        _mm256_packs_epi32, _mm256_permute2x128_si256, _mm256_setzero_si256, _CMP_LE_OQ,
-        _CMP_NLE_UQ,
+        __m256, __m256i, _mm256_blend_ps, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps,
+        _mm256_cmpeq_epi32, _mm256_min_ps, _mm256_movemask_ps, _mm256_or_si256, _mm256_packs_epi16,
+        _mm256_packs_epi32, _mm256_permute2x128_si256, _mm256_permutevar8x32_ps, _mm256_set1_epi32,
+        _mm256_set1_ps, _mm256_setzero_si256, _mm256_xor_ps, _CMP_LE_OQ, _CMP_NLE_UQ,
     };
 
     /// Which of eight keys are at most `end8`'s: bit `k` for `keys[k]`,
@@ -440,6 +492,32 @@ mod blocks {
     pub(super) fn within(keys: &[f32; BLOCK], end8: __m256) -> u32 {
         let k8: __m256 = bytemuck::cast(*keys);
         _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(k8, end8)) as u32
+    }
+
+    /// Which of eight boxes `hulls` meet the key after them, `next[k]`
+    /// after `hulls[k]`: bit `k` where `next[k]` is at most the box's
+    /// greatest value along `along` (and at most `f32::MAX`), as the sweep
+    /// asks of each box. Each hull's lane is spread to a register by one
+    /// permutation and blended into its place.
+    #[inline]
+    #[target_feature(enable = "avx2")]
+    pub(super) fn reaching(next: &[f32; BLOCK], hulls: &[Packed; BLOCK], along: usize) -> u32 {
+        let lane = _mm256_set1_epi32((DIRECTIONS + along) as i32);
+        let spread = |k: usize| _mm256_permutevar8x32_ps(bytemuck::cast(hulls[k]), lane);
+        // Lane k: hull k's negated greatest value.
+        let mut low = spread(0);
+        low = _mm256_blend_ps::<0b0000_0010>(low, spread(1));
+        low = _mm256_blend_ps::<0b0000_0100>(low, spread(2));
+        low = _mm256_blend_ps::<0b0000_1000>(low, spread(3));
+        low = _mm256_blend_ps::<0b0001_0000>(low, spread(4));
+        low = _mm256_blend_ps::<0b0010_0000>(low, spread(5));
+        low = _mm256_blend_ps::<0b0100_0000>(low, spread(6));
+        low = _mm256_blend_ps::<0b1000_0000>(low, spread(7));
+        let end = _mm256_min_ps(
+            _mm256_xor_ps(low, _mm256_set1_ps(-0.0)),
+            _mm256_set1_ps(f32::MAX),
+        );
+        within(next, end)
     }
 
     /// Which of eight hulls overlap the box whose reach is `reach8`: bit
@@ -514,6 +592,55 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        /// Two bands of sparse boxes, each sorted by key and swept on its
+        /// own over the keys up to its end, as a layout's bands are: sparse
+        /// and dense, a block at a time or not, each meets the same
+        /// candidates and finds every overlapping pair within each band,
+        /// whether either band is empty or short of a block.
+        #[test]
+        fn bands_swept_on_their_own_find_their_overlaps(
+            boxes in proptest::collection::vec((0.0f32..1.0, 0.0f32..0.03, 0.0f32..1.0), 0..120),
+            split in 0.0f64..1.0,
+            along in 0usize..2,
+        ) {
+            let n = f32::NEG_INFINITY;
+            let hull = |&(x, w, y): &(f32, f32, f32)| [x, y, n, n, -(x + w), -(y + w), n, n];
+            let mut hulls: Vec<Packed> = boxes.iter().map(hull).collect();
+            let m = (split * hulls.len() as f64) as usize;
+            let by_key = |a: &Packed, b: &Packed| a[along].total_cmp(&b[along]);
+            hulls[..m].sort_by(by_key);
+            hulls[m..].sort_by(by_key);
+            let keys: Vec<f32> = hulls.iter().map(|h| h[along]).collect();
+            let total = hulls.len();
+            let mut want: Vec<(u32, u32)> = all_overlapping(&hulls[..m]);
+            let second = all_overlapping(&hulls[m..]).into_iter();
+            want.extend(second.map(|(i, j)| (i + m as u32, j + m as u32)));
+            want.sort_unstable();
+            let mut met = Vec::new();
+            for dense in [false, true] {
+                for by_blocks in [false, true] {
+                    let mut found = Vec::new();
+                    let mut candidates = 0;
+                    for band in [0..m, m..total] {
+                        let (keys, hulls) = (&keys[..band.end], &hulls[..band.end]);
+                        candidates += match by_blocks {
+                            true => sweep(keys, hulls, band, along, dense, &mut found),
+                            false => {
+                                let blocks = (masks, None::<Reaching>);
+                                sweep_with(keys, hulls, band, along, dense, &mut found, blocks, false)
+                            }
+                        };
+                    }
+                    found.sort_unstable();
+                    proptest::prop_assert_eq!(&found, &want);
+                    met.push(candidates);
+                }
+            }
+            proptest::prop_assert!(met.iter().all(|&c| c == met[0]));
+        }
+    }
+
     /// The pairs `hulls` (sorted by key along `along`) swept sparse and
     /// dense find, each list sorted, and the candidates each met: dense as
     /// the processor's scan does it, and a block at a time by this
@@ -526,7 +653,8 @@ mod tests {
             met[k] = sweep(&keys, hulls, 0..keys.len(), along, dense, &mut found[k]);
         }
         let all = 0..keys.len();
-        met[2] = sweep_with(&keys, hulls, all, along, true, &mut found[2], masks, true);
+        let blocks = (masks, None::<Reaching>);
+        met[2] = sweep_with(&keys, hulls, all, along, true, &mut found[2], blocks, true);
         found.iter_mut().for_each(|f| f.sort_unstable());
         (found, met)
     }
