@@ -444,11 +444,7 @@ impl Near {
         let job = |k: usize| {
             let (found, pairs, fresh) = (parts.take(k), pairs.take(k), fresh.take(k));
             found.clear();
-            if let Some(leaving) = leaving {
-                drop_leavers(pairs, leaving);
-            }
-            pairs.append(fresh);
-            compare(pairs, boxes, (stored, dt), found);
+            compare((pairs, fresh, leaving), boxes, (stored, dt), found);
         };
         match team.threads() > 1 && total >= SHARED_PAIRS_FROM {
             true => team.run_pieces(groups, &job),
@@ -610,58 +606,89 @@ fn owner(a: Slot, n: usize, groups: usize) -> usize {
     }
 }
 
-/// Drops the pairs that have a line `leaving`, each replaced by the last
-/// pair: the pairs are only read up to each that is dropped (a few in
-/// thousands), not moved up one by one. The order of the pairs changes,
+/// Compares the boxes of each pair of slots in `pairs`, then in `fresh`,
+/// and hands those that overlap to `found`'s test, counting every pair
+/// compared as met; the fresh pairs then join the pairs. With `leaving`,
+/// the pairs that have a line leaving are first dropped as they are met,
+/// each replaced by the last pair: the pairs are read once, and only those
+/// dropped (a few in thousands) are moved. The order of the pairs changes,
 /// which changes nothing found: events are resolved in the contract's
-/// order, whatever order they are found in.
-fn drop_leavers(pairs: &mut Vec<(Slot, Slot)>, leaving: &[bool]) {
-    let leaves = |&(a, b): &(Slot, Slot)| leaving[a.0 as usize] | leaving[b.0 as usize];
-    let mut from = 0;
-    while let Some(k) = pairs[from..].iter().position(leaves) {
-        pairs.swap_remove(from + k);
-        from += k;
-    }
-}
-
-/// Compares the boxes of each pair of slots in `pairs` and hands those
-/// that overlap to `found`'s test, counting every pair compared as met.
-/// A line without a box has [`NOWHERE`] for one: it is wild or inert, and
-/// tested as such.
+/// order, whatever order they are found in. A line without a box has
+/// [`NOWHERE`] for one: it is wild or inert, and tested as such.
 #[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
 #[cfg_attr(
     screensaver_baseline,
     multiversion(targets("x86_64+avx2"), dispatcher = "static")
 )]
 fn compare(
-    pairs: &[(Slot, Slot)],
+    (pairs, fresh, leaving): ToCompare,
     boxes: &[Packed],
     (stored, dt): (Stored, f64),
     found: &mut Findings,
 ) {
-    found.met(pairs.len() as u64);
     multiversion::target::match_target! {
         "x86_64+avx2" => {
             let screen = |l1: &Line, l2: &Line, dt| crate::narrow::four::screen(l1, l2, dt);
-            compare_each(pairs, boxes, (stored, dt), found, screen)
+            compare_each((pairs, fresh, leaving), boxes, (stored, dt), found, screen)
         }
-        _ => compare_each(pairs, boxes, (stored, dt), found, crate::detect::pairs::screen),
+        _ => compare_each((pairs, fresh, leaving), boxes, (stored, dt), found, crate::detect::pairs::screen),
     }
+    found.met(pairs.len() as u64);
 }
 
-/// [`compare`]'s loop, with the prefilter and exact test `screen` (see
+/// The pairs a group compares ([`compare`]): those kept, the fresh ones,
+/// and which lines are leaving, if any are.
+type ToCompare<'a> = (
+    &'a mut Vec<(Slot, Slot)>,
+    &'a mut Vec<(Slot, Slot)>,
+    Option<&'a [bool]>,
+);
+
+/// [`compare`]'s loops, with the prefilter and exact test `screen` (see
 /// [`Findings::test_with`]).
 #[inline(always)]
 fn compare_each(
-    pairs: &[(Slot, Slot)],
+    (pairs, fresh, leaving): ToCompare,
     boxes: &[Packed],
     (stored, dt): (Stored, f64),
     found: &mut Findings,
     screen: impl Fn(&Line, &Line, f64) -> Option<Option<crate::narrow::IntersectionKind>>,
 ) {
-    for &(a, b) in pairs {
-        if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
-            found.test_with(stored, (a, b), dt, &screen);
+    let screen = &screen;
+    match leaving {
+        Some(leaving) => {
+            let mut k = 0;
+            while let Some(&(a, b)) = pairs.get(k) {
+                if leaving[a.0 as usize] | leaving[b.0 as usize] {
+                    pairs.swap_remove(k);
+                    continue;
+                }
+                compare_one((a, b), boxes, (stored, dt), found, screen);
+                k += 1;
+            }
         }
+        None => {
+            for &pair in pairs.iter() {
+                compare_one(pair, boxes, (stored, dt), found, screen);
+            }
+        }
+    }
+    for &pair in fresh.iter() {
+        compare_one(pair, boxes, (stored, dt), found, screen);
+    }
+    pairs.append(fresh);
+}
+
+/// Hands the pair `(a, b)` to `found`'s test if their boxes overlap.
+#[inline(always)]
+fn compare_one(
+    (a, b): (Slot, Slot),
+    boxes: &[Packed],
+    (stored, dt): (Stored, f64),
+    found: &mut Findings,
+    screen: &impl Fn(&Line, &Line, f64) -> Option<Option<crate::narrow::IntersectionKind>>,
+) {
+    if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
+        found.test_with(stored, (a, b), dt, screen);
     }
 }
