@@ -319,11 +319,12 @@ fn sweep_with<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
         let end = hi(hull, along).min(f32::MAX);
         let reach = reach(hull);
         let block = masks(end, &reach);
-        let start = sweep_box((keys, hulls), i, i + 1, found, &mut candidates, &block);
+        let start = sweep_box((keys, hulls), i, i + 1, found, &block);
         let met = meet((keys, hulls), start, end, &reach, |j| {
             found.push((i as u32, j))
         });
-        candidates += (met - start) as u64;
+        // The boxes met are those from the next on.
+        candidates += (met - (i + 1)) as u64;
         i += 1;
     }
     let one = (&masks, blocks_from_two);
@@ -372,18 +373,15 @@ fn sweep_one<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
     found: &mut Vec<(u32, u32)>,
     (masks, blocks_from_two): (&impl Fn(f32, &Packed) -> M, bool),
 ) -> u64 {
-    let mut candidates = 0;
     let reach = reach(&hulls[i]);
     // A box with a single candidate is quicker one at a time.
     let j = match blocks_from_two && keys.get(i + 2).is_some_and(|&k| k <= end) {
-        true => {
-            let block = masks(end, &reach);
-            sweep_box((keys, hulls), i, i + 1, found, &mut candidates, &block)
-        }
+        true => sweep_box((keys, hulls), i, i + 1, found, &masks(end, &reach)),
         false => i + 1,
     };
     let met = meet((keys, hulls), j, end, &reach, |j| found.push((i as u32, j)));
-    candidates + (met - j) as u64
+    // The boxes met are those from the next on.
+    (met - (i + 1)) as u64
 }
 
 /// Sweeps box `i` against the boxes from `j` on, eight at a time: all
@@ -395,14 +393,12 @@ fn sweep_one<M: Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32)>(
 /// boxes, instead of a branch per candidate. Returns the box to go on from
 /// one at a time: the end of the scan, or a box too near the end of the
 /// arrays for a whole block.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn sweep_box(
     (keys, hulls): (&[f32], &[Packed]),
     i: usize,
     mut j: usize,
     found: &mut Vec<(u32, u32)>,
-    candidates: &mut u64,
     masks: &impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32),
 ) -> usize {
     while let (Some(k8), Some(h8)) = (keys.get(j..j + BLOCK), hulls.get(j..j + BLOCK)) {
@@ -411,7 +407,6 @@ fn sweep_box(
         let (within, overlapping) = masks(k8, h8);
         // The run of ones from the lowest bit.
         let run = (!within & within.wrapping_add(1)).wrapping_sub(1);
-        *candidates += u64::from(run.count_ones());
         let mut hits = overlapping & run;
         while hits != 0 {
             found.push((i as u32, (j + hits.trailing_zeros() as usize) as u32));
