@@ -3,7 +3,7 @@
 //! ones its packed hull overlaps are reported.
 
 use super::boxes::BoxSlice;
-use super::hull::{hi, overlaps, reach, Packed, DIRECTIONS};
+use super::hull::{hi, overlaps, reach, Packed};
 use super::layout::GroupView;
 use super::Chunk;
 use crate::detect::{Findings, Stored};
@@ -225,7 +225,7 @@ pub(crate) fn sweep(
             sweep_with(keys, hulls, range, along, dense, found, blocks, true)
         }
         _ => {
-            let blocks = (masks, None::<Reaching>);
+            let blocks = (masks, reaching_without_avx2(along));
             sweep_with(keys, hulls, range, along, dense && DENSE_WITHOUT_AVX2, found, blocks, false)
         }
     }
@@ -280,6 +280,7 @@ const DENSE_WITHOUT_AVX2: bool = cfg!(all(target_arch = "wasm32", target_feature
 const BLOCK: usize = 8;
 
 /// Which of a block of boxes meet the key after them (see [`sweep_with`]).
+#[cfg(any(test, not(all(target_arch = "wasm32", target_feature = "simd128"))))]
 type Reaching = fn(&[f32; BLOCK], &[Packed; BLOCK]) -> u32;
 
 /// [`sweep`], given `masks(end, reach)`, which makes a box's masks of a
@@ -453,6 +454,40 @@ fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -
     }
 }
 
+/// Which of a block of boxes meet the key after them (see
+/// [`sweep_with`]) where the processor lacks AVX2: with WebAssembly's
+/// SIMD, each box's end gathered lane by lane and compared four at a
+/// time; other targets look at one box at a time.
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+#[inline(always)]
+fn reaching_without_avx2(along: usize) -> Option<impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> u32> {
+    use core::arch::wasm32::{f32x4, f32x4_le, f32x4_neg, f32x4_pmin, f32x4_splat, i32x4_bitmask};
+    let lane = super::hull::DIRECTIONS + along;
+    Some(move |next: &[f32; BLOCK], hulls: &[Packed; BLOCK]| {
+        let within = |k: usize| {
+            let low = f32x4(
+                hulls[k][lane],
+                hulls[k + 1][lane],
+                hulls[k + 2][lane],
+                hulls[k + 3][lane],
+            );
+            // `pmin(MAX, x)` is `x < MAX ? x : MAX`: MAX for NaN, as
+            // `f32::min` gives.
+            let end = f32x4_pmin(f32x4_splat(f32::MAX), f32x4_neg(low));
+            let keys = f32x4(next[k], next[k + 1], next[k + 2], next[k + 3]);
+            u32::from(i32x4_bitmask(f32x4_le(keys, end)))
+        };
+        within(0) | within(4) << 4
+    })
+}
+
+/// Other targets: one box at a time (see the WebAssembly version).
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+#[inline(always)]
+fn reaching_without_avx2(_along: usize) -> Option<Reaching> {
+    None
+}
+
 /// The masks of a block (see [`sweep_with`]) one lane at a time, for
 /// targets without a lane type of their own here.
 #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
@@ -472,7 +507,8 @@ fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -
 /// The masks of a block (see [`sweep_with`]) with AVX2.
 #[cfg(target_arch = "x86_64")]
 mod blocks {
-    use super::{Packed, BLOCK, DIRECTIONS};
+    use super::{Packed, BLOCK};
+    use crate::detect::sweep::hull::DIRECTIONS;
     use std::arch::x86_64::{
         __m256, __m256i, _mm256_blend_ps, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps,
         _mm256_cmpeq_epi32, _mm256_min_ps, _mm256_movemask_ps, _mm256_or_si256, _mm256_packs_epi16,
