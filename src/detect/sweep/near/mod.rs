@@ -118,6 +118,8 @@ pub(crate) struct Near {
     /// The pairs a mend found, kept in place of the leavers' old pairs by
     /// [`Near::test`], and they in their groups.
     fresh: Vec<(Slot, Slot)>,
+    /// Each group's pairs whose boxes overlap this step, to test.
+    hits: Vec<Vec<(Slot, Slot)>>,
     fresh_groups: Vec<Vec<(Slot, Slot)>>,
     /// The findings of each group's comparison.
     pieces: Vec<Findings>,
@@ -437,20 +439,27 @@ impl Near {
         let total = self.pairs();
         let boxes = &self.boxes;
         let parts = Parts::new(self.pieces[..groups].iter_mut());
-        let (pairs, fresh) = (
+        self.hits.resize_with(groups, Vec::new);
+        let (pairs, fresh, hits) = (
             Parts::new(self.pairs.iter_mut()),
             Parts::new(self.fresh_groups.iter_mut()),
+            Parts::new(self.hits.iter_mut()),
         );
         let job = |k: usize| {
             let (found, pairs, fresh) = (parts.take(k), pairs.take(k), fresh.take(k));
             found.clear();
-            compare((pairs, fresh, leaving), boxes, (stored, dt), found);
+            compare(
+                (pairs, fresh, leaving, hits.take(k)),
+                boxes,
+                (stored, dt),
+                found,
+            );
         };
         match team.threads() > 1 && total >= SHARED_PAIRS_FROM {
             true => team.run_pieces(groups, &job),
             false => (0..groups).for_each(job),
         }
-        drop((parts, pairs, fresh));
+        drop((parts, pairs, fresh, hits));
         self.pieces[..groups]
             .iter_mut()
             .for_each(|piece| found.append(piece));
@@ -621,7 +630,7 @@ fn owner(a: Slot, n: usize, groups: usize) -> usize {
     multiversion(targets("x86_64+avx2"), dispatcher = "static")
 )]
 fn compare(
-    (pairs, fresh, leaving): ToCompare,
+    (pairs, fresh, leaving, hits): ToCompare,
     boxes: &[Packed],
     (stored, dt): (Stored, f64),
     found: &mut Findings,
@@ -629,33 +638,44 @@ fn compare(
     multiversion::target::match_target! {
         "x86_64+avx2" => {
             let screen = |l1: &Line, l2: &Line, dt| crate::narrow::four::screen(l1, l2, dt);
-            compare_each((pairs, fresh, leaving), boxes, (stored, dt), found, screen)
+            compare_each((pairs, fresh, leaving, hits), boxes, (stored, dt), found, screen)
         }
-        _ => compare_each((pairs, fresh, leaving), boxes, (stored, dt), found, crate::detect::pairs::screen),
+        _ => compare_each((pairs, fresh, leaving, hits), boxes, (stored, dt), found, crate::detect::pairs::screen),
     }
     found.met(pairs.len() as u64);
 }
 
+/// Whether the boxes of the pair of slots `(a, b)` overlap.
+#[inline(always)]
+fn overlap(boxes: &[Packed], (a, b): (Slot, Slot)) -> bool {
+    overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize]))
+}
+
 /// The pairs a group compares ([`compare`]): those kept, the fresh ones,
-/// and which lines are leaving, if any are.
+/// which lines are leaving, if any are, and room for the pairs whose boxes
+/// overlap.
 type ToCompare<'a> = (
     &'a mut Vec<(Slot, Slot)>,
     &'a mut Vec<(Slot, Slot)>,
     Option<&'a [bool]>,
+    &'a mut Vec<(Slot, Slot)>,
 );
 
 /// [`compare`]'s loops, with the prefilter and exact test `screen` (see
 /// [`Findings::test_with`]).
 #[inline(always)]
 fn compare_each(
-    (pairs, fresh, leaving): ToCompare,
+    (pairs, fresh, leaving, hits): ToCompare,
     boxes: &[Packed],
     (stored, dt): (Stored, f64),
     found: &mut Findings,
     screen: impl Fn(&Line, &Line, f64) -> Option<Option<crate::narrow::IntersectionKind>>,
 ) {
-    let screen = &screen;
-    match leaving {
+    // The pairs whose boxes overlap are gathered first, then tested in one
+    // loop, where the test is inlined once.
+    let n = boxes.len();
+    hits.clear();
+    match leaving.map(|leaving| &leaving[..n]) {
         Some(leaving) => {
             let mut k = 0;
             while let Some(&(a, b)) = pairs.get(k) {
@@ -663,32 +683,27 @@ fn compare_each(
                     pairs.swap_remove(k);
                     continue;
                 }
-                compare_one((a, b), boxes, (stored, dt), found, screen);
+                if overlap(boxes, (a, b)) {
+                    hits.push((a, b));
+                }
                 k += 1;
             }
         }
         None => {
             for &pair in pairs.iter() {
-                compare_one(pair, boxes, (stored, dt), found, screen);
+                if overlap(boxes, pair) {
+                    hits.push(pair);
+                }
             }
         }
     }
     for &pair in fresh.iter() {
-        compare_one(pair, boxes, (stored, dt), found, screen);
+        if overlap(boxes, pair) {
+            hits.push(pair);
+        }
     }
     pairs.append(fresh);
-}
-
-/// Hands the pair `(a, b)` to `found`'s test if their boxes overlap.
-#[inline(always)]
-fn compare_one(
-    (a, b): (Slot, Slot),
-    boxes: &[Packed],
-    (stored, dt): (Stored, f64),
-    found: &mut Findings,
-    screen: &impl Fn(&Line, &Line, f64) -> Option<Option<crate::narrow::IntersectionKind>>,
-) {
-    if overlaps(&boxes[b.0 as usize], &reach(&boxes[a.0 as usize])) {
-        found.test_with(stored, (a, b), dt, screen);
+    for &pair in hits.iter() {
+        found.test_with(stored, pair, dt, &screen);
     }
 }
