@@ -118,9 +118,9 @@ pub(crate) struct Near {
     /// The pairs a mend found, kept in place of the leavers' old pairs by
     /// [`Near::test`], and they in their groups.
     fresh: Vec<(Slot, Slot)>,
+    fresh_groups: Vec<Vec<(Slot, Slot)>>,
     /// Each group's pairs whose boxes overlap this step, to test.
     hits: Vec<Vec<(Slot, Slot)>>,
-    fresh_groups: Vec<Vec<(Slot, Slot)>>,
     /// The findings of each group's comparison.
     pieces: Vec<Findings>,
     /// Steps, and sweeps among them, while kept pairs were used, and the
@@ -616,8 +616,9 @@ fn owner(a: Slot, n: usize, groups: usize) -> usize {
 }
 
 /// Compares the boxes of each pair of slots in `pairs`, then in `fresh`,
-/// and hands those that overlap to `found`'s test, counting every pair
-/// compared as met; the fresh pairs then join the pairs. With `leaving`,
+/// and hands those that overlap (gathered in `hits`, then tested in one
+/// loop, where the test is inlined once) to `found`'s test, counting every
+/// pair compared as met; the fresh pairs then join the pairs. With `leaving`,
 /// the pairs that have a line leaving are first dropped as they are met,
 /// each replaced by the last pair: the pairs are read once, and only those
 /// dropped (a few in thousands) are moved. The order of the pairs changes,
@@ -671,8 +672,6 @@ fn compare_each(
     found: &mut Findings,
     screen: impl Fn(&Line, &Line, f64) -> Option<Option<crate::narrow::IntersectionKind>>,
 ) {
-    // The pairs whose boxes overlap are gathered first, then tested in one
-    // loop, where the test is inlined once.
     let n = boxes.len();
     hits.clear();
     match leaving.map(|leaving| &leaving[..n]) {
