@@ -344,7 +344,7 @@ pub(crate) fn insert(
             let out_of_order = |run: &[f32; IN_ORDER_RUN + 1]| out_of_order_avx2(run);
             insert_with(b, from, budget, until_in_place, Some(out_of_order))
         }
-        _ => insert_with(b, from, budget, until_in_place, OUT_OF_ORDER_WITHOUT_AVX2),
+        _ => insert_with(b, from, budget, until_in_place, out_of_order_without_avx2()),
     }
 }
 
@@ -415,23 +415,23 @@ fn insert_with(
 }
 
 /// [`OutOfOrder`] where the processor lacks AVX2: with WebAssembly's
-/// SIMD, four keys against the four before them at a time; other targets
-/// check one box at a time.
-const OUT_OF_ORDER_WITHOUT_AVX2: Option<OutOfOrder> = match () {
-    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-    () => Some(out_of_order_simd128),
-    #[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
-    () => None,
-};
-
-/// [`OutOfOrder`] with WebAssembly's SIMD.
+/// SIMD, four keys against the four before them at a time.
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 #[inline(always)]
-fn out_of_order_simd128(run: &[f32; IN_ORDER_RUN + 1]) -> u32 {
+fn out_of_order_without_avx2() -> Option<OutOfOrder> {
     use core::arch::wasm32::{f32x4, f32x4_gt, i32x4_bitmask};
-    let four = |k: usize| f32x4(run[k], run[k + 1], run[k + 2], run[k + 3]);
-    let half = |k: usize| u32::from(i32x4_bitmask(f32x4_gt(four(k), four(k + 1))));
-    half(0) | half(4) << 4
+    Some(|run| {
+        let four = |k: usize| f32x4(run[k], run[k + 1], run[k + 2], run[k + 3]);
+        let half = |k: usize| u32::from(i32x4_bitmask(f32x4_gt(four(k), four(k + 1))));
+        half(0) | half(4) << 4
+    })
+}
+
+/// Other targets: one box at a time (see the WebAssembly version).
+#[cfg(not(all(target_arch = "wasm32", target_feature = "simd128")))]
+#[inline(always)]
+fn out_of_order_without_avx2() -> Option<OutOfOrder> {
+    None
 }
 
 /// [`OutOfOrder`] with AVX2: the eight keys against the eight before them

@@ -22,7 +22,11 @@ use std::ops::Range;
 /// stretch of ascending keys (the boxes without a key come last and meet
 /// nothing), its bound and its longest extent, each found by a loop of its
 /// own over the run, which the AVX2 clone makes eight lanes at once.
-#[multiversion(targets("x86_64+avx2"))]
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
 fn find_runs(laid: BoxSlice, along: usize, runs: &mut Vec<Run>) {
     let keys = laid.keys;
     let mut start = 0;
