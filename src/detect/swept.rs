@@ -152,17 +152,19 @@ pub fn swept_box(line: &Line, dt: f64) -> Option<SweptBox> {
 pub(crate) fn hull_bounds(line: &Line, dt: f64) -> Option<([f64; 4], [f64; 4])> {
     let (p1, p2, v) = (line.p1, line.p2, line.v);
     let point = [p1.x, p1.y, p2.x, p2.y].map(One);
-    let (low, high, sum, magnitude) = padded_hull!(One, point, One(v.x), One(v.y), dt);
+    let (low, high, sum, magnitude) = padded_hull!(One, point, One(v.x), One(v.y), dt, PAD);
     (sum.0.is_finite() && magnitude.0 <= LARGEST).then(|| (low.map(|l| l.0), high.map(|h| h.0)))
 }
 
 /// The padded swept hull of lines, written once over a lane type `$L`
 /// whose lanes are lines (one value of each line a lane; [`One`] for a
-/// line alone, the sweep's batches for four): given `[p1.x, p1.y, p2.x,
-/// p2.y]`, `v.x`, `v.y` and `dt`, gives the least and greatest values
-/// along `x`, `y`, `u` and `w`, padded, and the sum of the line's values
-/// and its magnitude, from which the caller tells whether the hull holds
-/// (the sum finite, the magnitude at most [`LARGEST`]). Every lane type
+/// line alone in `f64`, the sweep's `f32` lanes for its packed hulls,
+/// [`crate::lanes::single`]): given `[p1.x, p1.y, p2.x, p2.y]`, `v.x`,
+/// `v.y`, `dt` and the relative pad (`$pad` of the magnitude, and
+/// `1e-12`), gives the least and greatest values along `x`, `y`, `u` and
+/// `w`, padded, and the sum of the line's values and its magnitude, from
+/// which the caller tells whether the hull holds (the sum finite, the
+/// magnitude at most [`LARGEST`]). Every lane type of a precision
 /// performs the same operations in the same order, so each gives the
 /// same bits.
 ///
@@ -174,8 +176,8 @@ pub(crate) fn hull_bounds(line: &Line, dt: f64) -> Option<([f64; 4], [f64; 4])> 
 /// infinite value makes it infinite or NaN; past that test every `min`
 /// and `max` (`a < b ? a : b`, `a > b ? a : b`) is exact.
 macro_rules! padded_hull {
-    ($L:ty, $point:expr, $vx:expr, $vy:expr, $dt:expr) => {{
-        use $crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y, PAD};
+    ($L:ty, $point:expr, $vx:expr, $vy:expr, $dt:expr, $pad:expr) => {{
+        use $crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
         type L = $L;
         let [ax, ay, bx, by]: [L; 4] = $point;
         let (vx, vy): (L, L) = ($vx, $vy);
@@ -191,7 +193,7 @@ macro_rules! padded_hull {
         let magnitude = (lo_x.neg().max(hi_x)).max(lo_y.neg().max(hi_y));
         // The pad; the diagonals reach (1180 + 800) times the magnitude,
         // and so does their pad.
-        let pad = magnitude.mul(L::splat(PAD)).add(L::splat(1e-12));
+        let pad = magnitude.mul(L::splat($pad)).add(L::splat(1e-12));
         let pad_diagonal = L::splat(DIAGONAL_X + DIAGONAL_Y).mul(pad);
         let (low_x, high_x) = (lo_x.sub(pad), hi_x.add(pad));
         let (low_y, high_y) = (lo_y.sub(pad), hi_y.add(pad));

@@ -11,15 +11,17 @@
 //! An unused direction is packed as `-inf` in both halves and never rules
 //! a pair out.
 //!
-//! Rounding to `f32` never loses an overlap: rounding is monotone (and
-//! symmetric about zero), so `lo_j <= hi_i` implies
-//! `f32(lo_j) <= f32(hi_i)`, even where values beyond `f32`'s range
-//! become infinite. It can only add overlaps between boxes closer than
-//! `f32` resolves, which the exact test behind the sweep turns down.
+//! The hulls are made in `f32` ([`crate::lanes::single`]), twice as many
+//! lines to a register as in `f64`: each line's values are rounded to
+//! `f32` once, after the move, and the hull is worked out from them with
+//! a pad ([`PAD`]) wide enough to hold every rounding on the way
+//! ([`of_line`] gives the bound). A hull is a broad phase's bound, not a
+//! result: nothing the simulation computes depends on its bits, only on
+//! its holding the line.
 
-use crate::detect::swept::{hull_bounds, padded_hull};
+use crate::detect::swept::padded_hull;
 use crate::index::Slot;
-use crate::lanes::{self, DefaultLanes};
+use crate::lanes::{self, single};
 use crate::line::Line;
 use crate::motion::advance_lanes;
 use multiversion::multiversion;
@@ -41,26 +43,49 @@ pub(crate) const DIRECTIONS: usize = 4;
 /// value finite: the same bound as every detector's.
 pub(crate) use crate::detect::swept::LARGEST;
 
-/// A line's padded swept hull ([`hull_bounds`]) packed; `None` when the
-/// line is not finite or reaches beyond [`LARGEST`].
+/// The packed hulls' pad: `2^-18` of the magnitude (and `1e-12`).
+pub(crate) const PAD: f64 = 1.0 / 262144.0;
+
+/// A line's padded swept hull ([`padded_hull!`]) made in `f32` and
+/// packed; `None` when the line is not finite or reaches beyond
+/// [`LARGEST`] (as its values rounded to `f32` tell). Every batch gives
+/// these bits.
 ///
-/// The pad (`2^-20` of the magnitude `m`, and `1e-12`) is far wider than
-/// the rounding to `f32` (`2^-24` of a bound, which is at most about `2m`,
-/// or `1980` times that on the diagonals, whose pad is as much wider), so
-/// every packed bound still lies beyond the segment by at least `2^-21 m`:
-/// far more than the exact test's rounding errors (near `2^-50 m`).
+/// The bound, with `e = 2^-24` (the relative error of a rounding to
+/// `f32`), `M` the line's magnitude (at most `LARGEST`, so no value
+/// overflows) and `K = 1980` (the diagonals' weights summed): a value
+/// rounded is off by `e` of itself, `d = v dt` by `3e` (`v` and `dt`
+/// rounded, then their product) and `|d| <= 2M`, so a least or greatest
+/// value along `x` or `y` (a rounded value plus `d`, rounded) is off by at
+/// most `10 e M`, and the magnitude and pad as little in proportion; one
+/// along a diagonal (three products and a sum of each value, then the
+/// same) by at most `20 e K M`. The pad is `64 e M` (`64 e K M` on the
+/// diagonals), and taking it off rounds once more, by at most `3 e K M`:
+/// every packed bound lies beyond the segment by at least `2^-21 M`, far
+/// more than the exact test's rounding errors (near `2^-50 M`).
 #[inline(always)]
 pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
-    hull_bounds(line, dt).map(|(lo, hi)| pack(lo, hi))
+    type One = single::Scalar<1>;
+    let (p1, p2, v) = (line.p1, line.p2, line.v);
+    let point = [p1.x, p1.y, p2.x, p2.y].map(|x| One::round([x]));
+    let (vx, vy) = (One::round([v.x]), One::round([v.y]));
+    let (low, high, sum, magnitude) = padded_hull!(One, point, vx, vy, dt, PAD);
+    let valid = One::valid(sum, magnitude, LARGEST) != 0;
+    valid.then(|| {
+        std::array::from_fn(|k| match k < DIRECTIONS {
+            true => low[k].0[0],
+            false => -high[k - DIRECTIONS].0[0],
+        })
+    })
 }
 
 /// Makes the packed hull of each line `slots[k]` into `hulls[k]`, and its
 /// least value along direction `along` into `keys[k]` ([`NO_KEY`] for a
 /// line without a hull).
 ///
-/// Lines are taken [`LANES`] at a time, each value of the four lines one
-/// lane of the target's lane type ([`super::lanes`]); the rest one at a
-/// time. Compiled twice on x86-64, for the baseline (SSE2) and for AVX2,
+/// Lines are taken a batch at a time (eight with AVX2, else four), each
+/// value of the batch's lines one lane of the target's `f32` lane type
+/// ([`crate::lanes::single`]); the rest one at a time. Compiled twice on x86-64, for the baseline (SSE2) and for AVX2,
 /// and chosen when the program starts by what the processor has. Every
 /// path performs the same operations on each line in the same order, so
 /// their results are the same bits.
@@ -157,7 +182,7 @@ pub(crate) fn advance_and_make(
     let (hulls, keys) = (&mut hulls[..n], &mut keys[..n]);
     multiversion::target::match_target! {
         "x86_64+avx2+popcnt" => advance_each_avx2(lines, slots, hulls, keys, (along, dt)),
-        _ => advance_each::<{ DefaultLanes::WIDTH }>(
+        _ => advance_each::<{ single::DefaultLanes::WIDTH }>(
             lines, slots, hulls, keys, (along, dt), advance_default, advance_at_default
         ),
     }
@@ -224,70 +249,103 @@ fn advance_each_avx2(
     let anywhere = |lines: &mut [Line], at, dt, along, hulls: &mut [Packed], keys: &mut [f32]| {
         advance_batch_at_avx2(lines, at, dt, along, hulls, keys)
     };
-    advance_each::<LANES>(lines, slots, hulls, keys, along_dt, block, anywhere)
+    advance_each::<{ single::Avx2::WIDTH }>(lines, slots, hulls, keys, along_dt, block, anywhere)
 }
 
-/// Lines whose hulls the widest batch makes at once.
-pub(crate) const LANES: usize = 4;
+/// The batch: the lines' `f64` values (as many groups of them as `$single`
+/// holds lanes of `$lanes`) rounded to `f32`, then [`padded_hull!`] of
+/// them in `$single`'s lanes; writes each line's packed hull and key
+/// (least value along `along`, or [`NO_KEY`]).
+macro_rules! store_hulls {
+    ($single:ty, $groups:expr, $dt:expr, $along:expr, $hulls:expr, $keys:expr) => {{
+        type H = $single;
+        let groups = $groups;
+        let column = |c: usize| std::array::from_fn(|g| groups[g].0[c]);
+        let point = [
+            H::narrow(column(0)),
+            H::narrow(column(1)),
+            H::narrow(column(2)),
+            H::narrow(column(3)),
+        ];
+        let vx = H::narrow(std::array::from_fn(|g| groups[g].1));
+        let vy = H::narrow(std::array::from_fn(|g| groups[g].2));
+        let (low, high, sum, magnitude) = padded_hull!(H, point, vx, vy, $dt, PAD);
+        let valid = H::valid(sum, magnitude, LARGEST);
+        let key = low[$along];
+        H::store_low(low, $hulls);
+        H::store_high(high, $hulls);
+        H::store_keys(key, valid, $keys);
+    }};
+}
 
-/// The batch: [`padded_hull!`] of a lane type's width of lines at once
-/// (up to [`LANES`]), each value a lane of a lane type
-/// ([`super::lanes`]). Writes each line's packed hull and key (least
-/// value along `along`, or [`NO_KEY`]). Stamped out for each lane type,
-/// with the attributes its target needs (a macro rather than a generic
-/// function, so that the AVX2 copy is compiled with AVX2 and calls the
-/// lane type's AVX2 operations without `unsafe`).
+/// The batches, stamped out for each pair of lane types (`f64` lanes for
+/// the move, `f32` lanes for the hulls) with the attributes their target
+/// needs (a macro rather than a generic function, so that the AVX2 copy
+/// is compiled with AVX2 and calls the lane types' AVX2 operations
+/// without `unsafe`). A batch takes as many lines as the `f32` type has
+/// lanes, in groups of the `f64` type's (numbered after the types).
 macro_rules! batch {
-    ($(#[$attr:meta])* fn $name:ident($lanes:ty)) => {
+    // The hulls of the lines, which stay where they are.
+    ($(#[$attr:meta])* fn $name:ident($lanes:ty => $single:ty; $($g:literal),+)) => {
         $(#[$attr])*
         fn $name(
-            batch: [&Line; <$lanes>::WIDTH],
+            batch: [&Line; <$single>::WIDTH],
             dt: f64,
             along: usize,
             hulls: &mut [Packed],
             keys: &mut [f32],
         ) {
             type L = $lanes;
-            let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
-            let (low, high, sum, magnitude) = padded_hull!($lanes, point, vx, vy, dt);
-            let valid = L::valid(sum, magnitude, LARGEST);
-            L::store(low, high, valid, along, hulls, keys);
+            const { assert!([$($g),+].len() * <$lanes>::WIDTH == <$single>::WIDTH) };
+            let groups = [$({
+                let lines: [&Line; <$lanes>::WIDTH] =
+                    std::array::from_fn(|k| batch[$g * <$lanes>::WIDTH + k]);
+                let (point, (vx, vy)) = (L::points(lines), L::velocities(lines));
+                (point, vx, vy)
+            }),+];
+            store_hulls!($single, groups, dt, along, hulls, keys);
         }
     };
     // The move, the walls and the next step's hull of the lines at
-    // places `at` (as many as the lane type's lanes), in one pass: two
-    // copies, one for blocks of lines in slot order and one for lines
-    // anywhere, so that each is called from one place and inlined there.
-    (advance: $(#[$attr:meta])* fn $block:ident, $at:ident($lanes:ty)) => {
-        batch!(advance_one: $(#[$attr])* fn $block($lanes));
-        batch!(advance_one: $(#[$attr])* fn $at($lanes));
+    // places `at`, in one pass: two copies, one for blocks of lines in
+    // slot order and one for lines anywhere, so that each is called from
+    // one place and inlined there.
+    (advance: $(#[$attr:meta])* fn $block:ident, $at:ident($($types:tt)*)) => {
+        batch!(advance_one: $(#[$attr])* fn $block($($types)*));
+        batch!(advance_one: $(#[$attr])* fn $at($($types)*));
     };
-    (advance_one: $(#[$attr:meta])* fn $name:ident($lanes:ty)) => {
+    (advance_one: $(#[$attr:meta])* fn $name:ident($lanes:ty => $single:ty; $($g:literal),+)) => {
         $(#[$attr])*
         fn $name(
             lines: &mut [Line],
-            at: [usize; <$lanes>::WIDTH],
+            at: [usize; <$single>::WIDTH],
             dt: f64,
             along: usize,
             hulls: &mut [Packed],
             keys: &mut [f32],
         ) -> u64 {
             type L = $lanes;
-            let batch = at.map(|k| &lines[k]);
-            let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
-            let (point, vx, vy, hit) = advance_lanes!($lanes, point, vx, vy);
-            let hits = L::hits(hit);
-            // Without a hit the velocities are as they were: only the
-            // points are written.
-            match hits {
-                0 => at.into_iter().zip(L::rows(point)).for_each(|(k, p)| {
-                    lanes::set_points(&mut lines[k], p)
-                }),
-                _ => at.into_iter().zip(L::lines(point, vx, vy)).for_each(|(k, l)| lines[k] = l),
-            }
-            let (low, high, sum, magnitude) = padded_hull!($lanes, point, vx, vy, dt);
-            let valid = L::valid(sum, magnitude, LARGEST);
-            L::store(low, high, valid, along, hulls, keys);
+            const { assert!([$($g),+].len() * <$lanes>::WIDTH == <$single>::WIDTH) };
+            let mut hits = 0;
+            let groups = [$({
+                let at: [usize; <$lanes>::WIDTH] =
+                    std::array::from_fn(|k| at[$g * <$lanes>::WIDTH + k]);
+                let batch = at.map(|k| &lines[k]);
+                let (point, (vx, vy)) = (L::points(batch), L::velocities(batch));
+                let (point, vx, vy, hit) = advance_lanes!($lanes, point, vx, vy);
+                let group_hits = L::hits(hit);
+                // Without a hit the velocities are as they were: only the
+                // points are written.
+                match group_hits {
+                    0 => at.into_iter().zip(L::rows(point)).for_each(|(k, p)| {
+                        lanes::set_points(&mut lines[k], p)
+                    }),
+                    _ => at.into_iter().zip(L::lines(point, vx, vy)).for_each(|(k, l)| lines[k] = l),
+                }
+                hits += group_hits;
+                (point, vx, vy)
+            }),+];
+            store_hulls!($single, groups, dt, along, hulls, keys);
             hits
         }
     };
@@ -297,19 +355,19 @@ macro_rules! batch {
 batch!(
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn batch_avx2(lanes::Avx2)
+    fn batch_avx2(lanes::Avx2 => single::Avx2; 0, 1)
 );
 
 #[cfg(target_arch = "x86_64")]
 batch!(
     #[inline(always)]
-    fn batch_sse2(lanes::Sse2)
+    fn batch_sse2(lanes::Sse2 => single::Sse2; 0, 1)
 );
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 batch!(
     #[inline(always)]
-    fn batch_simd128(lanes::Simd128)
+    fn batch_simd128(lanes::Simd128 => single::Simd128; 0)
 );
 
 batch!(
@@ -318,26 +376,26 @@ batch!(
         any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")),
         allow(dead_code)
     )]
-    fn batch_scalar(lanes::Scalar)
+    fn batch_scalar(lanes::Scalar => single::Scalar<{ lanes::LANES }>; 0)
 );
 
 #[cfg(target_arch = "x86_64")]
 batch!(advance:
     #[inline]
     #[target_feature(enable = "avx2")]
-    fn advance_batch_avx2, advance_batch_at_avx2(lanes::Avx2)
+    fn advance_batch_avx2, advance_batch_at_avx2(lanes::Avx2 => single::Avx2; 0, 1)
 );
 
 #[cfg(target_arch = "x86_64")]
 batch!(advance:
     #[inline(always)]
-    fn advance_batch_sse2, advance_batch_at_sse2(lanes::Sse2)
+    fn advance_batch_sse2, advance_batch_at_sse2(lanes::Sse2 => single::Sse2; 0, 1)
 );
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 batch!(advance:
     #[inline(always)]
-    fn advance_batch_simd128, advance_batch_at_simd128(lanes::Simd128)
+    fn advance_batch_simd128, advance_batch_at_simd128(lanes::Simd128 => single::Simd128; 0)
 );
 
 batch!(advance:
@@ -346,7 +404,7 @@ batch!(advance:
         any(target_arch = "x86_64", all(target_arch = "wasm32", target_feature = "simd128")),
         allow(dead_code)
     )]
-    fn advance_batch_scalar, advance_batch_at_scalar(lanes::Scalar)
+    fn advance_batch_scalar, advance_batch_at_scalar(lanes::Scalar => single::Scalar<{ lanes::LANES }>; 0)
 );
 
 #[cfg(not(any(
@@ -566,10 +624,10 @@ mod tests {
             };
             made.push(("dispatched", run(&|l, h, k| advance_and_make(l, slots, h, k, (along, dt)))));
             made.push(("scalar", run(&|l, h, k| {
-                advance_each::<LANES>(l, slots, h, k, (along, dt), advance_batch_scalar, advance_batch_at_scalar)
+                advance_each::<{ lanes::LANES }>(l, slots, h, k, (along, dt), advance_batch_scalar, advance_batch_at_scalar)
             })));
             made.push(("default", run(&|l, h, k| {
-                advance_each::<{ DefaultLanes::WIDTH }>(l, slots, h, k, (along, dt), advance_default, advance_at_default)
+                advance_each::<{ single::DefaultLanes::WIDTH }>(l, slots, h, k, (along, dt), advance_default, advance_at_default)
             })));
             for (name, (moved, hulls, keys, made_hits)) in &made {
                 proptest::prop_assert_eq!(*made_hits, hits, "{}", name);

@@ -580,7 +580,8 @@ fn travel(v: Vec2, frame: [f64; 2]) -> f64 {
 /// travels less: a line at rest in the frame is given some travel
 /// ([`Frame::choose`]), so that one set moving by an event does not leave
 /// its box at once. In a moving frame every lane is widened by a few of
-/// its `f32` steps more, for the rounding of boxes that move with it.
+/// its `f32` steps more (a diagonal by a few of its parts' too), for the
+/// rounding of boxes that move with it.
 fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64)) -> Packed {
     let margin = MARGIN_STEPS * dt * travel(line.v, velocity).max(least);
     // The diagonals' values are as many times larger.
@@ -593,8 +594,16 @@ fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64))
         };
     }
     if velocity != [0.0; 2] {
-        for (w, b) in wide.iter_mut().zip(b) {
-            *w -= b.abs() * ROUNDING;
+        // A diagonal value is made of `x` and `y` in `f32`, and rounded
+        // as they are: by steps of its parts, not its own.
+        let part = |a: usize| b[a].abs().max(b[a + 4].abs());
+        let parts = DIAGONAL_X as f32 * part(0) + DIAGONAL_Y as f32 * part(1);
+        for (l, (w, b)) in wide.iter_mut().zip(b).enumerate() {
+            let scale = match l % 4 < 2 {
+                true => b.abs(),
+                false => b.abs() + parts,
+            };
+            *w -= scale * ROUNDING;
         }
     }
     wide

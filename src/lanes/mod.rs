@@ -1,11 +1,12 @@
 //! Four `f64` lanes, one type per target, for the batches written once
-//! over them: the move and the walls ([`crate::motion`]) and the sweep's
-//! hulls ([`crate::detect::sweep::hull`]). Each type gathers lines'
-//! values into lanes and scatters them back, makes the elementary
-//! operations, and scatters hulls' bounds out of them. Each operation is the IEEE
-//! operation on every lane (`min(a, b)` is `a < b ? a : b`, `max(a, b)`
-//! is `a > b ? a : b`, conversions to `f32` round to nearest), so every
-//! type gives the same bits as the others and as one line made alone.
+//! over them: the move and the walls ([`crate::motion`]), in the world's
+//! pass and in the sweep's pass that also makes the next step's hulls
+//! ([`crate::detect::sweep::hull`]), whose lanes are [`single`]'s. Each
+//! type gathers lines' values into lanes and scatters them back, makes
+//! the elementary operations, and rounds its lanes to `f32` for the
+//! hulls. Each operation is the IEEE operation on every lane, and
+//! rounding to `f32` is to nearest (as `as f32`), so every type gives the
+//! same bits as the others and as one line moved alone.
 //!
 //! - [`Avx2`]: one 256-bit register (x86-64 with AVX2, chosen at start);
 //! - [`Sse2`]: one 128-bit register, two lines at a time (every x86-64
@@ -14,9 +15,11 @@
 //! - [`Scalar`]: plain values, for the other targets (the compiler turns
 //!   them into what vectors the target has).
 
-use crate::detect::sweep::hull::{Packed, DIRECTIONS, LANES, NO_KEY};
 use crate::geometry::Vec2;
 use crate::line::Line;
+
+/// Lines a batch of `f64` lanes takes at most.
+pub(crate) const LANES: usize = 4;
 
 /// Methods `name(self, o)` of a lane type, each the operation `op` on
 /// every lane, with the attributes given: of its one register, or with
@@ -71,32 +74,6 @@ fn line_of(p: [f64; 4], v: [f64; 2]) -> Line {
     }
 }
 
-/// Writes four lines' hulls and keys from their `f32` bounds by
-/// direction: `low[r]` and `high[r]` (already negated) hold the four
-/// lines' bounds along direction `r`; a line's key is its low bound along
-/// `along` where bit `k` of `valid` is set, else [`NO_KEY`].
-#[inline(always)]
-fn store_bounds(
-    low: [[f32; LANES]; DIRECTIONS],
-    high: [[f32; LANES]; DIRECTIONS],
-    valid: u32,
-    along: usize,
-    hulls: &mut [Packed],
-    keys: &mut [f32],
-) {
-    for k in 0..LANES {
-        for r in 0..DIRECTIONS {
-            hulls[k][r] = low[r][k];
-            hulls[k][r + DIRECTIONS] = high[r][k];
-        }
-        keys[k] = if valid & (1 << k) != 0 {
-            low[along][k]
-        } else {
-            NO_KEY
-        };
-    }
-}
-
 /// Plain values, for targets without a lane type of their own.
 #[derive(Clone, Copy)]
 #[cfg_attr(
@@ -145,24 +122,8 @@ impl Scalar {
         self.map2(o, crate::motion::add_first)
     }
     #[inline(always)]
-    pub fn sub(self, o: Self) -> Self {
-        self.map2(o, |a, b| a - b)
-    }
-    #[inline(always)]
     pub fn mul(self, o: Self) -> Self {
         self.map2(o, |a, b| a * b)
-    }
-    #[inline(always)]
-    pub fn min(self, o: Self) -> Self {
-        self.map2(o, crate::detect::swept::min)
-    }
-    #[inline(always)]
-    pub fn max(self, o: Self) -> Self {
-        self.map2(o, crate::detect::swept::max)
-    }
-    #[inline(always)]
-    pub fn neg(self) -> Self {
-        Self(self.0.map(|a| -a))
     }
     #[inline(always)]
     pub fn velocities(batch: [&Line; LANES]) -> (Self, Self) {
@@ -220,29 +181,10 @@ impl Scalar {
     pub fn all(mask: Self) -> bool {
         mask.0.iter().all(|m| m.to_bits() != 0)
     }
-    /// Bit `k` set where lane `k` of `sum` is finite and of `magnitude` at
-    /// most `largest`.
+    /// The lanes rounded to `f32`.
     #[inline(always)]
-    pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
-        (0..LANES).fold(0, |bits, k| {
-            let ok = sum.0[k].is_finite() && magnitude.0[k] <= largest;
-            bits | (u32::from(ok) << k)
-        })
-    }
-    /// Writes the four lines' hulls (`low[r]` rounded to `f32`, `high[r]`
-    /// rounded and negated) and keys (see [`store_bounds`]).
-    #[inline(always)]
-    pub fn store(
-        low: [Self; DIRECTIONS],
-        high: [Self; DIRECTIONS],
-        valid: u32,
-        along: usize,
-        hulls: &mut [Packed],
-        keys: &mut [f32],
-    ) {
-        let low = low.map(|v| v.0.map(|x| x as f32));
-        let high = high.map(|v| v.0.map(|x| -(x as f32)));
-        store_bounds(low, high, valid, along, hulls, keys);
+    pub fn narrow(self) -> [f32; LANES] {
+        self.0.map(|x| x as f32)
     }
 }
 
@@ -251,28 +193,19 @@ pub(crate) use x86::{Avx2, Sse2};
 
 #[cfg(target_arch = "x86_64")]
 mod x86 {
-    use super::{line_of, row, Line, Packed, DIRECTIONS, LANES, NO_KEY};
+    use super::{line_of, row, Line, LANES};
     use safe_arch::{
-        add_m128d, bitand_m128, bitand_m128d, bitandnot_m128, bitandnot_m128d, bitor_m128,
-        bitor_m128d, bitxor_m128, bitxor_m128d, cast_to_m128_from_m128d, cmp_ge_mask_m128d,
+        add_m128d, bitand_m128d, bitandnot_m128d, bitor_m128d, bitxor_m128d, cmp_ge_mask_m128d,
         cmp_gt_mask_m128d, cmp_le_mask_m128d, cmp_lt_mask_m128d, cmp_unord_mask_m128d,
-        convert_to_m128_from_m128d, m128, m128d, max_m128d, min_m128d, move_high_low_m128,
-        move_low_high_m128, move_mask_m128d, mul_m128d, set_splat_m128, set_splat_m128d,
-        shuffle_abi_f32_all_m128, sub_m128d, unpack_high_m128d, unpack_low_m128, unpack_low_m128d,
+        convert_to_m128_from_m128d, m128, m128d, move_mask_m128d, mul_m128d, set_splat_m128d,
+        unpack_high_m128d, unpack_low_m128d,
     };
     use std::arch::x86_64::{
-        __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_blendv_pd, _mm256_castpd_si256,
-        _mm256_castps256_ps128, _mm256_castsi256_si128, _mm256_cmp_pd, _mm256_cvtpd_ps,
-        _mm256_max_pd, _mm256_min_pd, _mm256_movemask_pd, _mm256_mul_pd, _mm256_or_pd,
-        _mm256_permute2f128_pd, _mm256_permutevar8x32_epi32, _mm256_set1_pd, _mm256_set_m128,
-        _mm256_set_m128d, _mm256_setr_epi32, _mm256_setzero_ps, _mm256_shuffle_ps, _mm256_sub_pd,
-        _mm256_unpackhi_pd, _mm256_unpackhi_ps, _mm256_unpacklo_pd, _mm256_unpacklo_ps,
-        _mm256_xor_pd, _mm_blendv_ps, _mm_castsi128_ps, _mm_set1_ps, _mm_xor_ps, _CMP_GE_OQ,
-        _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_UNORD_Q,
+        __m128, __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_blendv_pd, _mm256_cmp_pd,
+        _mm256_cvtpd_ps, _mm256_movemask_pd, _mm256_mul_pd, _mm256_or_pd, _mm256_permute2f128_pd,
+        _mm256_set1_pd, _mm256_set_m128d, _mm256_unpackhi_pd, _mm256_unpacklo_pd, _mm256_xor_pd,
+        _CMP_GE_OQ, _CMP_GT_OQ, _CMP_LE_OQ, _CMP_LT_OQ, _CMP_UNORD_Q,
     };
-
-    /// `f64` with every bit but the sign: `x & ABS` is `|x|`.
-    const ABS: f64 = f64::from_bits(!(1u64 << 63));
 
     /// Four lanes in one AVX2 register. Its operations are compiled with
     /// AVX2 and called only from code compiled with it.
@@ -308,17 +241,10 @@ mod x86 {
                 Self(_mm256_permute2f128_pd::<0x31>(t1, t3)),
             ]
         }
-        // `vminpd` is `a < b ? a : b` in every lane, `vmaxpd` `a > b ? a : b`.
         lanewise!(
             [inline, target_feature(enable = "avx2")]
-            add => _mm256_add_pd, sub => _mm256_sub_pd, mul => _mm256_mul_pd,
-            min => _mm256_min_pd, max => _mm256_max_pd,
+            add => _mm256_add_pd, mul => _mm256_mul_pd,
         );
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn neg(self) -> Self {
-            Self(_mm256_xor_pd(self.0, _mm256_set1_pd(-0.0)))
-        }
         #[inline]
         #[target_feature(enable = "avx2")]
         pub fn add_first(self, o: Self) -> Self {
@@ -421,65 +347,11 @@ mod x86 {
         pub fn all(mask: Self) -> bool {
             _mm256_movemask_pd(mask.0) == 0b1111
         }
-        /// All ones in each lane whose `sum` is finite (NaN and infinities
-        /// fail) and whose `magnitude` is at most `largest`.
+        /// The lanes rounded to `f32`, in one 128-bit register.
         #[inline]
         #[target_feature(enable = "avx2")]
-        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> __m256d {
-            let abs = _mm256_and_pd(sum.0, _mm256_set1_pd(ABS));
-            let finite = _mm256_cmp_pd::<_CMP_LT_OQ>(abs, _mm256_set1_pd(f64::INFINITY));
-            let within = _mm256_cmp_pd::<_CMP_LE_OQ>(magnitude.0, _mm256_set1_pd(largest));
-            _mm256_and_pd(finite, within)
-        }
-        /// Writes the four lines' hulls and keys (see
-        /// [`super::store_bounds`]); each conversion rounds to nearest, as
-        /// `as f32` does. A direction's bounds of the four lines, low then
-        /// high, make one row; two 4 x 4 transposes, one in each half of
-        /// the rows, turn them into the four hulls, which each take one
-        /// store; the keys are the low bounds along `along`, [`NO_KEY`]
-        /// where the line is not `valid`, in one store.
-        #[inline]
-        #[target_feature(enable = "avx2")]
-        pub fn store(
-            low: [Self; DIRECTIONS],
-            high: [Self; DIRECTIONS],
-            valid: __m256d,
-            along: usize,
-            hulls: &mut [Packed],
-            keys: &mut [f32],
-        ) {
-            let sign = _mm_set1_ps(-0.0);
-            let mut rows = [_mm256_setzero_ps(); DIRECTIONS];
-            for r in 0..DIRECTIONS {
-                let high = _mm_xor_ps(_mm256_cvtpd_ps(high[r].0), sign);
-                rows[r] = _mm256_set_m128(high, _mm256_cvtpd_ps(low[r].0));
-            }
-            let (t0, t1) = (
-                _mm256_unpacklo_ps(rows[0], rows[1]),
-                _mm256_unpackhi_ps(rows[0], rows[1]),
-            );
-            let (t2, t3) = (
-                _mm256_unpacklo_ps(rows[2], rows[3]),
-                _mm256_unpackhi_ps(rows[2], rows[3]),
-            );
-            let hull = [
-                _mm256_shuffle_ps::<0x44>(t0, t2),
-                _mm256_shuffle_ps::<0xEE>(t0, t2),
-                _mm256_shuffle_ps::<0x44>(t1, t3),
-                _mm256_shuffle_ps::<0xEE>(t1, t3),
-            ];
-            for (out, hull) in hulls.iter_mut().zip(hull) {
-                *out = bytemuck::cast(hull);
-            }
-            // Each line's mask, from 64 bits to 32.
-            let valid = _mm256_castpd_si256(valid);
-            let narrow =
-                _mm256_permutevar8x32_epi32(valid, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6));
-            let valid = _mm_castsi128_ps(_mm256_castsi256_si128(narrow));
-            let key = _mm256_castps256_ps128(rows[along]);
-            let key = _mm_blendv_ps(_mm_set1_ps(NO_KEY), key, valid);
-            let out: &mut [f32; LANES] = (&mut keys[..LANES]).try_into().expect("four keys");
-            *out = bytemuck::cast(key);
+        pub fn narrow(self) -> __m128 {
+            _mm256_cvtpd_ps(self.0)
         }
     }
 
@@ -513,16 +385,10 @@ mod x86 {
                 Self(unpack_high_m128d(r[0][1], r[1][1])),
             ]
         }
-        // `minpd` is `a < b ? a : b` in every lane, `maxpd` `a > b ? a : b`.
         lanewise!(
             [inline(always)]
-            add => add_m128d, sub => sub_m128d, mul => mul_m128d,
-            min => min_m128d, max => max_m128d,
+            add => add_m128d, mul => mul_m128d,
         );
-        #[inline(always)]
-        pub fn neg(self) -> Self {
-            Self(bitxor_m128d(self.0, set_splat_m128d(-0.0)))
-        }
         #[inline(always)]
         pub fn add_first(self, o: Self) -> Self {
             let (a, b) = (self.0, o.0);
@@ -601,52 +467,11 @@ mod x86 {
         pub fn all(mask: Self) -> bool {
             move_mask_m128d(mask.0) == 0b11
         }
-        /// All ones in each lane whose `sum` is finite (NaN and infinities
-        /// fail) and whose `magnitude` is at most `largest`.
+        /// The lanes rounded to `f32`, in the low half of a register
+        /// (the high half zero).
         #[inline(always)]
-        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> m128d {
-            let abs = bitand_m128d(sum.0, set_splat_m128d(ABS));
-            let finite = cmp_lt_mask_m128d(abs, set_splat_m128d(f64::INFINITY));
-            let within = cmp_le_mask_m128d(magnitude.0, set_splat_m128d(largest));
-            bitand_m128d(finite, within)
-        }
-        /// Writes the two lines' hulls and keys (see
-        /// [`super::store_bounds`]); each conversion rounds to nearest, as
-        /// `as f32` does.
-        #[inline(always)]
-        pub fn store(
-            low: [Self; DIRECTIONS],
-            high: [Self; DIRECTIONS],
-            valid: m128d,
-            along: usize,
-            hulls: &mut [Packed],
-            keys: &mut [f32],
-        ) {
-            let sign = set_splat_m128(-0.0);
-            let l = low.map(|v| convert_to_m128_from_m128d(v.0));
-            let h = high.map(|v| bitxor_m128(convert_to_m128_from_m128d(v.0), sign));
-            // Each register holds a direction's bound of the two lines in
-            // its low half: interleaved by pairs of directions, then each
-            // line's four taken together.
-            let half = |v: [m128; DIRECTIONS]| {
-                let (a, b) = (unpack_low_m128(v[0], v[1]), unpack_low_m128(v[2], v[3]));
-                [move_low_high_m128(a, b), move_high_low_m128(b, a)]
-            };
-            let (l4, h4) = (half(l), half(h));
-            for (k, hull) in hulls[..2].iter_mut().enumerate() {
-                let (lo, hi): ([f32; 4], [f32; 4]) = (l4[k].into(), h4[k].into());
-                hull[..DIRECTIONS].copy_from_slice(&lo);
-                hull[DIRECTIONS..].copy_from_slice(&hi);
-            }
-            // Each line's mask, from 64 bits to 32, picks its key or NO_KEY.
-            let valid = cast_to_m128_from_m128d(valid);
-            let valid = shuffle_abi_f32_all_m128::<0b1000>(valid, valid);
-            let key = bitor_m128(
-                bitand_m128(valid, l[along]),
-                bitandnot_m128(valid, set_splat_m128(NO_KEY)),
-            );
-            let key: [f32; 4] = key.into();
-            keys[..2].copy_from_slice(&key[..2]);
+        pub fn narrow(self) -> m128 {
+            convert_to_m128_from_m128d(self.0)
         }
     }
 }
@@ -656,12 +481,11 @@ pub(crate) use wasm::Simd128;
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod wasm {
-    use super::{row, store_bounds, Line, Packed, Scalar, DIRECTIONS, LANES};
+    use super::{row, Line, Scalar, LANES};
     use core::arch::wasm32::{
-        f32x4_demote_f64x2_zero, f32x4_extract_lane, f64x2, f64x2_add, f64x2_extract_lane,
-        f64x2_ge, f64x2_gt, f64x2_le, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_neg, f64x2_pmax,
-        f64x2_pmin, f64x2_splat, f64x2_sub, i64x2_bitmask, v128, v128_and, v128_bitselect, v128_or,
-        v128_xor,
+        f32x4_demote_f64x2_zero, f64x2, f64x2_add, f64x2_extract_lane, f64x2_ge, f64x2_gt,
+        f64x2_le, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_splat, i32x4_shuffle, i64x2_bitmask, v128,
+        v128_and, v128_bitselect, v128_or, v128_xor,
     };
 
     /// Four lanes in two of WebAssembly's 128-bit vectors.
@@ -706,23 +530,9 @@ mod wasm {
         }
         lanewise!(
             map2 [inline(always)]
-            add => f64x2_add, sub => f64x2_sub, mul => f64x2_mul,
+            add => f64x2_add, mul => f64x2_mul,
             gt => f64x2_gt, lt => f64x2_lt, and => v128_and, or => v128_or,
         );
-        /// `a < b ? a : b` (`pmin(x, y)` is `y < x ? y : x`).
-        #[inline(always)]
-        pub fn min(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_pmin(b, a))
-        }
-        /// `a > b ? a : b` (`pmax(x, y)` is `x < y ? y : x`).
-        #[inline(always)]
-        pub fn max(self, o: Self) -> Self {
-            self.map2(o, |a, b| f64x2_pmax(b, a))
-        }
-        #[inline(always)]
-        pub fn neg(self) -> Self {
-            Self(self.0.map(|a| f64x2_neg(a)))
-        }
         #[inline(always)]
         pub fn add_first(self, o: Self) -> Self {
             self.map2(o, |a, b| {
@@ -767,33 +577,11 @@ mod wasm {
         pub fn all(mask: Self) -> bool {
             i64x2_bitmask(mask.0[0]) & i64x2_bitmask(mask.0[1]) == 0b11
         }
-        /// As [`Scalar::valid`] of the same values.
+        /// The lanes rounded to `f32`, in one vector.
         #[inline(always)]
-        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
-            Scalar::valid(sum.scalar(), magnitude.scalar(), largest)
-        }
-        /// Writes the hulls and keys (see [`super::store_bounds`]); each
-        /// conversion rounds to nearest, as `as f32` does.
-        #[inline(always)]
-        pub fn store(
-            low: [Self; DIRECTIONS],
-            high: [Self; DIRECTIONS],
-            valid: u32,
-            along: usize,
-            hulls: &mut [Packed],
-            keys: &mut [f32],
-        ) {
-            let f32s = |v: Self| -> [f32; LANES] {
-                let [a, b] = v.0.map(|x| f32x4_demote_f64x2_zero(x));
-                [
-                    f32x4_extract_lane::<0>(a),
-                    f32x4_extract_lane::<1>(a),
-                    f32x4_extract_lane::<0>(b),
-                    f32x4_extract_lane::<1>(b),
-                ]
-            };
-            let (low, high) = (low.map(f32s), high.map(|v| f32s(v).map(|x| -x)));
-            store_bounds(low, high, valid, along, hulls, keys);
+        pub fn narrow(self) -> v128 {
+            let [a, b] = self.0.map(|x| f32x4_demote_f64x2_zero(x));
+            i32x4_shuffle::<0, 1, 4, 5>(a, b)
         }
     }
 }
@@ -810,3 +598,5 @@ pub(crate) type DefaultLanes = Simd128;
     all(target_arch = "wasm32", target_feature = "simd128")
 )))]
 pub(crate) type DefaultLanes = Scalar;
+
+pub(crate) mod single;
