@@ -505,11 +505,13 @@ mod tests {
         #[test]
         fn line_hulls_hold_their_lines_with_a_margin(
             x1 in -3.0f64..3.0, y1 in -3.0f64..3.0, x2 in -3.0f64..3.0, y2 in -3.0f64..3.0,
-            vx in -1.0f64..1.0, vy in -1.0f64..1.0, scale in proptest::sample::select(vec![1e-9, 1.0, 1e5]),
+            vx in -1.0f64..1.0, vy in -1.0f64..1.0,
+            scale in proptest::sample::select(vec![1e-30, 1e-9, 1.0, 1e5, 1e29]),
+            dt in proptest::sample::select(vec![0.5, 0.1, 3.0]),
         ) {
             let l = crate::test_util::line((x1 * scale, y1 * scale), (x2 * scale, y2 * scale), (vx * scale, vy * scale));
-            let p = of_line(&l, 0.5).unwrap();
-            let corners = [l.p1, l.p2, l.p1 + l.v * 0.5, l.p2 + l.v * 0.5];
+            let p = of_line(&l, dt).unwrap();
+            let corners = [l.p1, l.p2, l.p1 + l.v * dt, l.p2 + l.v * dt];
             let magnitude = corners.iter().map(|c| c.x.abs().max(c.y.abs())).fold(0.0, f64::max);
             let margin = magnitude / 2097152.0;
             for c in corners {
