@@ -10,7 +10,8 @@
 use std::ops::{Add, Mul, Sub};
 
 /// A point or a vector in the plane.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 pub struct Vec2 {
     /// Horizontal component.
     pub x: f64,

@@ -43,7 +43,10 @@ impl Color {
 }
 
 /// A moving segment in box coordinates. Its id is its index in the world.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Laid out as six `f64` in this order, so that the move's batches can
+/// write a line's endpoints as one four-value store.
+#[derive(Clone, Copy, Debug, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 pub struct Line {
     /// First endpoint.
     pub p1: Vec2,

@@ -61,7 +61,9 @@ const SIGN: u64 = 1 << 63;
 /// Sets `line`'s endpoints to `[p1.x, p1.y, p2.x, p2.y]`.
 #[inline(always)]
 pub(crate) fn set_points(line: &mut Line, p: [f64; 4]) {
-    (line.p1, line.p2) = (Vec2::new(p[0], p[1]), Vec2::new(p[2], p[3]));
+    let values: &mut [f64; 6] = bytemuck::cast_mut(line);
+    let points: &mut [f64; 4] = (&mut values[..4]).try_into().expect("four values");
+    *points = p;
 }
 
 /// A line from `[p1.x, p1.y, p2.x, p2.y]` and `[v.x, v.y]`.

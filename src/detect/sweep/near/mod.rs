@@ -25,7 +25,7 @@
 use super::boxes::BoxSlice;
 use super::hull::{self, overlaps, reach, Packed, NO_KEY};
 use super::mend::MendIndex;
-use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
+use crate::detect::swept::{max, DIAGONAL_X, DIAGONAL_Y};
 use crate::detect::{Findings, Stored};
 use crate::geometry::Vec2;
 use crate::index::{LineId, Slot};
@@ -582,31 +582,25 @@ fn travel(v: Vec2, frame: [f64; 2]) -> f64 {
 /// its box at once. In a moving frame every lane is widened by a few of
 /// its `f32` steps more (a diagonal by a few of its parts' too), for the
 /// rounding of boxes that move with it.
+#[inline]
 fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64)) -> Packed {
-    let margin = MARGIN_STEPS * dt * travel(line.v, velocity).max(least);
+    let margin = MARGIN_STEPS * dt * max(travel(line.v, velocity), least);
     // The diagonals' values are as many times larger.
-    let (straight, diagonal) = (margin as f32, (margin * DIAGONAL) as f32);
-    let mut wide = *b;
-    for (l, w) in wide.iter_mut().enumerate() {
-        *w -= match l % 4 < 2 {
-            true => straight,
-            false => diagonal,
-        };
-    }
-    if velocity != [0.0; 2] {
-        // A diagonal value is made of `x` and `y` in `f32`, and rounded
-        // as they are: by steps of its parts, not its own.
-        let part = |a: usize| b[a].abs().max(b[a + 4].abs());
-        let parts = DIAGONAL_X as f32 * part(0) + DIAGONAL_Y as f32 * part(1);
-        for (l, (w, b)) in wide.iter_mut().zip(b).enumerate() {
-            let scale = match l % 4 < 2 {
-                true => b.abs(),
-                false => b.abs() + parts,
-            };
-            *w -= scale * ROUNDING;
-        }
-    }
-    wide
+    let (s, d) = (margin as f32, (margin * DIAGONAL) as f32);
+    let by = [s, s, d, d, s, s, d, d];
+    let rounding = match velocity == [0.0; 2] {
+        true => 0.0,
+        false => ROUNDING,
+    };
+    // A diagonal value is made of `x` and `y` in `f32`, and rounded as
+    // they are: by steps of its parts, not its own.
+    let part = |a: usize| match b[a].abs() > b[a + 4].abs() {
+        true => b[a].abs(),
+        false => b[a + 4].abs(),
+    };
+    let p = DIAGONAL_X as f32 * part(0) + DIAGONAL_Y as f32 * part(1);
+    let parts = [0.0, 0.0, p, p, 0.0, 0.0, p, p];
+    std::array::from_fn(|l| b[l] - (by[l] + (b[l].abs() + parts[l]) * rounding))
 }
 
 /// The part of a box's value it is widened by for rounding: four of its
