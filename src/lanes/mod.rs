@@ -483,11 +483,11 @@ pub(crate) use wasm::Simd128;
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod wasm {
-    use super::{row, Line, Scalar, LANES};
+    use super::{line_of, Line, LANES};
     use core::arch::wasm32::{
-        f32x4_demote_f64x2_zero, f64x2, f64x2_add, f64x2_extract_lane, f64x2_ge, f64x2_gt,
-        f64x2_le, f64x2_lt, f64x2_mul, f64x2_ne, f64x2_splat, i32x4_shuffle, i64x2_bitmask, v128,
-        v128_and, v128_bitselect, v128_or, v128_xor,
+        f32x4_demote_f64x2_zero, f64x2_add, f64x2_ge, f64x2_gt, f64x2_le, f64x2_lt, f64x2_mul,
+        f64x2_ne, f64x2_splat, i32x4_shuffle, i64x2_bitmask, i64x2_shuffle, v128, v128_and,
+        v128_bitselect, v128_or, v128_xor,
     };
 
     /// Four lanes in two of WebAssembly's 128-bit vectors.
@@ -502,33 +502,32 @@ mod wasm {
         fn map2(self, o: Self, f: impl Fn(v128, v128) -> v128) -> Self {
             Self([f(self.0[0], o.0[0]), f(self.0[1], o.0[1])])
         }
-        /// The same values as plain lanes.
-        #[inline(always)]
-        fn scalar(self) -> Scalar {
-            Scalar(self.lanes())
-        }
-        #[inline(always)]
-        fn lanes(self) -> [f64; LANES] {
-            let [a, b] = self.0;
-            [
-                f64x2_extract_lane::<0>(a),
-                f64x2_extract_lane::<1>(a),
-                f64x2_extract_lane::<0>(b),
-                f64x2_extract_lane::<1>(b),
-            ]
-        }
         #[inline(always)]
         pub fn splat(x: f64) -> Self {
             Self([f64x2_splat(x); 2])
         }
-        #[inline(always)]
-        pub fn gather(v: [f64; LANES]) -> Self {
-            Self([f64x2(v[0], v[1]), f64x2(v[2], v[3])])
-        }
+        /// Rows `p1.x p1.y` and `p2.x p2.y` of four lines, each loaded
+        /// whole, turned into columns two lines at a time.
         #[inline(always)]
         pub fn points(batch: [&Line; LANES]) -> [Self; 4] {
-            let rows = batch.map(row);
-            std::array::from_fn(|c| Self::gather(std::array::from_fn(|k| rows[k][c])))
+            let p1 = batch.map(|l| bytemuck::cast::<_, v128>(l.p1));
+            let p2 = batch.map(|l| bytemuck::cast::<_, v128>(l.p2));
+            [
+                Self::columns::<0, 2>(p1),
+                Self::columns::<1, 3>(p1),
+                Self::columns::<0, 2>(p2),
+                Self::columns::<1, 3>(p2),
+            ]
+        }
+        /// Lane `A` (then `B`, the same lane of the next) of each of four
+        /// pairs, as four lanes: `[r0[A], r1[A] | r2[A], r3[A]]` for `A =
+        /// 0, B = 2`.
+        #[inline(always)]
+        fn columns<const A: usize, const B: usize>(r: [v128; 4]) -> Self {
+            Self([
+                i64x2_shuffle::<A, B>(r[0], r[1]),
+                i64x2_shuffle::<A, B>(r[2], r[3]),
+            ])
         }
         lanewise!(
             map2 [inline(always)]
@@ -542,22 +541,38 @@ mod wasm {
                 v128_bitselect(f64x2_add(a, a), f64x2_add(a, b), nan)
             })
         }
+        /// Each line's `[v.x, v.y]` loaded whole, turned into columns.
         #[inline(always)]
         pub fn velocities(batch: [&Line; LANES]) -> (Self, Self) {
-            (
-                Self::gather(batch.map(|l| l.v.x)),
-                Self::gather(batch.map(|l| l.v.y)),
-            )
+            let v = batch.map(|l| bytemuck::cast::<_, v128>(l.v));
+            (Self::columns::<0, 2>(v), Self::columns::<1, 3>(v))
         }
-        /// The lines (as [`Scalar::lines`] makes them of the same values).
+        /// The lines from their values in lanes: [`Simd128::rows`] and
+        /// the velocities turned back as the points are.
         #[inline(always)]
         pub fn lines(point: [Self; 4], vx: Self, vy: Self) -> [Line; LANES] {
-            Scalar::lines(point.map(Self::scalar), vx.scalar(), vy.scalar())
+            let rows = Self::rows(point);
+            let v = Self::pairs(vx, vy).map(bytemuck::cast::<v128, [f64; 2]>);
+            std::array::from_fn(|k| line_of(rows[k], v[k]))
         }
-        /// Each line's `[p1.x, p1.y, p2.x, p2.y]`.
+        /// Each line's `[p1.x, p1.y, p2.x, p2.y]`: the columns turned back
+        /// into rows two lines at a time.
         #[inline(always)]
         pub fn rows(point: [Self; 4]) -> [[f64; 4]; LANES] {
-            Scalar::rows(point.map(Self::scalar))
+            let [ax, ay, bx, by] = point;
+            let (p1, p2) = (Self::pairs(ax, ay), Self::pairs(bx, by));
+            std::array::from_fn(|k| bytemuck::cast([p1[k], p2[k]]))
+        }
+        /// Each line's `[x, y]` from its `x` and `y` in lanes.
+        #[inline(always)]
+        fn pairs(x: Self, y: Self) -> [v128; LANES] {
+            let ([x01, x23], [y01, y23]) = (x.0, y.0);
+            [
+                i64x2_shuffle::<0, 2>(x01, y01),
+                i64x2_shuffle::<1, 3>(x01, y01),
+                i64x2_shuffle::<0, 2>(x23, y23),
+                i64x2_shuffle::<1, 3>(x23, y23),
+            ]
         }
         #[inline(always)]
         pub fn flip(self, mask: Self) -> Self {

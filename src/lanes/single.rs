@@ -335,10 +335,10 @@ pub(crate) use wasm::Simd128;
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 mod wasm {
-    use super::{Packed, Scalar, DIRECTIONS};
+    use super::{Packed, DIRECTIONS, NO_KEY};
     use core::arch::wasm32::{
-        f32x4_add, f32x4_extract_lane, f32x4_mul, f32x4_neg, f32x4_pmax, f32x4_pmin, f32x4_splat,
-        f32x4_sub, v128,
+        f32x4_abs, f32x4_add, f32x4_le, f32x4_lt, f32x4_mul, f32x4_neg, f32x4_pmax, f32x4_pmin,
+        f32x4_splat, f32x4_sub, i32x4_shuffle, v128, v128_and, v128_bitselect,
     };
 
     /// Four lanes in one of WebAssembly's 128-bit vectors.
@@ -349,17 +349,6 @@ mod wasm {
         /// Lines a batch takes.
         pub const WIDTH: usize = 4;
 
-        /// The same values as plain lanes.
-        #[inline(always)]
-        fn scalar(self) -> Scalar<4> {
-            let v = self.0;
-            Scalar([
-                f32x4_extract_lane::<0>(v),
-                f32x4_extract_lane::<1>(v),
-                f32x4_extract_lane::<2>(v),
-                f32x4_extract_lane::<3>(v),
-            ])
-        }
         /// Every lane `x` rounded to `f32`.
         #[inline(always)]
         pub fn splat(x: f64) -> Self {
@@ -388,25 +377,57 @@ mod wasm {
         pub fn neg(self) -> Self {
             Self(f32x4_neg(self.0))
         }
-        /// As [`Scalar::valid`] of the same values.
+        /// All ones in each lane whose `sum` is finite (NaN and infinities
+        /// fail) and whose `magnitude` is at most `largest` (rounded to
+        /// `f32`).
         #[inline(always)]
-        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> u32 {
-            Scalar::valid(sum.scalar(), magnitude.scalar(), largest)
+        pub fn valid(sum: Self, magnitude: Self, largest: f64) -> v128 {
+            let finite = f32x4_lt(f32x4_abs(sum.0), f32x4_splat(f32::INFINITY));
+            v128_and(finite, f32x4_le(magnitude.0, f32x4_splat(largest as f32)))
         }
-        /// As [`Scalar::store_low`] of the same values.
+        /// Writes the four lines' least values by direction, `low[r]` of
+        /// line `k` into `hulls[k][r]`, by a 4 x 4 transpose.
         #[inline(always)]
         pub fn store_low(low: [Self; DIRECTIONS], hulls: &mut [Packed]) {
-            Scalar::store_low(low.map(Self::scalar), hulls);
+            Self::store_fours(low.map(|v| v.0), 0, hulls);
         }
-        /// As [`Scalar::store_high`] of the same values.
+        /// Writes the four lines' greatest values by direction negated,
+        /// `-high[r]` of line `k` into `hulls[k][DIRECTIONS + r]`.
         #[inline(always)]
         pub fn store_high(high: [Self; DIRECTIONS], hulls: &mut [Packed]) {
-            Scalar::store_high(high.map(Self::scalar), hulls);
+            Self::store_fours(high.map(|v| f32x4_neg(v.0)), DIRECTIONS, hulls);
         }
-        /// As [`Scalar::store_keys`] of the same values.
+        /// Writes `rows[r]` of line `k` into `hulls[k][at + r]`.
         #[inline(always)]
-        pub fn store_keys(key: Self, valid: u32, keys: &mut [f32]) {
-            Scalar::store_keys(key.scalar(), valid, keys);
+        fn store_fours(rows: [v128; DIRECTIONS], at: usize, hulls: &mut [Packed]) {
+            let [r0, r1, r2, r3] = rows;
+            // `[r0[0] r1[0] r0[1] r1[1]]` and so on.
+            let (t0, t1) = (
+                i32x4_shuffle::<0, 4, 1, 5>(r0, r1),
+                i32x4_shuffle::<2, 6, 3, 7>(r0, r1),
+            );
+            let (t2, t3) = (
+                i32x4_shuffle::<0, 4, 1, 5>(r2, r3),
+                i32x4_shuffle::<2, 6, 3, 7>(r2, r3),
+            );
+            let lines = [
+                i32x4_shuffle::<0, 1, 4, 5>(t0, t2),
+                i32x4_shuffle::<2, 3, 6, 7>(t0, t2),
+                i32x4_shuffle::<0, 1, 4, 5>(t1, t3),
+                i32x4_shuffle::<2, 3, 6, 7>(t1, t3),
+            ];
+            for (hull, line) in hulls[..4].iter_mut().zip(lines) {
+                let line: [f32; 4] = bytemuck::cast(line);
+                hull[at..at + DIRECTIONS].copy_from_slice(&line);
+            }
+        }
+        /// Writes the four lines' keys: `key` where `valid`, else
+        /// [`NO_KEY`].
+        #[inline(always)]
+        pub fn store_keys(key: Self, valid: v128, keys: &mut [f32]) {
+            let key = v128_bitselect(key.0, f32x4_splat(NO_KEY), valid);
+            let key: [f32; 4] = bytemuck::cast(key);
+            keys[..4].copy_from_slice(&key);
         }
     }
 }
