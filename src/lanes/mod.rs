@@ -486,8 +486,8 @@ mod wasm {
     use super::{line_of, Line, LANES};
     use core::arch::wasm32::{
         f32x4_demote_f64x2_zero, f64x2_add, f64x2_ge, f64x2_gt, f64x2_le, f64x2_lt, f64x2_mul,
-        f64x2_ne, f64x2_splat, i32x4_shuffle, i64x2_bitmask, i64x2_shuffle, v128, v128_and,
-        v128_bitselect, v128_or, v128_xor,
+        f64x2_ne, f64x2_splat, i64x2_bitmask, i64x2_shuffle, u64x2_extract_lane,
+        u64x2_replace_lane, v128, v128_and, v128_bitselect, v128_or, v128_xor,
     };
 
     /// Four lanes in two of WebAssembly's 128-bit vectors.
@@ -594,11 +594,18 @@ mod wasm {
         pub fn all(mask: Self) -> bool {
             i64x2_bitmask(mask.0[0]) & i64x2_bitmask(mask.0[1]) == 0b11
         }
-        /// The lanes rounded to `f32`, in one vector.
+        /// The lanes rounded to `f32`, in one vector. Each half is rounded
+        /// apart and passed through `black_box`: where the compiler sees
+        /// both roundings joined, it rounds the four values one by one
+        /// (eight scalar instructions for each, rather than one vector
+        /// instruction and a copy through memory; `koch` 0.068 s against
+        /// 0.061 under Node).
         #[inline(always)]
         pub fn narrow(self) -> v128 {
-            let [a, b] = self.0.map(|x| f32x4_demote_f64x2_zero(x));
-            i32x4_shuffle::<0, 1, 4, 5>(a, b)
+            let [a, b] = self
+                .0
+                .map(|x| core::hint::black_box(f32x4_demote_f64x2_zero(x)));
+            u64x2_replace_lane::<1>(a, u64x2_extract_lane::<0>(b))
         }
     }
 }
