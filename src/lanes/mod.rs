@@ -58,7 +58,9 @@ fn row(l: &Line) -> [f64; 4] {
 /// The sign bit of an `f64`.
 const SIGN: u64 = 1 << 63;
 
-/// Sets `line`'s endpoints to `[p1.x, p1.y, p2.x, p2.y]`.
+/// Sets `line`'s endpoints to `[p1.x, p1.y, p2.x, p2.y]`: its first four
+/// values (a line is six `f64` in order), written as one array, so that
+/// the compiler stores a register's four at once rather than in pieces.
 #[inline(always)]
 pub(crate) fn set_points(line: &mut Line, p: [f64; 4]) {
     let values: &mut [f64; 6] = bytemuck::cast_mut(line);

@@ -85,8 +85,9 @@ pub(crate) fn of_line(line: &Line, dt: f64) -> Option<Packed> {
 ///
 /// Lines are taken a batch at a time (eight with AVX2, else four), each
 /// value of the batch's lines one lane of the target's `f32` lane type
-/// ([`crate::lanes::single`]); the rest one at a time. Compiled twice on x86-64, for the baseline (SSE2) and for AVX2,
-/// and chosen when the program starts by what the processor has. Every
+/// ([`crate::lanes::single`]); the rest one at a time. Compiled twice on
+/// x86-64, for the baseline (SSE2) and for AVX2, and chosen when the
+/// program starts by what the processor has. Every
 /// path performs the same operations on each line in the same order, so
 /// their results are the same bits.
 #[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
@@ -443,7 +444,12 @@ fn make_one(line: &Line, dt: f64, along: usize, hull: &mut Packed) -> f32 {
 }
 
 /// A box with least values `lo` and greatest values `hi` along the four
-/// directions, packed.
+/// directions, packed (the broad phase's boxes of your own). Rounding to
+/// `f32` never loses an overlap: rounding is monotone (and symmetric about
+/// zero), so `lo_j <= hi_i` implies `f32(lo_j) <= f32(hi_i)`, even where
+/// values beyond `f32`'s range become infinite. It can only add overlaps
+/// between boxes closer than `f32` resolves, which an exact test behind
+/// turns down.
 #[inline]
 pub(crate) fn pack(lo: [f64; 4], hi: [f64; 4]) -> Packed {
     std::array::from_fn(|k| match k < DIRECTIONS {
