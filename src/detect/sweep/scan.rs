@@ -593,7 +593,8 @@ mod tests {
         /// by the target's own) and sparse meet the
         /// same candidates and find every overlapping pair, each once, as
         /// the all-pairs loop does: with NaN in any lane but those along
-        /// the sweep too.
+        /// the sweep too, and on a grid of sixteenths, where keys and ends
+        /// meet exactly (touching boxes overlap).
         #[test]
         fn dense_and_sparse_sweeps_find_the_all_pairs_overlaps(
             boxes in proptest::collection::vec(
@@ -601,11 +602,14 @@ mod tests {
                 0..300,
             ),
             along in 0usize..2,
+            grid in proptest::bool::ANY,
         ) {
             let n = f32::NEG_INFINITY;
+            let on_grid = |v: f32| if grid { (v * 16.0).round() / 16.0 } else { v };
             let mut hulls: Vec<Packed> = boxes
                 .iter()
                 .map(|&(x, w, y, h, nan)| {
+                    let (x, w, y, h) = (on_grid(x), on_grid(w), on_grid(y), on_grid(h));
                     let mut hull = [x, y, n, n, -(x + w), -(y + h), n, n];
                     if nan < 8 && nan % 4 != along {
                         hull[nan] = f32::NAN;
@@ -628,15 +632,21 @@ mod tests {
         /// own over the keys up to its end, as a layout's bands are: sparse
         /// and dense, a block at a time or not, each meets the same
         /// candidates and finds every overlapping pair within each band,
-        /// whether either band is empty or short of a block.
+        /// whether either band is empty or short of a block, also on a
+        /// grid of 1/128ths, where keys and ends meet exactly.
         #[test]
         fn bands_swept_on_their_own_find_their_overlaps(
             boxes in proptest::collection::vec((0.0f32..1.0, 0.0f32..0.03, 0.0f32..1.0), 0..120),
             split in 0.0f64..1.0,
             along in 0usize..2,
+            grid in proptest::bool::ANY,
         ) {
             let n = f32::NEG_INFINITY;
-            let hull = |&(x, w, y): &(f32, f32, f32)| [x, y, n, n, -(x + w), -(y + w), n, n];
+            let on_grid = |v: f32| if grid { (v * 128.0).round() / 128.0 } else { v };
+            let hull = |&(x, w, y): &(f32, f32, f32)| {
+                let (x, w, y) = (on_grid(x), on_grid(w), on_grid(y));
+                [x, y, n, n, -(x + w), -(y + w), n, n]
+            };
             let mut hulls: Vec<Packed> = boxes.iter().map(hull).collect();
             let m = (split * hulls.len() as f64) as usize;
             let by_key = |a: &Packed, b: &Packed| a[along].total_cmp(&b[along]);
