@@ -361,14 +361,8 @@ impl Near {
         let (boxes, keys) = (&self.boxes, &self.keys);
         team.run(&|k| {
             let share = team::share(n, threads, k);
-            let wide = wide.take(k);
-            let each = lines[share.clone()].iter().zip(&boxes[share.clone()]);
-            for (((line, b), &key), w) in each.zip(&keys[share]).zip(wide) {
-                *w = match key == NO_KEY {
-                    true => NOWHERE,
-                    false => widened(b, line, dt, frame),
-                };
-            }
+            let (lines, boxes) = (&lines[share.clone()], &boxes[share.clone()]);
+            widen_each((lines, boxes, &keys[share]), wide.take(k), dt, frame);
         });
         self.sweeps += 1;
     }
@@ -582,7 +576,7 @@ fn travel(v: Vec2, frame: [f64; 2]) -> f64 {
 /// its box at once. In a moving frame every lane is widened by a few of
 /// its `f32` steps more (a diagonal by a few of its parts' too), for the
 /// rounding of boxes that move with it.
-#[inline]
+#[inline(always)]
 fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64)) -> Packed {
     let margin = MARGIN_STEPS * dt * max(travel(line.v, velocity), least);
     // The diagonals' values are as many times larger.
@@ -601,6 +595,29 @@ fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64))
     let p = DIAGONAL_X as f32 * part(0) + DIAGONAL_Y as f32 * part(1);
     let parts = [0.0, 0.0, p, p, 0.0, 0.0, p, p];
     std::array::from_fn(|l| b[l] - (by[l] + (b[l].abs() + parts[l]) * rounding))
+}
+
+/// Widens each line's box (`boxes[k]`, key `keys[k]`) into `wide[k]`
+/// ([`widened`]; [`NOWHERE`] for a line without a box). Compiled for the
+/// baseline and for AVX2, whose registers take a box's eight lanes at
+/// once, chosen when the program starts.
+#[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
+#[cfg_attr(
+    screensaver_baseline,
+    multiversion(targets("x86_64+avx2"), dispatcher = "static")
+)]
+fn widen_each(
+    (lines, boxes, keys): (&[Line], &[Packed], &[f32]),
+    wide: &mut [Packed],
+    dt: f64,
+    frame: ([f64; 2], f64),
+) {
+    for (((line, b), &key), w) in lines.iter().zip(boxes).zip(keys).zip(wide) {
+        *w = match key == NO_KEY {
+            true => NOWHERE,
+            false => widened(b, line, dt, frame),
+        };
+    }
 }
 
 /// The part of a box's value it is widened by for rounding: four of its
