@@ -23,7 +23,7 @@ import tempfile
 # functions (self cost) that make it up.
 PHASES = [
     ("hulls", [r"hull::make", r"make_hulls", r"MoverCheck::note", r"update::close_up",
-               r"near::settle", r"Near::make", r"Near::widen", r"near::widened",
+               r"near::settle", r"Near::make", r"Near::widen", r"near::widen",
                r"Near::gather", r"Near::mend", r"MendIndex", r"mend::find_runs"]),
     ("layout", [r"boxes::insert", r"__mem(cpy|move)", r"end_guests", r"Layout>::lay_out",
                 r"radix_sort", r"BoxSliceMut::copy", r"BoxList::extend", r"sort_nearly_sorted",
