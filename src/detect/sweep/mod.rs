@@ -83,8 +83,15 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// Steps between two plans (the first step always makes one).
+/// Steps between two plans (the first step always makes one) while they
+/// change: a plan that comes out as the one before doubles the wait, up to
+/// [`PLAN_EVERY_MOST`]. A plan costs a few hundred instructions a sampled
+/// box (two sorts of the sample in each of four directions), some 2% of a
+/// step of a scene of a thousand lines planned every 256 steps.
 const PLAN_EVERY: u64 = 256;
+
+/// The longest wait between two plans that keep coming out the same.
+const PLAN_EVERY_MOST: u64 = 4096;
 
 /// Boxes made at a time before the movers among them are noted (16 KB of
 /// hulls, at hand in the cache).
@@ -124,6 +131,8 @@ pub struct Sweep {
     plan: Plan,
     /// Steps until the next plan.
     until_plan: u64,
+    /// Steps between the last plan and the next ([`PLAN_EVERY`]).
+    plan_every: u64,
     /// Every line's box: this step's boxed lines first (with one band in
     /// sorted order, with several band by band, each band's homes in
     /// sorted order), then the others. Next step's boxes are made in this
@@ -274,7 +283,8 @@ impl Sweep {
     }
 
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
-    /// them if the direction changed.
+    /// them if the direction changed; the next comes later if this one
+    /// matches the last ([`PLAN_EVERY`]).
     fn make_plan(&mut self) {
         let n = self.sorted.len();
         let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
@@ -287,8 +297,13 @@ impl Sweep {
                 }
             }
         }
+        let settled = plan.along == self.plan.along && plan.bands.matches(&self.plan.bands);
+        self.plan_every = match settled {
+            true => (self.plan_every * 2).clamp(PLAN_EVERY, PLAN_EVERY_MOST),
+            false => PLAN_EVERY,
+        };
         self.plan = plan;
-        self.until_plan = PLAN_EVERY;
+        self.until_plan = self.plan_every;
     }
 
     /// Finds the events among `stored`'s lines (see [`Detector::detect`]):
@@ -309,6 +324,7 @@ impl Sweep {
             self.layout.forget();
             self.near.forget();
             self.until_plan = 0;
+            self.plan_every = 0;
         }
         let keep = self.choice.keeping();
         self.keep = keep;
