@@ -77,13 +77,20 @@ impl Vec2 {
     /// `y > 0` and in (-pi, 0) for `y < 0`. On opposite sides the one
     /// above is the larger. On the same side `cross = other x self`, which
     /// is `|self| |other| sin(difference)`, has the difference's sign; when
-    /// it is above `2^-40 T` (`T = (|x1| + |y1|)(|x2| + |y2|)`, at least
-    /// `|self| |other|`, and the product's rounding error below `2^-51 T`),
-    /// the exact angles differ by more than 2^-41, many units in the last
-    /// place of any angle, so their correctly rounded values keep their
-    /// order and differ. Vectors along an axis have the exact angles 0,
-    /// pi/2 and pi (see `axis_against`). Anything else (nearly
-    /// parallel, huge, tiny, infinite, NaN) takes both angles.
+    /// it is above `2^-47 T` (`T = (|x1| + |y1|)(|x2| + |y2|)`, at least
+    /// `|self| |other|`, and the products' and difference's rounding error
+    /// below `2^-51 T`), the exact cross product is above `2^-48 T` and the
+    /// exact angles differ by more than 2^-48, eight units in the last
+    /// place of an angle near pi (more of smaller ones), so their correctly
+    /// rounded values keep their order and differ. Below that (nearly
+    /// parallel vectors, such as lines of one slope whose directions were
+    /// rounded apart) the cross product is made again in double-double,
+    /// within `2^-52` of itself: above `2^-49 T` the exact angles differ by
+    /// more than 2^-50, two units in the last place near pi, which is
+    /// still enough (about 60 instructions in place of two angles' 1,400).
+    /// Vectors along an axis have the exact angles 0, pi/2 and pi (see
+    /// `axis_against`). Anything else (parallel or within 2^-50, huge,
+    /// tiny, infinite, NaN) takes both angles.
     #[inline]
     pub fn angle_difference_sign(self, other: Self) -> f64 {
         self.angle_order_fast(other)
@@ -104,7 +111,8 @@ impl Vec2 {
         }
         const LOW: f64 = power_of_two(-400);
         const HIGH: f64 = power_of_two(400);
-        const MARGIN: f64 = power_of_two(-40);
+        const MARGIN: f64 = power_of_two(-47);
+        const FINE_MARGIN: f64 = power_of_two(-49);
         let ordinary = |z: f64| (LOW..=HIGH).contains(&z.abs());
         let x_ok = |x: f64| x == 0.0 || ordinary(x);
         let sign = |up: bool| if up { 1.0 } else { -1.0 };
@@ -151,6 +159,11 @@ impl Vec2 {
         let cross = other.x * self.y - other.y * self.x;
         let bound = (self.x.abs() + self.y.abs()) * (other.x.abs() + other.y.abs());
         if cross.abs() > bound * MARGIN {
+            return Some(sign(cross > 0.0));
+        }
+        // Nearly parallel: the cross product to a unit in its last place.
+        let cross = crate::maths::difference_of_products(other.x, self.y, other.y, self.x);
+        if cross.abs() > bound * FINE_MARGIN {
             Some(sign(cross > 0.0))
         } else {
             None
@@ -184,8 +197,9 @@ fn sign_of(difference: f64) -> f64 {
 /// `other`'s angle may round to pi. Along +x the angle is 0, below any
 /// angle with `y > 0`, above any with `y < 0`. Along -x it is pi (or -pi
 /// for a `y` of -0), above every angle of `y > 0` (below every angle of
-/// `y < 0`) that stays more than 2^-41 from pi, as one with
-/// `|y| > margin (|x| + |y|)` does.
+/// `y < 0`) that stays more than 2^-48 from pi, as one with
+/// `|y| > margin (|x| + |y|)` does (a margin of 2^-47, the sum's rounding
+/// taken off).
 fn axis_against(axis: Vec2, other: Vec2, margin: f64) -> Option<bool> {
     if axis.x > 0.0 {
         return Some(other.y < 0.0);
@@ -395,10 +409,13 @@ mod tests {
         fn angle_signs_agree_with_both_angles(
             ax in -1.0f64..1.0, ay in -1.0f64..1.0,
             turn in -1e-9f64..1e-9, scale in 1e-6f64..1e6, near in proptest::bool::ANY,
-            bx in -1.0f64..1.0, by in -1.0f64..1.0,
+            bx in -1.0f64..1.0, by in -1.0f64..1.0, fine in 9.0f64..17.0,
         ) {
             // Either another direction, or nearly (or exactly) the same or
-            // the opposite one.
+            // the opposite one: turned by up to 1e-9, half the time by
+            // 1e-9 to 1e-17 of a turn (about the fast path's margin of
+            // 2^-47, 7e-15, and the units in the last place).
+            let turn = if turn.to_bits() % 2 == 0 { turn } else { turn.signum() * 10f64.powf(-fine) };
             let b = if near {
                 let (s, c) = (turn.sin(), turn.cos());
                 v((ax * c - ay * s) * scale, (ax * s + ay * c) * scale)
