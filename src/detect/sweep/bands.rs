@@ -70,21 +70,6 @@ impl Bands {
         t as u32 as usize
     }
 
-    /// Whether `other` cuts the same number of bands across the same
-    /// direction, its first and last edges within a quarter of a band of
-    /// these: a plan that comes out this way again has settled.
-    pub(crate) fn matches(&self, other: &Self) -> bool {
-        if (self.across, self.count) != (other.across, other.count) {
-            return false;
-        }
-        if self.count == 1 {
-            return true;
-        }
-        let end = |b: &Self| b.start + b.count as f32 / b.per_unit;
-        let quarter = 0.25 / self.per_unit;
-        (other.start - self.start).abs() <= quarter && (end(other) - end(self)).abs() <= quarter
-    }
-
     /// The least value in band `band` (`1..count`): a value `v` is in
     /// band `band` or above exactly when `v >= self.edge(band)`, so a
     /// comparison can stand in for [`Bands::of`].
@@ -118,18 +103,6 @@ mod tests {
         // Degenerate spreads give one band.
         assert_eq!(Bands::spanning(1, 4, 1.0, 1.0).count, 1);
         assert_eq!(Bands::spanning(1, 4, 0.0, f32::INFINITY).count, 1);
-    }
-
-    #[test]
-    fn bands_match_within_a_quarter_band_at_each_end() {
-        let b = Bands::spanning(1, 10, 0.0, 10.0);
-        assert!(b.matches(&Bands::spanning(1, 10, 0.2, 10.2)));
-        assert!(!b.matches(&Bands::spanning(1, 10, 0.3, 10.0)));
-        assert!(!b.matches(&Bands::spanning(1, 10, 0.0, 9.5)));
-        assert!(!b.matches(&Bands::spanning(1, 11, 0.0, 10.0)));
-        assert!(!b.matches(&Bands::spanning(0, 10, 0.0, 10.0)));
-        // One band matches one band across the same direction, wherever.
-        assert!(Bands::spanning(1, 1, 0.0, 1.0).matches(&Bands::spanning(1, 1, 5.0, 7.0)));
     }
 
     #[test]

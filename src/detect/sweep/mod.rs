@@ -84,8 +84,8 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Steps between two plans (the first step always makes one) while they
-/// change: a plan that comes out as the one before doubles the wait, up to
-/// [`PLAN_EVERY_MOST`]. A plan costs a few hundred instructions a sampled
+/// change: a plan of one band that comes out as the one before (one band,
+/// the same direction) doubles the wait, up to [`PLAN_EVERY_MOST`]. A plan costs a few hundred instructions a sampled
 /// box (two sorts of the sample in each of four directions), some 2% of a
 /// step of a scene of a thousand lines planned every 256 steps.
 const PLAN_EVERY: u64 = 256;
@@ -297,7 +297,10 @@ impl Sweep {
                 }
             }
         }
-        let settled = plan.along == self.plan.along && plan.bands.matches(&self.plan.bands);
+        // Bands follow the scene's spread, which a wait of thousands of
+        // steps would leave behind: only a plain sweep settles.
+        let one_band = plan.bands.count == 1 && self.plan.bands.count == 1;
+        let settled = one_band && plan.along == self.plan.along;
         self.plan_every = match settled {
             true => (self.plan_every * 2).clamp(PLAN_EVERY, PLAN_EVERY_MOST),
             false => PLAN_EVERY,

@@ -5,7 +5,7 @@
 //! `y`), and one direction alone meets too many boxes once there are tens
 //! of thousands of lines. A plan is chosen from a sample of the boxes by a
 //! cost model, on the first step and every 256 steps after (less often
-//! while the plans keep coming out the same).
+//! while plain sweeps along one direction keep coming out).
 
 use super::bands::Bands;
 use super::hull::NO_KEY;
