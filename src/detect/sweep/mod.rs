@@ -83,14 +83,15 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// Steps between two plans (the first step always makes one) while they
-/// change: a plan of one band that comes out as the one before (one band,
-/// the same direction) doubles the wait, up to [`PLAN_EVERY_MOST`]. A plan costs a few hundred instructions a sampled
-/// box (two sorts of the sample in each of four directions), some 2% of a
-/// step of a scene of a thousand lines planned every 256 steps.
+/// Steps between two plans (the first step always makes one). A plan of
+/// one band that comes out as the one before (one band, the same
+/// direction) doubles the wait, up to [`PLAN_EVERY_MOST`]: a plan costs a
+/// few hundred instructions a sampled box (two sorts of the sample in each
+/// of four directions), some 2% of a scene of a thousand lines planned
+/// every 256 steps.
 const PLAN_EVERY: u64 = 256;
 
-/// The longest wait between two plans that keep coming out the same.
+/// The longest wait between two plans of one band along one direction.
 const PLAN_EVERY_MOST: u64 = 4096;
 
 /// Boxes made at a time before the movers among them are noted (16 KB of
@@ -283,8 +284,9 @@ impl Sweep {
     }
 
     /// Draws up a new plan from a sample of this step's boxes, and re-keys
-    /// them if the direction changed; the next comes later if this one
-    /// matches the last ([`PLAN_EVERY`]).
+    /// them if the direction changed; the next comes later where this plan
+    /// and the last are both of one band along one direction
+    /// ([`PLAN_EVERY`]).
     fn make_plan(&mut self) {
         let n = self.sorted.len();
         let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
