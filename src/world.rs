@@ -527,17 +527,28 @@ mod tests {
     #[test]
     fn late_and_switched_out_members_leave_the_results_unchanged() {
         use crate::generate::{generate, SceneKind};
-        let stop = std::sync::atomic::AtomicBool::new(false);
+        use std::sync::atomic::{AtomicBool, Ordering};
+        /// Stops the spinning threads when dropped: also when an assertion
+        /// fails, or the scope would wait for them for ever.
+        struct Stop<'a>(&'a AtomicBool);
+        impl Drop for Stop<'_> {
+            fn drop(&mut self) {
+                self.0.store(true, Ordering::Relaxed);
+            }
+        }
+        let stop = AtomicBool::new(false);
         std::thread::scope(|scope| {
+            let _stop = Stop(&stop);
             for _ in 0..2 {
                 scope.spawn(|| {
-                    while !stop.load(std::sync::atomic::Ordering::Relaxed) {
+                    while !stop.load(Ordering::Relaxed) {
                         std::hint::spin_loop();
                     }
                 });
             }
+            // Scenes the team shares (from `Schedule::SWEEP_FROM` lines).
             for (kind, n, steps) in [
-                (SceneKind::Uniform, 1_000, 120),
+                (SceneKind::Uniform, 2_500, 80),
                 (SceneKind::Clustered, 3_000, 60),
                 (SceneKind::Uniform, 12_000, 20),
             ] {
@@ -566,7 +577,6 @@ mod tests {
                     assert!(run(threads) == one, "{kind} {n} on {threads} threads");
                 }
             }
-            stop.store(true, std::sync::atomic::Ordering::Relaxed);
         });
     }
 }
