@@ -21,10 +21,10 @@ impl Schedule {
     /// boxes in slot order and compares the pairs kept) shares them among
     /// the team: that step does a hundred or two instructions a line, so
     /// a scene much smaller is quicker on one thread than handed out
-    /// (`mit`, 809 lines, 4000 frames on two threads: 0.059 s shared
-    /// against 0.047 on one), and one of a few thousand lines quicker
-    /// shared (`koch`, 3,900 lines, on two threads 0.054 s shared against
-    /// 0.065 on one).
+    /// (`mit`, 809 lines, 4000 frames on two threads: 0.060 s shared
+    /// against 0.046 on one), and one of a few thousand lines a little
+    /// quicker shared (`koch`, 3,900 lines, on two threads 0.043 s shared
+    /// against 0.044 on one; medians of 9 rounds).
     pub const KEPT_FROM: usize = 2048;
 
     /// Lines from which the world's move is shared among the team while
