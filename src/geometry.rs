@@ -409,13 +409,14 @@ mod tests {
         fn angle_signs_agree_with_both_angles(
             ax in -1.0f64..1.0, ay in -1.0f64..1.0,
             turn in -1e-9f64..1e-9, scale in 1e-6f64..1e6, near in proptest::bool::ANY,
-            bx in -1.0f64..1.0, by in -1.0f64..1.0, fine in 9.0f64..17.0,
+            bx in -1.0f64..1.0, by in -1.0f64..1.0,
+            finely in proptest::bool::ANY, fine in 9.0f64..17.0,
         ) {
             // Either another direction, or nearly (or exactly) the same or
             // the opposite one: turned by up to 1e-9, half the time by
             // 1e-9 to 1e-17 of a turn (about the fast path's margin of
             // 2^-47, 7e-15, and the units in the last place).
-            let turn = if turn.to_bits() % 2 == 0 { turn } else { turn.signum() * 10f64.powf(-fine) };
+            let turn = if finely { turn.signum() * 10f64.powf(-fine) } else { turn };
             let b = if near {
                 let (s, c) = (turn.sin(), turn.cos());
                 v((ax * c - ay * s) * scale, (ax * s + ay * c) * scale)
