@@ -392,6 +392,15 @@ gone() { ! kill -0 "$1" 2>/dev/null; }
 # The user's processes besides Xvfb and the daemon.
 others() { pgrep -u "$user" | grep -vxF -e "$xvfb_pid" -e "$daemon_pid" || true; }
 nothing_else_runs() { [[ -z $(others) ]]; }
+# Checks, for up to 10 s, that nothing but the daemon and Xvfb runs as
+# $user; a failure names what still runs.
+check_nothing_else_runs() {
+    if wait_until 10 nothing_else_runs; then
+        ok "nothing but the daemon and Xvfb runs as $user"
+    else
+        not_ok "nothing but the daemon and Xvfb runs as $user; still running: $(others | xargs -r ps -o pid=,args= -p | tr '\n' ';')"
+    fi
+}
 
 # One activation of the display mode whose command is $1: it runs, draws,
 # and is gone after -deactivate.
@@ -423,7 +432,7 @@ activation() {
     check "xscreensaver-command -deactivate" command_ok -deactivate
     check "the program has exited within 10 s" wait_until 10 gone "$pid"
     check "it printed its results (the daemon's log)" grep -q -- '---- END RESULTS ----' "$work/daemon.log"
-    check "nothing but the daemon and Xvfb runs as $user" wait_until 10 nothing_else_runs
+    check_nothing_else_runs
     check "no window is left but the daemon's own" wait_until 10 only_daemon_window_left
 }
 
@@ -450,7 +459,7 @@ if wait_until 20 new_hack "$installed"; then
     second=$hack_pid
     check "xscreensaver-command -deactivate" command_ok -deactivate
     check "the program has exited within 10 s" wait_until 10 gone "$second"
-    check "nothing but the daemon and Xvfb runs as $user" wait_until 10 nothing_else_runs
+    check_nothing_else_runs
 else
     not_ok "the daemon did not run $installed"
 fi
