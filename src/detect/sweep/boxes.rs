@@ -369,36 +369,45 @@ fn insert_with(
     let (hulls, slots) = (&mut hulls[..n], &mut slots[..n]);
     let mut moves = 0;
     let mut i = from.max(1);
-    while i < n {
-        // Most boxes are in order: passed over to the next that is not.
-        if let (false, Some(out_of_order)) = (until_in_place, &out_of_order) {
-            while let Some(run) = keys.get(i - 1..i + IN_ORDER_RUN) {
-                let bits = out_of_order(run.try_into().expect("a run"));
-                if bits != 0 {
-                    i += bits.trailing_zeros() as usize;
-                    break;
+    loop {
+        // The next box below the one before it (keys are never NaN).
+        let found = 'find: {
+            // Most boxes are in order: passed over a block at a time.
+            if let (false, Some(out_of_order)) = (until_in_place, &out_of_order) {
+                while let Some(run) = keys.get(i - 1..i + IN_ORDER_RUN) {
+                    let bits = out_of_order(run.try_into().expect("a run"));
+                    if bits != 0 {
+                        i += bits.trailing_zeros() as usize;
+                        break 'find true;
+                    }
+                    i += IN_ORDER_RUN;
                 }
-                i += IN_ORDER_RUN;
             }
-            if i >= n {
-                break;
+            while i < n {
+                if keys[i] < keys[i - 1] {
+                    break 'find true;
+                }
+                if until_in_place {
+                    break 'find false;
+                }
+                i += 1;
             }
+            false
+        };
+        if !found {
+            return Some(moves);
         }
-        let key = keys[i];
-        if keys[i - 1] <= key {
-            if until_in_place {
-                break;
-            }
-            i += 1;
-            continue;
-        }
-        let (hull, slot) = (hulls[i], slots[i]);
+        // Box `i` goes below box `i - 1`, and on down past every greater key.
+        let (key, hull, slot) = (keys[i], hulls[i], slots[i]);
         let mut j = i;
-        while j > 0 && keys[j - 1] > key {
+        loop {
             keys[j] = keys[j - 1];
             hulls[j] = hulls[j - 1];
             slots[j] = slots[j - 1];
             j -= 1;
+            if j == 0 || keys[j - 1] <= key {
+                break;
+            }
         }
         keys[j] = key;
         hulls[j] = hull;
@@ -411,7 +420,6 @@ fn insert_with(
         moves += moved;
         i += 1;
     }
-    Some(moves)
 }
 
 /// [`OutOfOrder`] where the processor lacks AVX2: with WebAssembly's
