@@ -220,7 +220,7 @@ pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<Intersectio
     multiversion::target::match_target! {
         "x86_64+avx2" => crate::narrow::four::screen(l1, l2, dt),
         _ => {
-            let bound = max(magnitude(l1, dt), magnitude(l2, dt));
+            let bound = || max(magnitude(l1, dt), magnitude(l2, dt));
             may_intersect(l1, l2, dt, bound).then(|| intersect(l1, l2, dt))
         }
     }
@@ -289,7 +289,7 @@ mod tests {
     /// What the scalar code answers: the prefilter, then the exact test.
     fn scalar(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
         let bound = max(magnitude(l1, dt), magnitude(l2, dt));
-        may_intersect(l1, l2, dt, bound).then(|| intersect(l1, l2, dt))
+        may_intersect(l1, l2, dt, || bound).then(|| intersect(l1, l2, dt))
     }
 
     /// A coordinate: mostly on a small grid, so that points are often

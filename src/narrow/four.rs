@@ -93,7 +93,7 @@ fn pick<const IMM: i32>(x: __m256d) -> __m256d {
 #[target_feature(enable = "avx2")]
 pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
     let lines = Lanes::of(l1, l2, dt);
-    if !may_intersect(l1, l2, dt, lines.magnitude()) {
+    if !may_intersect(l1, l2, dt, || lines.magnitude()) {
         return None;
     }
     Some(lines.intersect(l1, l2))

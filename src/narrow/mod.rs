@@ -243,20 +243,33 @@ pub(crate) fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
 /// step ahead; the margin it buys (`1e-8` of it, against rounding errors near
 /// `1e-15` of it) keeps the test conservative for the floating-point
 /// predicates of `intersect` too.
+///
+/// An interval that holds zero keeps the pair whatever the margin (which
+/// is positive, or NaN and then keeps it too), so `magnitude` is only
+/// asked for where the interval lies to one side: most pairs that reach
+/// this test are events, and their magnitude was a fifth of its cost.
 #[inline]
-pub(crate) fn may_intersect(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
+pub(crate) fn may_intersect(
+    l1: &Line,
+    l2: &Line,
+    dt: f64,
+    magnitude: impl FnOnce() -> f64,
+) -> bool {
     let nx = l1.p1.y - l1.p2.y;
     let ny = l1.p2.x - l1.p1.x;
     let c = nx * l1.p1.x + ny * l1.p1.y;
     let a = nx * l2.p1.x + ny * l2.p1.y - c;
     let b = nx * l2.p2.x + ny * l2.p2.y - c;
     let w = (nx * (l2.v.x - l1.v.x) + ny * (l2.v.y - l1.v.y)) * dt;
+    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+    let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
+    if lo <= 0.0 && hi >= 0.0 {
+        return true;
+    }
     // The floor covers values that underflow: below `f64::MIN_POSITIVE`
     // rounding errors are absolute (up to 2^-1075 a product), not relative,
     // and the relative margin itself may round to zero.
-    let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude + MARGIN_FLOOR;
-    let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-    let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
+    let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude() + MARGIN_FLOOR;
     // Written so that NaN anywhere keeps the pair (a NaN comparison is false).
     !(lo > margin || hi < -margin)
 }
@@ -386,16 +399,16 @@ mod tests {
         let a = line((0.0, 0.0), (1.0, 1.0), (0.1, 0.0));
         let near = line((0.02, 0.0), (1.02, 1.0), (0.1, 0.0));
         assert_eq!(intersect(&a, &near, 0.5), None);
-        assert!(!may_intersect(&a, &near, 0.5, 2.0));
+        assert!(!may_intersect(&a, &near, 0.5, || 2.0));
         let b = line((1.5, 1.0), (2.5, 1.0), (0.0, -4.0));
         let c = line((0.0, 0.0), (4.0, 0.0), (0.0, 0.0));
         assert!(intersect(&c, &b, 0.5).is_some());
-        assert!(may_intersect(&c, &b, 0.5, 4.0));
+        assert!(may_intersect(&c, &b, 0.5, || 4.0));
         // Zero-length and NaN lines are never culled.
         let dot = line((3.0, 3.0), (3.0, 3.0), (0.0, 0.0));
-        assert!(may_intersect(&dot, &a, 0.5, 3.0));
+        assert!(may_intersect(&dot, &a, 0.5, || 3.0));
         let nan = line((f64::NAN, 0.0), (1.0, 1.0), (0.0, 0.0));
-        assert!(may_intersect(&nan, &a, 0.5, 3.0));
+        assert!(may_intersect(&nan, &a, 0.5, || 3.0));
     }
 
     fn near_line() -> impl proptest::strategy::Strategy<Value = Line> {
@@ -415,9 +428,58 @@ mod tests {
         #[test]
         fn the_prefilter_is_conservative(l1 in near_line(), l2 in near_line()) {
             if intersect(&l1, &l2, 0.5).is_some() {
-                proptest::prop_assert!(may_intersect(&l1, &l2, 0.5, 1.0));
+                proptest::prop_assert!(may_intersect(&l1, &l2, 0.5, || 1.0));
             }
         }
+
+        /// Asking for the magnitude only where the interval misses zero
+        /// answers as the whole test does, for any magnitude, zero, huge,
+        /// infinite or NaN, on lines with zeros, infinities and NaN.
+        #[test]
+        fn the_prefilter_asks_for_the_magnitude_only_where_it_decides(
+            l1 in awkward_line(),
+            l2 in awkward_line(),
+            magnitude in proptest::sample::select(
+                vec![0.0, 1e-300, 0.5, 1.0, 3.0, 1e300, f64::INFINITY, f64::NAN],
+            ),
+        ) {
+            let mut asked = false;
+            let lazy = may_intersect(&l1, &l2, 0.5, || {
+                asked = true;
+                magnitude
+            });
+            proptest::prop_assert_eq!(lazy, whole_prefilter(&l1, &l2, 0.5, magnitude));
+            if !lazy {
+                proptest::prop_assert!(asked);
+            }
+        }
+    }
+
+    /// [`may_intersect`] as written before the magnitude was asked for
+    /// lazily: the margin made first, then both comparisons.
+    fn whole_prefilter(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
+        let nx = l1.p1.y - l1.p2.y;
+        let ny = l1.p2.x - l1.p1.x;
+        let c = nx * l1.p1.x + ny * l1.p1.y;
+        let a = nx * l2.p1.x + ny * l2.p1.y - c;
+        let b = nx * l2.p2.x + ny * l2.p2.y - c;
+        let w = (nx * (l2.v.x - l1.v.x) + ny * (l2.v.y - l1.v.y)) * dt;
+        let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude + MARGIN_FLOOR;
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
+        !(lo > margin || hi < -margin)
+    }
+
+    /// Lines near one another, often with a coordinate or a velocity that
+    /// is zero, infinite or NaN.
+    fn awkward_line() -> impl proptest::strategy::Strategy<Value = Line> {
+        use proptest::prelude::*;
+        let c = prop_oneof![
+            4 => 0.0f64..0.1,
+            1 => proptest::sample::select(vec![0.0, -0.0, 1e-310, f64::INFINITY, f64::NAN]),
+        ];
+        (c.clone(), c.clone(), c.clone(), c.clone(), c.clone(), c)
+            .prop_map(|(a, b, c, d, vx, vy)| line((a, b), (c, d), (vx, vy)))
     }
 
     #[test]
