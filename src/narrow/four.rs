@@ -92,62 +92,72 @@ fn pick<const IMM: i32>(x: __m256d) -> __m256d {
 #[inline]
 #[target_feature(enable = "avx2")]
 pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
-    let lines = Lanes::of(l1, l2, dt);
-    if !may_intersect(l1, l2, dt, || lines.magnitude()) {
+    if !may_intersect(l1, l2, dt, || magnitude(l1, l2, dt)) {
         return None;
     }
-    Some(lines.intersect(l1, l2))
+    Some(Lanes::of(l1, l2, dt).intersect(l1, l2))
 }
 
-/// The values of a pair of lines in lanes, as both tests take them.
+/// A line's endpoints in lanes, `[p1.x, p1.y, p2.x, p2.y]`.
+#[inline(always)]
+fn row(l: &Line) -> __m256d {
+    bytemuck::cast([l.p1.x, l.p1.y, l.p2.x, l.p2.y])
+}
+
+/// A line's velocity in lanes, `[v.x, v.y]`.
+#[inline(always)]
+fn velocity(l: &Line) -> __m128d {
+    bytemuck::cast([l.v.x, l.v.y])
+}
+
+/// Both lanes of `v` in each half: `[v.0, v.1, v.0, v.1]`.
+#[inline]
+#[target_feature(enable = "avx2")]
+fn twice(v: __m128d) -> __m256d {
+    _mm256_set_m128d(v, v)
+}
+
+/// The larger of the two lines' magnitudes: the same operations as
+/// [`magnitude`](crate::detect::swept::magnitude) of each (the least and
+/// greatest of the endpoints, then of those moved by the line's own
+/// velocity, then of the two), two lines a register. Made only where the
+/// prefilter's margin decides ([`may_intersect`]).
+#[inline]
+#[target_feature(enable = "avx2")]
+fn magnitude(l1: &Line, l2: &Line, dt: f64) -> f64 {
+    let dt = _mm_set1_pd(dt);
+    let ahead = |l: &Line| _mm256_add_pd(row(l), twice(_mm_mul_pd(velocity(l), dt)));
+    let ([p1, p2], [m1, m2]) = (halves(row(l1), row(l2)), halves(ahead(l1), ahead(l2)));
+    // Lanes `[x, y]` of `l1`, then of `l2`.
+    let least = _mm256_min_pd(_mm256_min_pd(p1, p2), _mm256_min_pd(m1, m2));
+    let greatest = _mm256_max_pd(_mm256_max_pd(p1, p2), _mm256_max_pd(m1, m2));
+    let reach = _mm256_max_pd(_mm256_xor_pd(least, _mm256_set1_pd(-0.0)), greatest);
+    let each = _mm256_max_pd(reach, _mm256_permute_pd::<0b0101>(reach));
+    let [a, _, b, _]: [f64; 4] = bytemuck::cast(each);
+    max(a, b)
+}
+
+/// The values of a pair of lines in lanes, as the exact test takes them.
 #[derive(Clone, Copy)]
 struct Lanes {
-    /// `l1`'s endpoints, `l2`'s, `l2`'s moved by the relative velocity
-    /// (`q1`, `q2`), and each line's moved by its own velocity: each as
-    /// `[p1.x, p1.y, p2.x, p2.y]`.
+    /// `l1`'s endpoints, `l2`'s, and `l2`'s moved by the relative
+    /// velocity (`q1`, `q2`): each as `[p1.x, p1.y, p2.x, p2.y]`.
     one: __m256d,
     two: __m256d,
     relative: __m256d,
-    ahead: [__m256d; 2],
 }
 
 impl Lanes {
     #[inline]
     #[target_feature(enable = "avx2")]
     fn of(l1: &Line, l2: &Line, dt: f64) -> Self {
-        let row = |l: &Line| -> __m256d { bytemuck::cast([l.p1.x, l.p1.y, l.p2.x, l.p2.y]) };
-        let velocity = |l: &Line| -> __m128d { bytemuck::cast([l.v.x, l.v.y]) };
-        let dt = _mm_set1_pd(dt);
-        let twice = |v: __m128d| _mm256_set_m128d(v, v);
         let (one, two) = (row(l1), row(l2));
-        let travel = _mm_mul_pd(_mm_sub_pd(velocity(l2), velocity(l1)), dt);
-        let ahead = |l: &Line, p: __m256d| _mm256_add_pd(p, twice(_mm_mul_pd(velocity(l), dt)));
+        let travel = _mm_mul_pd(_mm_sub_pd(velocity(l2), velocity(l1)), _mm_set1_pd(dt));
         Lanes {
             one,
             two,
             relative: _mm256_add_pd(two, twice(travel)),
-            ahead: [ahead(l1, one), ahead(l2, two)],
         }
-    }
-
-    /// The larger of the two lines' magnitudes: the same operations as
-    /// [`magnitude`](crate::detect::swept::magnitude) of each (the least
-    /// and greatest of the endpoints, then of those ahead, then of the
-    /// two), two lines a register.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    fn magnitude(self) -> f64 {
-        let ([p1, p2], [m1, m2]) = (
-            halves(self.one, self.two),
-            halves(self.ahead[0], self.ahead[1]),
-        );
-        // Lanes `[x, y]` of `l1`, then of `l2`.
-        let least = _mm256_min_pd(_mm256_min_pd(p1, p2), _mm256_min_pd(m1, m2));
-        let greatest = _mm256_max_pd(_mm256_max_pd(p1, p2), _mm256_max_pd(m1, m2));
-        let reach = _mm256_max_pd(_mm256_xor_pd(least, _mm256_set1_pd(-0.0)), greatest);
-        let each = _mm256_max_pd(reach, _mm256_permute_pd::<0b0101>(reach));
-        let [a, _, b, _]: [f64; 4] = bytemuck::cast(each);
-        max(a, b)
     }
 
     /// [`intersect`](super::intersect)`(l1, l2, dt)` of the lines these
