@@ -369,45 +369,36 @@ fn insert_with(
     let (hulls, slots) = (&mut hulls[..n], &mut slots[..n]);
     let mut moves = 0;
     let mut i = from.max(1);
-    loop {
-        // The next box below the one before it (keys are never NaN).
-        let found = 'find: {
-            // Most boxes are in order: passed over a block at a time.
-            if let (false, Some(out_of_order)) = (until_in_place, &out_of_order) {
-                while let Some(run) = keys.get(i - 1..i + IN_ORDER_RUN) {
-                    let bits = out_of_order(run.try_into().expect("a run"));
-                    if bits != 0 {
-                        i += bits.trailing_zeros() as usize;
-                        break 'find true;
-                    }
-                    i += IN_ORDER_RUN;
+    while i < n {
+        // Most boxes are in order: passed over to the next that is not.
+        if let (false, Some(out_of_order)) = (until_in_place, &out_of_order) {
+            while let Some(run) = keys.get(i - 1..i + IN_ORDER_RUN) {
+                let bits = out_of_order(run.try_into().expect("a run"));
+                if bits != 0 {
+                    i += bits.trailing_zeros() as usize;
+                    break;
                 }
+                i += IN_ORDER_RUN;
             }
-            while i < n {
-                if keys[i] < keys[i - 1] {
-                    break 'find true;
-                }
-                if until_in_place {
-                    break 'find false;
-                }
-                i += 1;
+            if i >= n {
+                break;
             }
-            false
-        };
-        if !found {
-            return Some(moves);
         }
-        // Box `i` goes below box `i - 1`, and on down past every greater key.
-        let (key, hull, slot) = (keys[i], hulls[i], slots[i]);
+        let key = keys[i];
+        if keys[i - 1] <= key {
+            if until_in_place {
+                break;
+            }
+            i += 1;
+            continue;
+        }
+        let (hull, slot) = (hulls[i], slots[i]);
         let mut j = i;
-        loop {
+        while j > 0 && keys[j - 1] > key {
             keys[j] = keys[j - 1];
             hulls[j] = hulls[j - 1];
             slots[j] = slots[j - 1];
             j -= 1;
-            if j == 0 || keys[j - 1] <= key {
-                break;
-            }
         }
         keys[j] = key;
         hulls[j] = hull;
@@ -420,6 +411,7 @@ fn insert_with(
         moves += moved;
         i += 1;
     }
+    Some(moves)
 }
 
 /// [`OutOfOrder`] where the processor lacks AVX2: with WebAssembly's
