@@ -229,23 +229,38 @@ fn thousands_of_lines_agree_with_the_oracle() {
 /// boxes moving between bands and the layout kept from step to step, on
 /// one thread and on teams of two and three; with a grain of a few lines
 /// (the world's move in pieces of a few lines, claimed by whichever
-/// thread is free, and the tied events in waves) for 130 steps.
+/// thread is free, and the tied events in waves) for 130 steps; and
+/// sweeping every step on one thread for 60, where the move makes the
+/// next step's boxes and notes those that left their band.
 #[test]
 fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
     use screensaver::generate::{generate, SceneKind};
     let scene = generate(SceneKind::Uniform, 3_000, 5);
     let default = DetectorConfig::default().grain;
-    for (threads, grain) in [(1, default), (3, 8), (2, default), (3, default)] {
+    let (auto, never) = (KeepPairs::Auto, KeepPairs::Never);
+    let runs = [
+        (1, default, auto),
+        (1, default, never),
+        (3, 8, auto),
+        (2, default, auto),
+        (3, default, auto),
+    ];
+    for (threads, grain, keep_pairs) in runs {
         let config = DetectorConfig {
             threads,
             grain,
+            keep_pairs,
             ..DetectorConfig::default()
         };
         let mut world =
             World::with_config(&scene, DetectorKind::Sweep, &config).expect("a pool of threads");
-        let steps = if grain == default { 34 } else { 130 };
+        let steps = match (grain == default, keep_pairs) {
+            (true, KeepPairs::Auto) => 34,
+            (true, _) => 60,
+            (false, _) => 130,
+        };
         verified(&mut world, steps)
-            .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}: {m}"));
+            .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}, {keep_pairs:?}: {m}"));
         let stats = Stats::of(&world, DetectorKind::Sweep, &config, None).text();
         assert!(stats.contains("bands"), "{stats}");
     }

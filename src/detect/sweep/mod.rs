@@ -74,7 +74,7 @@ use crate::index::Slot;
 use crate::line::{Line, DT};
 use crate::schedule::Schedule;
 use crate::team::{self, Team};
-use boxes::Boxes;
+use boxes::{BoxSliceMut, Boxes};
 use hull::{lo, Packed, NO_KEY};
 use layout::{GroupView, Layout};
 use near::{Choice, Near, ToMake};
@@ -166,6 +166,9 @@ pub struct Sweep {
     /// Whether the move before this step made its boxes, in `sorted`'s
     /// order, and of what time step ([`Detector::advance`]).
     made: Option<f64>,
+    /// Whether that move also noted their movers, for one group of bands
+    /// ([`Sweep::advance_in_order`]).
+    noted_in_move: bool,
     /// Steps detected.
     steps: u64,
 }
@@ -211,8 +214,12 @@ impl Sweep {
     /// the move before `made` them, none). When
     /// last step's layout may be kept, each share notes its movers as it
     /// goes ([`Layout::mover_check`]), a block at a time while its boxes
-    /// are at hand.
+    /// are at hand. Where the move made the boxes and noted their movers,
+    /// there is nothing to do.
     fn make_hulls(&mut self, lines: &[Line], dt: f64, (keep, made): (bool, bool)) {
+        if std::mem::take(&mut self.noted_in_move) && made {
+            return;
+        }
         let along = self.plan.along;
         let n = self.sorted.len();
         let team = self.team_for(n);
@@ -274,11 +281,32 @@ impl Sweep {
     }
 
     /// [`Detector::advance`] making the boxes in this step's order, for a
-    /// step that sweeps on this thread ([`Sweep::make_hulls`]).
+    /// step that sweeps on this thread ([`Sweep::make_hulls`]). Where the
+    /// layout of several bands may be kept, the movers are noted a block
+    /// at a time as the boxes are made, as the next step's first phase
+    /// would (for one group of bands: this step's team is this thread
+    /// alone), while the boxes are at hand rather than read again.
     fn advance_in_order(&mut self, lines: &mut [Line]) -> u64 {
-        let (n, along, b) = (lines.len(), self.plan.along, &mut self.sorted);
-        let (slots, hulls, keys) = (&b.slots[..n], &mut b.hulls[..n], &mut b.keys[..n]);
-        let hits = hull::advance_and_make(lines, Some(slots), hulls, keys, (along, DT));
+        let (n, along) = (lines.len(), self.plan.along);
+        let (check, noted) = (self.layout).mover_check(n, &self.plan.bands, 1, 1);
+        let mut boxes = self.sorted.slice_mut(n);
+        let make = |lines: &mut [Line], b: BoxSliceMut| {
+            hull::advance_and_make(lines, Some(b.slots), b.hulls, b.keys, (along, DT))
+        };
+        let hits = match (check, noted) {
+            (Some(check), [noted]) => {
+                noted.clear();
+                let mut hits = 0;
+                for at in (0..n).step_by(NOTE_BLOCK) {
+                    let mut block = boxes.at(at..(at + NOTE_BLOCK).min(n));
+                    hits += make(lines, block.at(0..block.len()));
+                    check.note(at, block.view(), noted);
+                }
+                self.noted_in_move = true;
+                hits
+            }
+            _ => make(lines, boxes),
+        };
         self.made = Some(DT);
         hits
     }
