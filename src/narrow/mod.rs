@@ -247,7 +247,8 @@ pub(crate) fn is_sliver(l1: &Line, l2: &Line, dt: f64) -> bool {
 /// An interval that holds zero keeps the pair whatever the margin (which
 /// is positive, or NaN and then keeps it too), so `magnitude` is only
 /// asked for where the interval lies to one side: most pairs that reach
-/// this test are events, and their magnitude was a fifth of its cost.
+/// this test are events, whose interval holds zero (on `sin_wave` and
+/// `smalllines`, 87 to 90% of the pairs tested).
 #[inline]
 pub(crate) fn may_intersect(
     l1: &Line,
