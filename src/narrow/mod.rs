@@ -256,6 +256,18 @@ pub(crate) fn may_intersect(
     dt: f64,
     magnitude: impl FnOnce() -> f64,
 ) -> bool {
+    let (lo, hi, scale) = projected(l1, l2, dt);
+    if lo <= 0.0 && hi >= 0.0 {
+        return true;
+    }
+    within_margin((lo, hi, scale), magnitude())
+}
+
+/// The interval the parallelogram `l2` sweeps relative to `l1` lands on,
+/// projected onto the normal of `l1` with `l1` at zero, and the normal's
+/// `|x| + |y|` (the margin's scale): [`may_intersect`]'s projections.
+#[inline(always)]
+fn projected(l1: &Line, l2: &Line, dt: f64) -> (f64, f64, f64) {
     let nx = l1.p1.y - l1.p2.y;
     let ny = l1.p2.x - l1.p1.x;
     let c = nx * l1.p1.x + ny * l1.p1.y;
@@ -264,13 +276,17 @@ pub(crate) fn may_intersect(
     let w = (nx * (l2.v.x - l1.v.x) + ny * (l2.v.y - l1.v.y)) * dt;
     let (lo, hi) = if a < b { (a, b) } else { (b, a) };
     let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
-    if lo <= 0.0 && hi >= 0.0 {
-        return true;
-    }
+    (lo, hi, nx.abs() + ny.abs())
+}
+
+/// Whether the interval `[lo, hi]` comes within the margin of zero that
+/// `magnitude` buys at the normal's `scale` ([`may_intersect`]).
+#[inline(always)]
+fn within_margin((lo, hi, scale): (f64, f64, f64), magnitude: f64) -> bool {
     // The floor covers values that underflow: below `f64::MIN_POSITIVE`
     // rounding errors are absolute (up to 2^-1075 a product), not relative,
     // and the relative margin itself may round to zero.
-    let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude() + MARGIN_FLOOR;
+    let margin = 1e-8 * scale * magnitude + MARGIN_FLOOR;
     // Written so that NaN anywhere keeps the pair (a NaN comparison is false).
     !(lo > margin || hi < -margin)
 }
@@ -412,6 +428,23 @@ mod tests {
         assert!(may_intersect(&nan, &a, 0.5, || 3.0));
     }
 
+    #[test]
+    fn a_pair_just_off_the_line_is_decided_by_the_margin() {
+        // `l2` lies 1e-12 above `l1`'s line: the interval misses zero, so
+        // the margin decides, and the magnitude is asked for.
+        let l1 = line((0.0, 0.0), (1.0, 0.0), (0.0, 0.0));
+        let l2 = line((0.2, 1e-12), (0.4, 1e-12), (0.0, 0.0));
+        for (magnitude, kept) in [(0.0, false), (1.0, true)] {
+            let mut asked = false;
+            let decided = may_intersect(&l1, &l2, 0.5, || {
+                asked = true;
+                magnitude
+            });
+            assert_eq!((decided, asked), (kept, true), "magnitude {magnitude}");
+            assert_eq!(whole_prefilter(&l1, &l2, 0.5, magnitude), kept);
+        }
+    }
+
     fn near_line() -> impl proptest::strategy::Strategy<Value = Line> {
         use proptest::prelude::*;
         let c = prop_oneof![
@@ -456,19 +489,10 @@ mod tests {
         }
     }
 
-    /// [`may_intersect`] as written before the magnitude was asked for
-    /// lazily: the margin made first, then both comparisons.
+    /// [`may_intersect`] without its shortcut: the margin always made and
+    /// both comparisons always made.
     fn whole_prefilter(l1: &Line, l2: &Line, dt: f64, magnitude: f64) -> bool {
-        let nx = l1.p1.y - l1.p2.y;
-        let ny = l1.p2.x - l1.p1.x;
-        let c = nx * l1.p1.x + ny * l1.p1.y;
-        let a = nx * l2.p1.x + ny * l2.p1.y - c;
-        let b = nx * l2.p2.x + ny * l2.p2.y - c;
-        let w = (nx * (l2.v.x - l1.v.x) + ny * (l2.v.y - l1.v.y)) * dt;
-        let margin = 1e-8 * (nx.abs() + ny.abs()) * magnitude + MARGIN_FLOOR;
-        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
-        let (lo, hi) = if w < 0.0 { (lo + w, hi) } else { (lo, hi + w) };
-        !(lo > margin || hi < -margin)
+        within_margin(projected(l1, l2, dt), magnitude)
     }
 
     /// Lines near one another, often with a coordinate or a velocity that

@@ -5,7 +5,8 @@
 //! A box with least values `lo[a]` and greatest values `hi[a]` along
 //! directions `a = 0..4` is packed as `[lo[0..4], -hi[0..4]]`, every lane
 //! an `f32`. Two boxes overlap (closed: touching counts) when
-//! `lo_j[a] <= hi_i[a]` and `lo_i[a] <= hi_j[a]` for every `a`, that is when every lane of `P_j` is at most the matching lane of
+//! `lo_j[a] <= hi_i[a]` and `lo_i[a] <= hi_j[a]` for every `a`, that is
+//! when every lane of `P_j` is at most the matching lane of
 //! [`reach`]`(P_i)`, which is `P_i` with its halves swapped and negated.
 //! An unused direction is packed as `-inf` in both halves and never rules
 //! a pair out.
