@@ -65,6 +65,12 @@ pub(crate) struct Layout {
     carry: Vec<f32>,
     /// The laid-out boxes, exchanged with the arriving boxes once laid out.
     laid: Boxes,
+    /// Boxes from which one thread copies a kept layout rather than
+    /// updating it in place, where not [`Schedule::LAYOUT_COPIED_FROM`]
+    /// (tests copy small layouts).
+    ///
+    /// [`Schedule::LAYOUT_COPIED_FROM`]: crate::schedule::Schedule::LAYOUT_COPIED_FROM
+    copied_from: Option<usize>,
 }
 
 /// One group of bands as its member laid it out, for the member to sweep
@@ -389,6 +395,13 @@ mod tests {
     /// home that it reaches, sorted.
     #[test]
     fn layouts_hold_every_box_at_home_and_as_guest_where_it_reaches() {
+        // One thread's kept layouts updated in place, then copied.
+        for copied_from in [None, Some(0)] {
+            every_box_at_home_and_as_guest(copied_from);
+        }
+    }
+
+    fn every_box_at_home_and_as_guest(copied_from: Option<usize>) {
         let n = 3000usize;
         let mut state = 12345u64;
         let mut rand = move || {
@@ -401,7 +414,10 @@ mod tests {
         let spans = (0..n).map(|_| (rand(), rand() * rand() * 0.3));
         let mut ys: Vec<(f32, f32)> = spans.map(|(y, h)| (y, y + h)).collect();
         (keys[7], keys[100]) = (NO_KEY, NO_KEY);
-        let mut layout = Layout::default();
+        let mut layout = Layout {
+            copied_from,
+            ..Layout::default()
+        };
         let mut b = boxes_of(&keys, &ys);
         let teams = [1, 2, 3, 8].map(|threads| Team::new(threads).unwrap());
         let mut kept = 0;
@@ -502,9 +518,14 @@ mod tests {
         for groups in [1, 2, 3] {
             let team = &Team::new(groups).unwrap();
             let mut laid = Vec::new();
-            for noted in [false, true] {
+            // Kept without the movers noted, with them, and with them and
+            // copied (on one thread, rather than in place).
+            for (noted, copied) in [(false, false), (true, false), (true, true)] {
                 let mut b = boxes_of(&keys, &ys);
-                let mut layout = Layout::default();
+                let mut layout = Layout {
+                    copied_from: copied.then_some(0),
+                    ..Layout::default()
+                };
                 lay_out(&mut b, &bands, &mut layout, team);
                 // A few boxes move to other bands, one loses its key.
                 for k in 0..n {
@@ -564,7 +585,8 @@ mod tests {
                     guests,
                 ));
             }
-            assert!(laid[0] == laid[1], "{groups} groups");
+            assert!(laid[0] == laid[1], "{groups} groups, noted");
+            assert!(laid[0] == laid[2], "{groups} groups, copied");
         }
     }
 }

@@ -5,7 +5,8 @@
 //! thread need not read the bands below. Then each group copies each of its
 //! bands to its new place in the other arrays in one pass (the stayers a
 //! run at a time, the movers merged in) and sorts it there; on one thread a
-//! kept layout is updated in place instead ([`Layout::finish_in_place`]).
+//! kept layout is updated in place instead ([`Layout::finish_in_place`]),
+//! but for the largest scenes ([`Schedule::LAYOUT_COPIED_FROM`]).
 
 use super::{
     groups_of_bands, insert_runs, set_starts, stretches, Group, GroupView, Layout, Stretch,
@@ -15,6 +16,7 @@ use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::boxes::{sort_nearly_sorted, Boxes};
 use crate::detect::sweep::boxes::{BoxList, BoxSlice, BoxSliceMut};
 use crate::detect::sweep::hull::{hi, lo, NO_KEY};
+use crate::schedule::Schedule;
 use crate::team::Team;
 use std::ops::Range;
 
@@ -158,7 +160,10 @@ impl Layout {
         let kept = self.note_movers(arriving, n, bands, team);
         let bounds = self.place_movers(n, bands, groups, kept);
         self.group_count = bounds.len();
-        if kept && groups == 1 {
+        let copied = self
+            .copied_from
+            .map_or(Schedule::layout_copied(n), |from| n >= from);
+        if kept && groups == 1 && !copied {
             self.finish_in_place(arriving, n, bands, then_each);
         } else {
             self.finish_groups(arriving.slice(n), team, &bounds, then_each);
@@ -294,7 +299,9 @@ impl Layout {
     /// handed to `then_each`. One thread has no other group to copy
     /// boxes past, so it moves only what changed instead of copying every
     /// box into the other arrays as the groups do (docs/DESIGN.md, "Sweep
-    /// and prune", several bands).
+    /// and prune", several bands); but where every band shifts, what
+    /// changed is every box, moved up to three times, and the copy is
+    /// quicker ([`Schedule::LAYOUT_COPIED_FROM`]).
     fn finish_in_place(
         &mut self,
         arriving: &mut Boxes,
