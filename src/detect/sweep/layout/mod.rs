@@ -9,9 +9,10 @@
 //!
 //! The homes, band by band, are the order next step's boxes are made in,
 //! so [`update`] keeps last step's layout and moves only the movers. A
-//! layout made anew (on the first step, and whenever the bands change) is
-//! the same update of a layout that held every box among the boxes without
-//! a key.
+//! layout made anew (on the first step, and whenever the bands change or
+//! the boxes arrive in another order) is the same update with every box a
+//! mover and no stayers, the movers put in their bands by a counting sort
+//! and each band sorted by radix.
 
 mod update;
 
@@ -65,6 +66,9 @@ pub(crate) struct Layout {
     carry: Vec<f32>,
     /// The laid-out boxes, exchanged with the arriving boxes once laid out.
     laid: Boxes,
+    /// Whether this step's layout is made anew: each band's boxes then
+    /// arrive in no order, and a radix sort takes them at once.
+    anew: bool,
     /// Boxes from which one thread copies a kept layout rather than
     /// updating it in place, where not [`Schedule::LAYOUT_COPIED_FROM`]
     /// (tests copy small layouts).
@@ -289,14 +293,11 @@ impl Group {
 }
 
 impl Group {
-    /// Sorts the movers by band (their end; band `b`'s to `starts[b]` on),
-    /// in their order within a band, and with `by_key` each band's by key.
-    /// A counting sort: each mover is read in turn and written to its
-    /// band's place. A layout made anew has every box a mover, taken in
-    /// arrival order and each band then sorted on its own, which costs
-    /// less than gathering every box in one sorted order (docs/DESIGN.md,
-    /// "Tried and dropped").
-    fn sort_movers(&mut self, movers: &mut BoxList, starts: &[usize], by_key: bool) {
+    /// Sorts the movers of a kept layout by band (their end; band `b`'s to
+    /// `starts[b]` on), in their order within a band, and each band's by
+    /// key. A counting sort: each mover is read in turn and written to its
+    /// band's place.
+    fn sort_movers(&mut self, movers: &mut BoxList, starts: &[usize]) {
         let Group {
             order,
             spare,
@@ -312,7 +313,7 @@ impl Group {
             *to += 1;
         }
         std::mem::swap(movers, spare);
-        for band in starts.windows(2).filter(|b| by_key && b[1] - b[0] > 1) {
+        for band in starts.windows(2).filter(|b| b[1] - b[0] > 1) {
             sort_nearly_sorted(movers.slice_mut(band[0]..band[1]), order, spare);
         }
     }

@@ -157,8 +157,16 @@ impl Layout {
         then_each: ThenEach,
     ) -> usize {
         let groups = team.threads();
-        let kept = self.note_movers(arriving, n, bands, team);
-        let bounds = self.place_movers(n, bands, groups, kept);
+        let kept = self.keeps(bands, n) && arriving.len() == n;
+        self.anew = !kept;
+        let tops = match kept {
+            true => {
+                self.note_movers(arriving, n, bands, team);
+                self.gather_movers(bands.count)
+            }
+            false => self.gather_all(arriving.slice(n), bands, team),
+        };
+        let bounds = self.place_movers(n, bands, groups, kept, tops);
         self.group_count = bounds.len();
         let copied = self
             .copied_from
@@ -172,50 +180,108 @@ impl Layout {
         self.starts[bands.count]
     }
 
-    /// Takes last step's layout to update if it was of `bands` and `n`
-    /// boxes (and says so), else an empty one (every box among the boxes
-    /// without a key); notes the movers here, a share a thread of `team`,
-    /// unless the hulls' shares noted them for these bands in as many
-    /// groups.
-    fn note_movers(&mut self, arriving: &Boxes, n: usize, bands: &Bands, team: &Team) -> bool {
-        let (count, groups) = (bands.count, team.threads());
-        let noted = self.noted_for.take() == Some((*bands, groups));
-        let kept = self.keeps(bands, n) && arriving.len() == n;
-        if !kept {
-            self.kept = Some(*bands);
-            self.set_edges(bands);
-            self.starts.clear();
-            self.starts.resize(count + 1, 0);
-            self.starts.push(n);
+    /// Notes the movers of last step's layout (of `bands` and `n` boxes
+    /// arriving in its order), a share a thread of `team`, unless the
+    /// hulls' shares noted them for these bands in as many groups.
+    fn note_movers(&mut self, arriving: &Boxes, n: usize, bands: &Bands, team: &Team) {
+        let groups = team.threads();
+        if self.noted_for.take() == Some((*bands, groups)) {
+            return;
         }
-        if !(kept && noted) {
-            let (check, noted) = self.mover_check(n, bands, groups, groups);
-            let check = check.expect("a layout to update");
-            let noted = crate::team::split_mut(noted, groups);
-            team.run(&|k| {
-                let share = crate::team::share(n, groups, k);
-                let into = &mut noted.take(k)[0];
-                into.clear();
-                check.note(share.start, arriving.slice(n).at(share), into);
-            });
-            self.noted_for = None;
+        let (check, noted) = self.mover_check(n, bands, groups, groups);
+        let check = check.expect("a layout to update");
+        let noted = crate::team::split_mut(noted, groups);
+        team.run(&|k| {
+            let share = crate::team::share(n, groups, k);
+            let into = &mut noted.take(k)[0];
+            into.clear();
+            check.note(share.start, arriving.slice(n).at(share), into);
+        });
+        self.noted_for = None;
+    }
+
+    /// A layout made anew in `bands`: every box of `arriving` a mover to
+    /// its band (the boxes without a key to the band after the last), put
+    /// in `movers` band by band in the order they arrive, by a counting
+    /// sort shared among `team` (each share counts its boxes per band,
+    /// then copies each to its place), with no stayers and no gaps.
+    /// Returns per band the greatest value across its stayers reach: none.
+    fn gather_all(&mut self, arriving: BoxSlice, bands: &Bands, team: &Team) -> Vec<f32> {
+        let (n, count, shares) = (arriving.len(), bands.count, team.threads());
+        self.kept = Some(*bands);
+        self.set_edges(bands);
+        // Last step's layout, which the stayers come from: none.
+        self.starts.clear();
+        self.starts.resize(count + 2, 0);
+        self.noted_for = None;
+        self.noted_shares = 0;
+        self.stayed.clear();
+        self.stayed.resize(count + 1, 0);
+        self.gaps.clear();
+        self.gap_starts.clear();
+        self.gap_starts.resize(count + 2, 0);
+        let home = |k: usize| match arriving.keys[k] == NO_KEY {
+            true => count,
+            false => bands.of(lo(&arriving.hulls[k], bands.across)),
+        };
+        let mut counts = vec![vec![0usize; count + 1]; shares];
+        let parts = crate::team::split_mut(&mut counts, shares);
+        team.run(&|k| {
+            let counts = &mut parts.take(k)[0];
+            for i in crate::team::share(n, shares, k) {
+                counts[home(i)] += 1;
+            }
+        });
+        // Each share's run of each band, in band order, then share order.
+        self.movers.resize(n);
+        let BoxList {
+            keys,
+            hulls,
+            slots,
+            ends,
+        } = &mut self.movers;
+        let mut rest = BoxSliceMut::new(keys, hulls, slots);
+        let mut rest_ends = &mut ends[..];
+        let mut runs: Vec<Vec<_>> = (0..shares).map(|_| Vec::new()).collect();
+        for b in 0..=count {
+            for (k, share_counts) in counts.iter().enumerate() {
+                let (run, tail) = rest.split_at(share_counts[b]);
+                let (ends, tail_ends) = std::mem::take(&mut rest_ends).split_at_mut(run.len());
+                runs[k].push((run, ends));
+                (rest, rest_ends) = (tail, tail_ends);
+            }
         }
-        kept
+        let runs = crate::team::Parts::new(runs);
+        team.run(&|k| {
+            let mut runs = runs.take(k);
+            let mut at = vec![0; count + 1];
+            for i in crate::team::share(n, shares, k) {
+                let b = home(i);
+                let ((run, ends), to) = (&mut runs[b], at[b]);
+                run.keys[to] = arriving.keys[i];
+                run.hulls[to] = arriving.hulls[i];
+                run.slots[to] = arriving.slots[i];
+                ends[to] = b as u32;
+                at[b] += 1;
+            }
+        });
+        vec![f32::NEG_INFINITY; count + 1]
     }
 
     /// Sets the new layout's starts from the stayers of each band and the
-    /// movers (sorted by band, and if `kept` by key), the last band each
-    /// band's homes reach and where its movers start; returns the groups of
-    /// bands, one per thread.
+    /// movers (sorted here by band and key if `kept`, else in their bands
+    /// already), the last band each band's homes reach (given per band the
+    /// greatest value across that its stayers reach, `tops`) and where its
+    /// movers start; returns the groups of bands, one per thread.
     fn place_movers(
         &mut self,
         n: usize,
         bands: &Bands,
         groups: usize,
         kept: bool,
+        mut tops: Vec<f32>,
     ) -> Vec<Range<usize>> {
         let count = bands.count;
-        let mut tops = self.gather_movers(count);
         std::mem::swap(&mut self.starts, &mut self.old_starts);
         self.counts.clear();
         self.counts.extend(self.stayed.iter().map(|&s| s as u32));
@@ -237,9 +303,12 @@ impl Layout {
             .resize_with(bounds.len().max(self.groups.len()), Group::default);
         let moved = (0..=count).map(|b| self.counts[b] - self.stayed[b] as u32);
         set_starts(moved, &mut self.mover_starts);
-        // Made anew, the bands have no stayers to merge the movers among:
-        // each band sorts them itself, on its group's thread.
-        self.groups[0].sort_movers(&mut self.movers, &self.mover_starts, kept);
+        // Made anew, the movers are in their bands already, and the bands
+        // have no stayers to merge them among: each band sorts them
+        // itself, on its group's thread.
+        if kept {
+            self.groups[0].sort_movers(&mut self.movers, &self.mover_starts);
+        }
         self.last_band.clear();
         self.last_band
             .extend(
@@ -568,11 +637,16 @@ impl Layout {
             // The movers merged in as the stayers are copied, each before
             // the first stayer past it (a place found by binary search in
             // the nearly sorted stayers, so possibly a little off); then the
-            // band sorted, which puts right what is off.
+            // band sorted, which puts right what is off. A band made anew
+            // holds movers alone, in no order.
             self.merge_in(boxes.at(out.clone()), arrived, band, |keys, key| {
                 keys.partition_point(|&k| k <= key)
             });
-            sort_nearly_sorted(boxes.at(out.clone()), &mut group.order, &mut group.spare);
+            let (order, spare) = (&mut group.order, &mut group.spare);
+            match self.anew {
+                true => boxes.at(out.clone()).sort_by_radix(order, spare),
+                false => sort_nearly_sorted(boxes.at(out.clone()), order, spare),
+            }
             let next = band + 1 < group.bands.end;
             group.end_guests(boxes.view().at(out), band, next, bands);
         }
