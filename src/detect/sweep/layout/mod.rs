@@ -10,9 +10,8 @@
 //! The homes, band by band, are the order next step's boxes are made in,
 //! so [`update`] keeps last step's layout and moves only the movers. A
 //! layout made anew (on the first step, and whenever the bands change) is
-//! the same update with every box a
-//! mover and no stayers, the movers put in their bands by a counting sort
-//! and each band sorted by radix.
+//! the same update with every box a mover and no stayers, the movers put
+//! in their bands by a counting sort and each band sorted by radix.
 
 mod update;
 
