@@ -140,10 +140,9 @@ impl Layout {
     /// Lays out the first `n` boxes of `arriving` in `bands` (their hulls
     /// made anew), as they arrive in the order of last step's layout:
     /// last step's layout updated if it was of `bands` and of as many
-    /// boxes, else laid out anew, as from a layout that held every box
-    /// among the boxes without a key, so that every box with a key is a
-    /// mover to its band. Leaves them in `arriving`, sentinel last, and
-    /// returns the boxes with a key, which come first.
+    /// boxes, else laid out anew, every box a mover to its band
+    /// ([`Layout::gather_all`]). Leaves them in `arriving`, sentinel last,
+    /// and returns the boxes with a key, which come first.
     ///
     /// The work is shared among groups of bands, one a member of `team`,
     /// and `then_each` is called with each group as soon as it is laid
@@ -205,7 +204,8 @@ impl Layout {
     /// in `movers` band by band in the order they arrive, by a counting
     /// sort shared among `team` (each share counts its boxes per band,
     /// then copies each to its place), with no stayers and no gaps.
-    /// Returns per band the greatest value across its stayers reach: none.
+    /// Returns per band the greatest value across that its stayers reach
+    /// (`-inf`: it has none).
     fn gather_all(&mut self, arriving: BoxSlice, bands: &Bands, team: &Team) -> Vec<f32> {
         let (n, count, shares) = (arriving.len(), bands.count, team.threads());
         self.kept = Some(*bands);
