@@ -65,9 +65,6 @@ pub(crate) struct Layout {
     carry: Vec<f32>,
     /// The laid-out boxes, exchanged with the arriving boxes once laid out.
     laid: Boxes,
-    /// Whether this step's layout is made anew: each band's boxes then
-    /// arrive in no order, and a radix sort takes them at once.
-    anew: bool,
     /// Boxes from which one thread copies a kept layout rather than
     /// updating it in place, where not [`Schedule::LAYOUT_COPIED_FROM`]
     /// (tests copy small layouts).
@@ -194,6 +191,33 @@ fn stretches<'a>(
         Stretch { bands, boxes }
     };
     bounds.iter().map(cut).collect()
+}
+
+/// The movers cut into runs for a counting sort shared among members:
+/// band by band, each band's run of each member (of `counts[member][band]`
+/// boxes) in member order. Returns each member's runs, in band order,
+/// with their ends.
+fn member_runs<'a>(
+    movers: &'a mut BoxList,
+    counts: &[Vec<usize>],
+) -> Vec<Vec<(BoxSliceMut<'a>, &'a mut [u32])>> {
+    let BoxList {
+        keys,
+        hulls,
+        slots,
+        ends,
+    } = movers;
+    let (mut rest, mut rest_ends) = (BoxSliceMut::new(keys, hulls, slots), &mut ends[..]);
+    let mut runs: Vec<Vec<_>> = counts.iter().map(|_| Vec::new()).collect();
+    for b in 0..counts.first().map_or(0, Vec::len) {
+        for (member, member_counts) in counts.iter().enumerate() {
+            let (run, tail) = std::mem::take(&mut rest).split_at(member_counts[b]);
+            let (run_ends, tail_ends) = std::mem::take(&mut rest_ends).split_at_mut(run.len());
+            runs[member].push((run, run_ends));
+            (rest, rest_ends) = (tail, tail_ends);
+        }
+    }
+    runs
 }
 
 /// Consecutive ranges of the bands that start at `starts` (`count + 2`

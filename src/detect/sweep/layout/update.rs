@@ -9,8 +9,8 @@
 //! but for the largest scenes ([`Schedule::LAYOUT_COPIED_FROM`]).
 
 use super::{
-    groups_of_bands, insert_runs, set_starts, stretches, Group, GroupView, Layout, Stretch,
-    ThenEach,
+    groups_of_bands, insert_runs, member_runs, set_starts, stretches, Group, GroupView, Layout,
+    Stretch, ThenEach,
 };
 use crate::detect::sweep::bands::Bands;
 use crate::detect::sweep::boxes::{sort_nearly_sorted, Boxes};
@@ -157,7 +157,6 @@ impl Layout {
     ) -> usize {
         let groups = team.threads();
         let kept = self.keeps(bands, n) && arriving.len() == n;
-        self.anew = !kept;
         let tops = match kept {
             true => {
                 self.note_movers(arriving, n, bands, team);
@@ -173,7 +172,7 @@ impl Layout {
         if kept && groups == 1 && !copied {
             self.finish_in_place(arriving, n, bands, then_each);
         } else {
-            self.finish_groups(arriving.slice(n), team, &bounds, then_each);
+            self.finish_groups(arriving.slice(n), team, (&bounds, !kept), then_each);
             std::mem::swap(arriving, &mut self.laid);
         }
         self.starts[bands.count]
@@ -232,26 +231,8 @@ impl Layout {
                 counts[home(i)] += 1;
             }
         });
-        // Each share's run of each band, in band order, then share order.
         self.movers.resize(n);
-        let BoxList {
-            keys,
-            hulls,
-            slots,
-            ends,
-        } = &mut self.movers;
-        let mut rest = BoxSliceMut::new(keys, hulls, slots);
-        let mut rest_ends = &mut ends[..];
-        let mut runs: Vec<Vec<_>> = (0..shares).map(|_| Vec::new()).collect();
-        for b in 0..=count {
-            for (k, share_counts) in counts.iter().enumerate() {
-                let (run, tail) = rest.split_at(share_counts[b]);
-                let (ends, tail_ends) = std::mem::take(&mut rest_ends).split_at_mut(run.len());
-                runs[k].push((run, ends));
-                (rest, rest_ends) = (tail, tail_ends);
-            }
-        }
-        let runs = crate::team::Parts::new(runs);
+        let runs = crate::team::Parts::new(member_runs(&mut self.movers, &counts));
         team.run(&|k| {
             let mut runs = runs.take(k);
             let mut at = vec![0; count + 1];
@@ -325,12 +306,13 @@ impl Layout {
     /// Each group of bands (`bounds`) copies its bands' stayers (from
     /// `arrived`) and movers to their new places in the other arrays and
     /// finishes them there, with their guests, on its member of `team`,
-    /// then hands itself to `then_each`.
+    /// then hands itself to `then_each`. A layout made `anew` has movers
+    /// alone, in no order.
     fn finish_groups(
         &mut self,
         arrived: BoxSlice,
         team: &Team,
-        bounds: &[Range<usize>],
+        (bounds, anew): (&[Range<usize>], bool),
         then_each: ThenEach,
     ) {
         // Taken out while the groups write them and read the rest.
@@ -346,7 +328,7 @@ impl Layout {
         let work = crate::team::Parts::new(work);
         team.run_pieces(pieces, &|index| {
             let (mut s, group) = work.take(index);
-            let boxes = layout.finish_group(&mut s, group, arrived);
+            let boxes = layout.finish_group(&mut s, group, (arrived, anew));
             let group = &*group;
             then_each(GroupView {
                 index,
@@ -580,14 +562,15 @@ impl Layout {
 
     /// Finishes one group's bands in its stretch of the other arrays:
     /// each band's stayers (from `arrived`) copied in with its movers
-    /// merged in, then sorted; then its guests, the first band's from the
-    /// stayers below noted as reaching it and the movers to the bands
-    /// below that do. Returns the stretch, finished.
+    /// merged in, then sorted (by radix at once where made `anew`); then
+    /// its guests, the first band's from the stayers below noted as
+    /// reaching it and the movers to the bands below that do. Returns the
+    /// stretch, finished.
     fn finish_group<'a>(
         &self,
         s: &'a mut Stretch,
         group: &mut Group,
-        arrived: BoxSlice,
+        (arrived, anew): (BoxSlice, bool),
     ) -> BoxSlice<'a> {
         let (range, boxes) = (s.bands.clone(), &mut s.boxes);
         let offset = self.starts[range.start];
@@ -643,7 +626,7 @@ impl Layout {
                 keys.partition_point(|&k| k <= key)
             });
             let (order, spare) = (&mut group.order, &mut group.spare);
-            match self.anew {
+            match anew {
                 true => boxes.at(out.clone()).sort_by_radix(order, spare),
                 false => sort_nearly_sorted(boxes.at(out.clone()), order, spare),
             }
