@@ -389,8 +389,13 @@ picture_moves() {
     [[ $a != "$b" ]]
 }
 gone() { ! kill -0 "$1" 2>/dev/null; }
-# The user's processes besides Xvfb and the daemon.
-others() { pgrep -u "$user" | grep -vxF -e "$xvfb_pid" -e "$daemon_pid" || true; }
+# The user's processes besides Xvfb and the daemon. A child of the daemon
+# that has ended but is not yet reaped (state Z) runs nothing: the daemon
+# collects its xscreensaver-gfx only at its next wake, seconds later.
+others() {
+    ps -u "$user" -o pid=,ppid=,stat= | awk -v xvfb="$xvfb_pid" -v daemon="$daemon_pid" '
+        $1 != xvfb && $1 != daemon && !($2 == daemon && $3 ~ /^Z/) { print $1 }'
+}
 nothing_else_runs() { [[ -z $(others) ]]; }
 # Checks, for up to 10 s, that nothing but the daemon and Xvfb runs as
 # $user; a failure names what still runs.
