@@ -109,10 +109,6 @@ impl Scalar {
         Self([x; LANES])
     }
     #[inline(always)]
-    pub fn gather(v: [f64; LANES]) -> Self {
-        Self(v)
-    }
-    #[inline(always)]
     pub fn points(batch: [&Line; LANES]) -> [Self; 4] {
         let rows = batch.map(row);
         std::array::from_fn(|c| Self(std::array::from_fn(|k| rows[k][c])))
