@@ -61,9 +61,24 @@ fn line_bits(l: &Line) -> [u64; 6] {
 /// `Scene::parse` on arbitrary bytes: never panics; a scene it accepts holds
 /// only finite values and its `to_text` reads back to the same bits (and
 /// writes the same text again); an error names the origin and a line of the
-/// input.
+/// input. Read in pieces (one after another, as threads would read them),
+/// the bytes give the same scene, or the pieces give up.
 pub fn scene_parser(bytes: &[u8]) {
-    let scene = match Scene::parse(bytes, ORIGIN) {
+    let parsed = Scene::parse(bytes, ORIGIN);
+    for pieces in [2, 3] {
+        if let Some(read) = crate::scene::pieces::parse_here(bytes, pieces) {
+            let one = parsed
+                .as_ref()
+                .expect("pieces read only what one thread reads");
+            let bits = |s: &Scene| -> Vec<_> {
+                (s.lines.iter())
+                    .map(|l| (scene_line_bits(l), l.color))
+                    .collect()
+            };
+            assert_eq!(bits(&read), bits(one), "{pieces} pieces read another scene");
+        }
+    }
+    let scene = match parsed {
         Ok(scene) => scene,
         Err(e) => {
             check_error_message(bytes, e.line, &e.to_string(), "scene");

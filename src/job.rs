@@ -348,7 +348,9 @@ struct Started {
     world: World,
     /// The input's name in the header.
     input_name: String,
-    digest: u64,
+    /// The scene's digest, for the checkpoints, when there are any: a
+    /// million lines take 50 ms to digest.
+    digest: Option<u64>,
     /// Steps the run ends after (`u64::MAX`: endless).
     steps: u64,
     /// The first generated scene's seed.
@@ -547,7 +549,13 @@ impl Job {
         };
         let built_in = self.lines.is_none() && self.kind.is_none() && self.seed.is_none();
         let (scene, input_name) = match &self.input {
-            Some(path) => (Scene::load(path)?, path.display().to_string()),
+            Some(path) => {
+                let threads = match self.config.threads {
+                    0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
+                    asked => asked,
+                };
+                (Scene::load_on(path, threads)?, path.display().to_string())
+            }
             None => {
                 let name = if built_in && !endless {
                     report::built_in_input()
@@ -560,13 +568,14 @@ impl Job {
         if self.config.threads == 0 {
             self.config.threads = default_threads(self.screen.is_some(), scene.lines.len());
         }
-        let digest = scene.digest();
+        let digest = (self.checkpoint.is_some() || self.resume.is_some()).then(|| scene.digest());
         // An endless run has no last step.
         let steps = self.frames.map_or(u64::MAX, |f| f.saturating_add(1));
         let world = match &self.resume {
             Some(path) => {
                 let saved = Checkpoint::load(path)?;
                 let name = path.display().to_string();
+                let digest = digest.unwrap_or_else(|| scene.digest());
                 saved.continues(&name, &scene, digest, steps)?;
                 World::resume(saved, self.detector, &self.config)
             }
@@ -633,15 +642,19 @@ impl Job {
         &self,
         mut world: World,
         steps: u64,
-        digest: u64,
+        digest: Option<u64>,
         progress: &mut dyn Progress,
     ) -> Result<Finished, JobError> {
         let to_run = steps.saturating_sub(world.steps());
-        let checkpoints = self.checkpoint.as_deref().map(|path| Checkpoints {
-            path,
-            every: self.checkpoint_every,
-            digest,
-        });
+        let checkpoints = self
+            .checkpoint
+            .as_deref()
+            .zip(digest)
+            .map(|(path, digest)| Checkpoints {
+                path,
+                every: self.checkpoint_every,
+                digest,
+            });
         let recorder = self.recorder(steps, progress)?;
         let first = world.steps();
         let mut each = |world: &World, elapsed: Duration| {
@@ -756,11 +769,11 @@ impl Job {
     fn write_files(
         &self,
         world: &World,
-        digest: u64,
+        digest: Option<u64>,
         failure: Option<RunError>,
     ) -> Result<(), JobError> {
         let mut errors: Vec<JobError> = failure.into_iter().map(JobError::from).collect();
-        if let Some(path) = &self.checkpoint {
+        if let (Some(path), Some(digest)) = (&self.checkpoint, digest) {
             let checkpoints = Checkpoints {
                 path,
                 every: None,

@@ -47,6 +47,12 @@ impl Schedule {
     /// not worth a hand-off, while the hundreds of a large scene's step are.
     pub const RESOLVE_FROM: usize = 128;
 
+    /// Bytes of scene text from which it is read on the team's threads
+    /// (see [`crate::Scene::parse_on`]): a megabyte is about 15,000 lines,
+    /// 4 ms of reading on one thread, against a few tens of microseconds
+    /// to start a thread.
+    pub const PARSE_SHARED_FROM: usize = 1 << 20;
+
     /// Lines from which the world stores them in the sweep's order even on
     /// one thread (as it does for scenes a team shares): each thread then
     /// moves and makes the boxes of the same lines, and the exact tests

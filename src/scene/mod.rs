@@ -11,8 +11,11 @@
 //! even span several text lines. Errors name the text line where the
 //! offending token (or the end of the file) is.
 
+pub(crate) mod pieces;
+
 use crate::geometry::Vec2;
 use crate::line::Color;
+use crate::schedule::Schedule;
 use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -193,8 +196,8 @@ impl<'a> Lexer<'a> {
         (self.line - usize::from(trailing_newline)).max(1)
     }
 
-    /// The next token and the text line it starts on, or `None` at the end.
-    fn next(&mut self) -> Option<(Token<'a>, usize)> {
+    /// Passes the blanks (spaces, tabs, newlines) before the next token.
+    fn skip_blanks(&mut self) {
         while let Some(&b) = self.text.get(self.pos) {
             if b == b'\n' {
                 self.line += 1;
@@ -203,6 +206,11 @@ impl<'a> Lexer<'a> {
             }
             self.pos += 1;
         }
+    }
+
+    /// The next token and the text line it starts on, or `None` at the end.
+    fn next(&mut self) -> Option<(Token<'a>, usize)> {
+        self.skip_blanks();
         let start = self.pos;
         let token = match *self.text.get(start)? {
             b'(' => Token::Open,
@@ -373,9 +381,7 @@ impl Scene {
     /// Parses a scene text. `origin` names the text in error messages
     /// (usually the file's path).
     pub fn parse(text: &[u8], origin: &str) -> Result<Self, ParseError> {
-        // A UTF-8 byte-order mark, which some editors put first, says only
-        // how the text is encoded.
-        let text = text.strip_prefix(b"\xef\xbb\xbf").unwrap_or(text);
+        let text = strip_bom(text);
         let mut parser = Parser {
             lexer: Lexer::new(text),
             origin,
@@ -432,13 +438,33 @@ impl Scene {
         Ok(Scene { lines })
     }
 
-    /// Reads and parses a scene file.
+    /// [`Scene::parse`] on up to `threads` threads: a text of a megabyte
+    /// or more is cut where rows start and read a piece a thread. The
+    /// scene, or the error, is the one [`Scene::parse`] gives: where that
+    /// cannot be known (a row across a cut, any error), the text is read
+    /// again on one thread.
+    pub fn parse_on(text: &[u8], origin: &str, threads: usize) -> Result<Self, ParseError> {
+        if threads > 1 && text.len() >= Schedule::PARSE_SHARED_FROM {
+            if let Some(scene) = pieces::parse(text, threads) {
+                return Ok(scene);
+            }
+        }
+        Self::parse(text, origin)
+    }
+
+    /// Reads and parses a scene file on one thread.
     pub fn load(path: &Path) -> Result<Self, LoadError> {
+        Self::load_on(path, 1)
+    }
+
+    /// Reads a scene file and parses it on up to `threads` threads (see
+    /// [`Scene::parse_on`]).
+    pub fn load_on(path: &Path, threads: usize) -> Result<Self, LoadError> {
         let text = std::fs::read(path).map_err(|source| LoadError::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        Ok(Self::parse(&text, &path.display().to_string())?)
+        Ok(Self::parse_on(&text, &path.display().to_string(), threads)?)
     }
 
     /// The scene as text that [`Scene::parse`] reads back to an identical
@@ -449,6 +475,12 @@ impl Scene {
             .expect("writing to memory");
         String::from_utf8(out).expect("scene text is ASCII")
     }
+}
+
+/// `text` without a UTF-8 byte-order mark, which some editors put first
+/// and which says only how the text is encoded.
+fn strip_bom(text: &[u8]) -> &[u8] {
+    text.strip_prefix(b"\xef\xbb\xbf").unwrap_or(text)
 }
 
 /// Writes a scene of `count` lines, given one at a time, in the format
