@@ -787,3 +787,61 @@ fn stats_show_only_what_the_detector_has() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["stats"]["leaf_size"], 16);
 }
+
+#[test]
+fn a_large_scene_reads_the_same_on_two_threads_and_its_errors_name_their_line() {
+    // 20,000 lines are about 1.5 MB: read in pieces on two threads.
+    let path = temp_file("large.in", "");
+    let made = screensaver(&[
+        "gen",
+        "--lines",
+        "20000",
+        "--seed",
+        "5",
+        "-o",
+        path.to_str().unwrap(),
+    ]);
+    assert!(made.status.success(), "{}", text(&made.stderr));
+    let scene = std::fs::read_to_string(&path).unwrap();
+    assert!(scene.len() > 1 << 20, "{} bytes", scene.len());
+    let states: Vec<String> = ["1", "2"]
+        .iter()
+        .map(|threads| {
+            let state = path.with_extension(format!("{threads}.state"));
+            let args = [
+                "2",
+                path.to_str().unwrap(),
+                "--threads",
+                threads,
+                "--state-out",
+            ];
+            let out = screensaver(&[&args[..], &[state.to_str().unwrap()]].concat());
+            assert!(out.status.success(), "{}", text(&out.stderr));
+            std::fs::read_to_string(&state).unwrap()
+        })
+        .collect();
+    assert_eq!(states[0].lines().count(), 20_000);
+    assert!(
+        states[0] == states[1],
+        "one thread and two read another scene"
+    );
+
+    // A row late in the file broken: the error is the one thread's.
+    let mut rows: Vec<&str> = scene.lines().collect();
+    let broken = rows[19_000].replacen("), (", ") (", 1);
+    rows[19_000] = &broken;
+    let bad = temp_file("large-bad.in", &rows.join("\n"));
+    for threads in ["1", "2"] {
+        let out = screensaver(&["1", bad.to_str().unwrap(), "--threads", threads]);
+        let wanted = format!(
+            "screensaver: error: {}:19001: row 19000: expected `,` after the first point, found `(`",
+            bad.display()
+        );
+        assert!(
+            text(&out.stderr).starts_with(&wanted),
+            "{}",
+            text(&out.stderr)
+        );
+        assert!(!out.status.success() && out.stdout.is_empty());
+    }
+}
