@@ -27,6 +27,7 @@
 //! edit or damage a located error rather than another run.
 
 use crate::counters::Counters;
+use crate::decimal::push_decimal;
 use crate::fnv::Fnv;
 use crate::line::{Color, Line};
 use crate::plural;
@@ -104,32 +105,6 @@ impl std::io::Write for Hashing<'_> {
     fn flush(&mut self) -> std::io::Result<()> {
         self.out.flush()
     }
-}
-
-/// Appends `x` as the shortest decimal that reads back to the same bits,
-/// spelled as the reference spells it: an exponent has a sign and at
-/// least two digits (`1e-05`, `1e+16`). NaN is `NaN` or `-NaN` (its
-/// payload is not kept: the simulation only ever makes the two quiet NaNs).
-pub(crate) fn push_decimal(out: &mut String, x: f64) {
-    if x.is_nan() {
-        // Rust writes every NaN as `NaN`; the sign is kept (arithmetic on
-        // x86 makes negative ones), so that a state reads back to the same
-        // bits.
-        out.push_str(if x.is_sign_negative() { "-NaN" } else { "NaN" });
-        return;
-    }
-    let start = out.len();
-    write!(out, "{x:?}").expect("writing to a String");
-    let Some(e) = out[start..].find('e') else {
-        return;
-    };
-    let exponent = out[start + e + 1..].to_string();
-    let (sign, digits) = match exponent.strip_prefix('-') {
-        Some(digits) => ('-', digits.to_string()),
-        None => ('+', exponent),
-    };
-    out.truncate(start + e + 1);
-    write!(out, "{sign}{digits:0>2}").expect("writing to a String");
 }
 
 /// Appends the state row of line `id`: `id p1.x p1.y p2.x p2.y v.x v.y`.

@@ -40,6 +40,7 @@
 pub mod broad_phase;
 pub mod checkpoint;
 mod counters;
+pub(crate) mod decimal;
 pub(crate) mod detect;
 mod fnv;
 #[cfg(any(test, fuzzing))]
