@@ -27,10 +27,10 @@
 //! edit or damage a located error rather than another run.
 
 use crate::counters::Counters;
-use crate::decimal::push_decimal;
 use crate::fnv::Fnv;
 use crate::line::{Color, Line};
 use crate::plural;
+use crate::rows::{push_row, write_rows};
 use crate::scene::Scene;
 use crate::Vec2;
 use std::fmt::Write as _;
@@ -107,32 +107,26 @@ impl std::io::Write for Hashing<'_> {
     }
 }
 
-/// Appends the state row of line `id`: `id p1.x p1.y p2.x p2.y v.x v.y`.
-pub(crate) fn push_row(out: &mut String, id: usize, line: &Line) {
-    write!(out, "{id}").expect("writing to a String");
-    for v in [
-        line.p1.x, line.p1.y, line.p2.x, line.p2.y, line.v.x, line.v.y,
-    ] {
-        out.push(' ');
-        push_decimal(out, v);
-    }
-}
-
 /// Writes the state of `lines` (the reference's state format) to `out`,
-/// a block of rows at a time.
-pub(crate) fn write_state(out: &mut dyn std::io::Write, lines: &[Line]) -> std::io::Result<()> {
-    write_rows(out, lines, None)
+/// a block of rows at a time, formatted on up to `threads` threads.
+pub(crate) fn write_state(
+    out: &mut dyn std::io::Write,
+    lines: &[Line],
+    threads: usize,
+) -> std::io::Result<()> {
+    write_rows(out, lines, None, threads)
 }
 
 /// Writes the checkpoint of a run of the scene with digest `scene_digest`
-/// after `steps` steps, holding `lines` and `colors`, to `out`.
+/// after `steps` steps, holding `lines` and `colors`, to `out`, its rows
+/// formatted on up to `threads` threads.
 pub(crate) fn write_checkpoint(
     out: &mut dyn std::io::Write,
     scene_digest: u64,
     steps: u64,
     counters: Counters,
-    lines: &[Line],
-    colors: &[Color],
+    (lines, colors): (&[Line], &[Color]),
+    threads: usize,
 ) -> std::io::Result<()> {
     use std::io::Write as _;
     let mut hashed = Hashing {
@@ -148,29 +142,9 @@ pub(crate) fn write_checkpoint(
     writeln!(hashed, "# steps: {steps}")?;
     writeln!(hashed, "# line-wall collisions: {}", counters.wall)?;
     writeln!(hashed, "# line-line collisions: {}", counters.line)?;
-    write_rows(&mut hashed, lines, Some(colors))?;
+    write_rows(&mut hashed, lines, Some(colors), threads)?;
     let sum = hashed.hash.0;
     writeln!(out, "{CHECKSUM}{sum:016x}")
-}
-
-fn write_rows(
-    out: &mut dyn std::io::Write,
-    lines: &[Line],
-    colors: Option<&[Color]>,
-) -> std::io::Result<()> {
-    let mut text = String::with_capacity(1 << 16);
-    for (id, line) in lines.iter().enumerate() {
-        push_row(&mut text, id, line);
-        if let Some(colors) = colors {
-            write!(text, " {}", colors[id].code()).expect("writing to a String");
-        }
-        text.push('\n');
-        if text.len() >= 1 << 16 {
-            out.write_all(text.as_bytes())?;
-            text.clear();
-        }
-    }
-    out.write_all(text.as_bytes())
 }
 
 /// Why a checkpoint cannot continue a run (named by the checkpoint's name
@@ -244,8 +218,8 @@ impl Checkpoint {
             self.scene_digest,
             self.steps,
             self.counters,
-            &self.lines,
-            &self.colors,
+            (&self.lines, &self.colors),
+            1,
         )
         .expect("writing to memory");
         String::from_utf8(out).expect("checkpoints are ASCII")
@@ -526,6 +500,7 @@ fn parse_row(row: &[u8], id: usize) -> Result<(Line, Color), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::decimal::push_decimal;
 
     fn sample() -> Checkpoint {
         let l = |x: f64| Line {

@@ -60,6 +60,7 @@ pub(crate) mod output;
 pub mod render;
 pub mod report;
 pub(crate) mod response;
+pub(crate) mod rows;
 pub mod run;
 pub mod scene;
 pub(crate) mod schedule;

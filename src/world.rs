@@ -367,16 +367,16 @@ impl World {
     pub fn state_text(&self) -> String {
         let mut out = String::with_capacity(self.lines.len() * 120);
         for (id, l) in self.lines().iter().enumerate() {
-            checkpoint::push_row(&mut out, id, l);
+            crate::rows::push_row(&mut out, id, l);
             out.push('\n');
         }
         out
     }
 
     /// Writes the state (as [`World::state_text`]) to `out`, a block at a
-    /// time.
+    /// time, formatted on the world's threads.
     pub fn write_state(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
-        checkpoint::write_state(out, &self.lines())
+        checkpoint::write_state(out, &self.lines(), self.threads())
     }
 
     /// Writes a checkpoint of the run so far to `out`; `scene_digest` is
@@ -391,8 +391,8 @@ impl World {
             scene_digest,
             self.steps,
             self.counters,
-            &self.lines(),
-            &self.colors,
+            (&self.lines(), &self.colors),
+            self.threads(),
         )
     }
 
