@@ -573,7 +573,7 @@ impl Job {
         let steps = self.frames.map_or(u64::MAX, |f| f.saturating_add(1));
         let world = match &self.resume {
             Some(path) => {
-                let saved = Checkpoint::load(path)?;
+                let saved = Checkpoint::load_on(path, self.config.threads)?;
                 let name = path.display().to_string();
                 let digest = digest.unwrap_or_else(|| scene.digest());
                 saved.continues(&name, &scene, digest, steps)?;

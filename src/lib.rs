@@ -64,6 +64,7 @@ pub(crate) mod rows;
 pub mod run;
 pub mod scene;
 pub(crate) mod schedule;
+pub(crate) mod scoped;
 #[cfg(feature = "signals")]
 pub(crate) mod stop;
 pub(crate) mod storage;

@@ -47,10 +47,11 @@ impl Schedule {
     /// not worth a hand-off, while the hundreds of a large scene's step are.
     pub const RESOLVE_FROM: usize = 128;
 
-    /// Bytes of scene text from which it is read on the team's threads
-    /// (see [`crate::Scene::parse_on`]): a megabyte is about 15,000 lines,
-    /// 4 ms of reading on one thread, against a few tens of microseconds
-    /// to start a thread.
+    /// Bytes of a scene's or a checkpoint's text from which it is read on
+    /// several threads (see [`crate::Scene::parse_on`] and
+    /// [`crate::checkpoint::Checkpoint::parse_on`]): a megabyte of scene is
+    /// about 15,000 lines, 4 ms of reading on one thread, against a few
+    /// tens of microseconds to start a thread.
     pub const PARSE_SHARED_FROM: usize = 1 << 20;
 
     /// Lines from which the world stores them in the sweep's order even on

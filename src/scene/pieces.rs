@@ -17,19 +17,7 @@ use super::{strip_bom, Lexer, Parser, Scene, SceneLine, Token};
 /// `None` where it must be read on one thread (see the module's doc).
 pub(crate) fn parse(text: &[u8], pieces: usize) -> Option<Scene> {
     read(text, pieces, |text, cuts| {
-        std::thread::scope(|scope| {
-            // Every piece but the first on a thread of its own; the first here.
-            let others: Vec<_> = (cuts.windows(2).skip(1))
-                .map(|cut| {
-                    let (start, end) = (cut[0], cut[1]);
-                    let thread = std::thread::Builder::new();
-                    thread.spawn_scoped(scope, move || rows(text, start, end))
-                })
-                .collect();
-            let first = rows(text, cuts[0], cuts[1]);
-            let others = others.into_iter().map(|o| o.ok()?.join().ok()?);
-            std::iter::once(first).chain(others).collect()
-        })
+        crate::scoped::each(cuts.len() - 1, |k| rows(text, cuts[k], cuts[k + 1]))
     })
 }
 
@@ -51,7 +39,7 @@ pub(crate) fn parse_here(text: &[u8], pieces: usize) -> Option<Scene> {
 fn read(
     text: &[u8],
     pieces: usize,
-    each: impl FnOnce(&[u8], &[usize]) -> Vec<Option<Vec<SceneLine>>>,
+    each: impl FnOnce(&[u8], &[usize]) -> Option<Vec<Vec<SceneLine>>>,
 ) -> Option<Scene> {
     let text = strip_bom(text);
     let mut lexer = Lexer::new(text);
@@ -59,9 +47,9 @@ fn read(
         return None;
     };
     let declared: u64 = std::str::from_utf8(word).ok()?.parse().ok()?;
-    let mut read = each(text, &cuts(text, lexer.pos, pieces)).into_iter();
-    let mut lines = read.next()??;
-    let rest: Vec<Vec<SceneLine>> = read.collect::<Option<_>>()?;
+    let mut read = each(text, &cuts(text, lexer.pos, pieces))?.into_iter();
+    let mut lines = read.next()?;
+    let rest: Vec<Vec<SceneLine>> = read.collect();
     let count = lines.len() + rest.iter().map(Vec::len).sum::<usize>();
     if count as u64 != declared {
         return None;

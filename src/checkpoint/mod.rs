@@ -26,12 +26,15 @@
 //! The checksum (64-bit FNV-1a of every byte before its line) makes any
 //! edit or damage a located error rather than another run.
 
+mod pieces;
+
 use crate::counters::Counters;
 use crate::fnv::Fnv;
 use crate::line::{Color, Line};
 use crate::plural;
 use crate::rows::{push_row, write_rows};
 use crate::scene::Scene;
+use crate::schedule::Schedule;
 use crate::Vec2;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -227,81 +230,53 @@ impl Checkpoint {
 
     /// Reads a checkpoint file.
     pub fn load(path: &Path) -> Result<Checkpoint, LoadError> {
+        Self::load_on(path, 1)
+    }
+
+    /// Reads a checkpoint file and parses it on up to `threads` threads
+    /// (see [`Checkpoint::parse_on`]).
+    pub fn load_on(path: &Path, threads: usize) -> Result<Checkpoint, LoadError> {
         let text = std::fs::read(path).map_err(|source| LoadError::Io {
             path: path.to_path_buf(),
             source,
         })?;
-        Ok(Self::parse(&text, &path.display().to_string())?)
+        Ok(Self::parse_on(&text, &path.display().to_string(), threads)?)
+    }
+
+    /// [`Checkpoint::parse`] on up to `threads` threads: a text of a
+    /// megabyte or more has its rows read in pieces, cut at newlines, while
+    /// another thread sums it. The checkpoint, or the error, is the one
+    /// [`Checkpoint::parse`] gives: on any problem the text is read again
+    /// on one thread, which names it.
+    pub fn parse_on(text: &[u8], origin: &str, threads: usize) -> Result<Checkpoint, ParseError> {
+        if threads > 1 && text.len() >= Schedule::PARSE_SHARED_FROM {
+            if let Some(checkpoint) = pieces::parse(text, threads) {
+                return Ok(checkpoint);
+            }
+        }
+        Self::parse(text, origin)
     }
 
     /// Parses a checkpoint text; `origin` names it in errors.
     pub fn parse(text: &[u8], origin: &str) -> Result<Checkpoint, ParseError> {
-        let mut rows = text.split(|&b| b == b'\n').enumerate().map(|(k, row)| {
-            let row = row.strip_suffix(b"\r").unwrap_or(row);
-            (k + 1, row)
-        });
+        let (header, body) = Header::parse(text, origin)?;
+        let Header {
+            scene_digest,
+            count,
+            steps,
+            counters,
+        } = header;
+        let mut rows = text[body..]
+            .split(|&b| b == b'\n')
+            .enumerate()
+            .map(|(k, row)| {
+                let row = row.strip_suffix(b"\r").unwrap_or(row);
+                (k + 6, row)
+            });
         let fail = |line: usize, problem: String| ParseError {
             origin: origin.to_string(),
             line,
             problem,
-        };
-        let mut header = |what: &str| -> Result<(usize, String), ParseError> {
-            match rows.next() {
-                Some((line, row)) => match std::str::from_utf8(row) {
-                    Ok(row) => Ok((line, row.to_string())),
-                    Err(_) => Err(fail(
-                        line,
-                        format!("expected {what}, found bytes that are not text"),
-                    )),
-                },
-                None => Err(fail(1, format!("the file ends before {what}"))),
-            }
-        };
-        let (line, magic) = header("the checkpoint header")?;
-        if magic == MAGIC_V1 {
-            return Err(fail(
-                line,
-                "a checkpoint of an earlier version, without a checksum to check it by: \
-                 run again from the scene"
-                    .to_string(),
-            ));
-        }
-        if magic != MAGIC {
-            return Err(fail(
-                line,
-                format!(
-                    "not a screensaver checkpoint: expected `{MAGIC}`, found `{}`",
-                    show(&magic)
-                ),
-            ));
-        }
-        let (line, scene) = header("the scene line")?;
-        let (count, scene_digest) = parse_scene_line(&scene).ok_or_else(|| {
-            fail(
-                line,
-                format!(
-                    "expected `# scene: N lines, digest HEX`, found `{}`",
-                    show(&scene)
-                ),
-            )
-        })?;
-        let mut number = |key: &str| -> Result<u64, ParseError> {
-            let (line, row) = header(&format!("`# {key}: N`"))?;
-            row.strip_prefix(&format!("# {key}: "))
-                .and_then(|n| n.parse::<u64>().ok())
-                .ok_or_else(|| {
-                    fail(
-                        line,
-                        format!("expected `# {key}: N`, found `{}`", show(&row)),
-                    )
-                })
-        };
-        let steps = number("steps")?;
-        let wall = number("line-wall collisions")?;
-        let line_count = number("line-line collisions")?;
-        let counters = Counters {
-            wall,
-            line: line_count,
         };
         // Never trust the declared count for the allocation: a row takes
         // at least 16 bytes.
@@ -390,6 +365,100 @@ impl Checkpoint {
     }
 }
 
+/// What a checkpoint's five header lines say.
+struct Header {
+    scene_digest: u64,
+    /// The lines declared.
+    count: usize,
+    steps: u64,
+    counters: Counters,
+}
+
+impl Header {
+    /// Reads the header of `text` (`origin` names it in errors); returns
+    /// it and where the sixth line, the first row, begins (the text's end
+    /// if there is none).
+    fn parse(text: &[u8], origin: &str) -> Result<(Header, usize), ParseError> {
+        let mut rows = text.split(|&b| b == b'\n').enumerate().map(|(k, row)| {
+            let row = row.strip_suffix(b"\r").unwrap_or(row);
+            (k + 1, row)
+        });
+        let fail = |line: usize, problem: String| ParseError {
+            origin: origin.to_string(),
+            line,
+            problem,
+        };
+        let mut header = |what: &str| -> Result<(usize, String), ParseError> {
+            match rows.next() {
+                Some((line, row)) => match std::str::from_utf8(row) {
+                    Ok(row) => Ok((line, row.to_string())),
+                    Err(_) => Err(fail(
+                        line,
+                        format!("expected {what}, found bytes that are not text"),
+                    )),
+                },
+                None => Err(fail(1, format!("the file ends before {what}"))),
+            }
+        };
+        let (line, magic) = header("the checkpoint header")?;
+        if magic == MAGIC_V1 {
+            return Err(fail(
+                line,
+                "a checkpoint of an earlier version, without a checksum to check it by: \
+                 run again from the scene"
+                    .to_string(),
+            ));
+        }
+        if magic != MAGIC {
+            return Err(fail(
+                line,
+                format!(
+                    "not a screensaver checkpoint: expected `{MAGIC}`, found `{}`",
+                    show(&magic)
+                ),
+            ));
+        }
+        let (line, scene) = header("the scene line")?;
+        let (count, scene_digest) = parse_scene_line(&scene).ok_or_else(|| {
+            fail(
+                line,
+                format!(
+                    "expected `# scene: N lines, digest HEX`, found `{}`",
+                    show(&scene)
+                ),
+            )
+        })?;
+        let mut number = |key: &str| -> Result<u64, ParseError> {
+            let (line, row) = header(&format!("`# {key}: N`"))?;
+            row.strip_prefix(&format!("# {key}: "))
+                .and_then(|n| n.parse::<u64>().ok())
+                .ok_or_else(|| {
+                    fail(
+                        line,
+                        format!("expected `# {key}: N`, found `{}`", show(&row)),
+                    )
+                })
+        };
+        let steps = number("steps")?;
+        let wall = number("line-wall collisions")?;
+        let line_count = number("line-line collisions")?;
+        let body = (text.iter().enumerate())
+            .filter(|&(_, &b)| b == b'\n')
+            .nth(4)
+            .map_or(text.len(), |(k, _)| k + 1);
+        let header = Header {
+            scene_digest,
+            count,
+            steps,
+            counters: Counters {
+                wall,
+                line: line_count,
+            },
+        };
+        Ok((header, body))
+    }
+}
+
 /// The error for a checkpoint whose content does not match the checksum
 /// `written` on line `sum_line` (`found` is the content's): located at the
 /// first row that is not spelt as the program writes rows (such a row was
@@ -464,11 +533,17 @@ fn parse_row(row: &[u8], id: usize) -> Result<(Line, Color), String> {
             show(&String::from_utf8_lossy(row))
         )
     })?;
-    let fields: Vec<&str> = row.split_ascii_whitespace().collect();
-    if fields.len() != 8 {
+    let mut fields = [""; 8];
+    let mut found = 0;
+    for field in row.split_ascii_whitespace() {
+        if let Some(slot) = fields.get_mut(found) {
+            *slot = field;
+        }
+        found += 1;
+    }
+    if found != 8 {
         return Err(format!(
-            "row {id}: expected 8 fields (id, six values, colour), found {}: `{}`",
-            fields.len(),
+            "row {id}: expected 8 fields (id, six values, colour), found {found}: `{}`",
             show(row)
         ));
     }
