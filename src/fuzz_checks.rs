@@ -66,7 +66,7 @@ fn line_bits(l: &Line) -> [u64; 6] {
 pub fn scene_parser(bytes: &[u8]) {
     let parsed = Scene::parse(bytes, ORIGIN);
     for pieces in [2, 3] {
-        if let Some(read) = crate::scene::pieces::parse_here(bytes, pieces) {
+        if let Some(read) = crate::scene::pieces::parse(bytes, pieces, crate::scoped::Run::Here) {
             let one = parsed
                 .as_ref()
                 .expect("pieces read only what one thread reads");
@@ -509,9 +509,25 @@ pub fn checkpoint_parser(bytes: &[u8]) {
 }
 
 /// One parse of [`checkpoint_parser`]: the checkpoint if accepted, after
-/// checking its round trip; `None` after checking the error.
+/// checking its round trip; `None` after checking the error. Read in
+/// pieces (one after another, as threads would read them), the bytes give
+/// the same checkpoint, or the pieces give up.
 fn checkpoint_parsed(bytes: &[u8]) -> Option<Checkpoint> {
-    let checkpoint = match Checkpoint::parse(bytes, ORIGIN) {
+    let parsed = Checkpoint::parse(bytes, ORIGIN);
+    for pieces in [2, 3] {
+        let run = crate::scoped::Run::Here;
+        if let Some(read) = crate::checkpoint::pieces::parse(bytes, pieces, run) {
+            let one = parsed
+                .as_ref()
+                .expect("pieces read only what one thread reads");
+            assert_eq!(
+                checkpoint_bits(&read),
+                checkpoint_bits(one),
+                "{pieces} pieces read another checkpoint"
+            );
+        }
+    }
+    let checkpoint = match parsed {
         Ok(c) => c,
         Err(e) => {
             check_error_message(bytes, e.line, &e.to_string(), "checkpoint");

@@ -26,7 +26,7 @@
 //! The checksum (64-bit FNV-1a of every byte before its line) makes any
 //! edit or damage a located error rather than another run.
 
-mod pieces;
+pub(crate) mod pieces;
 
 use crate::counters::Counters;
 use crate::fnv::Fnv;
@@ -35,6 +35,7 @@ use crate::plural;
 use crate::rows::{push_row, write_rows};
 use crate::scene::Scene;
 use crate::schedule::Schedule;
+use crate::scoped::Run;
 use crate::Vec2;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -250,7 +251,7 @@ impl Checkpoint {
     /// on one thread, which names it.
     pub fn parse_on(text: &[u8], origin: &str, threads: usize) -> Result<Checkpoint, ParseError> {
         if threads > 1 && text.len() >= Schedule::PARSE_SHARED_FROM {
-            if let Some(checkpoint) = pieces::parse(text, threads) {
+            if let Some(checkpoint) = pieces::parse(text, threads, Run::Threads) {
                 return Ok(checkpoint);
             }
         }

@@ -12,6 +12,7 @@
 use super::{parse_row, Checkpoint, Header, CHECKSUM};
 use crate::fnv::Fnv;
 use crate::line::{Color, Line};
+use crate::scoped::Run;
 
 /// What one thread read: the sum of the text before the checksum's line,
 /// or a piece of rows (the id of the first, the lines and their colours).
@@ -20,15 +21,15 @@ enum Part {
     Rows(usize, Vec<Line>, Vec<Color>),
 }
 
-/// The checkpoint `text` holds, its rows read in up to `pieces` pieces at
-/// once, or `None` where it must be read on one thread (see the module's
-/// doc).
-pub(super) fn parse(text: &[u8], pieces: usize) -> Option<Checkpoint> {
+/// The checkpoint `text` holds, its rows read in up to `pieces` pieces as
+/// `run` says, or `None` where it must be read on one thread (see the
+/// module's doc).
+pub(crate) fn parse(text: &[u8], pieces: usize, run: Run) -> Option<Checkpoint> {
     let (header, body) = Header::parse(text, "").ok()?;
     let (sum_at, written) = checksum(text)?;
     let rows = text.get(body..sum_at)?;
     let cuts = cuts(rows, pieces);
-    let parts = crate::scoped::each(cuts.len(), |k| match k {
+    let parts = run.each(cuts.len(), |k| match k {
         0 => {
             let mut hash = Fnv::default();
             hash.bytes(&text[..sum_at]);
@@ -163,7 +164,8 @@ mod tests {
             let text = sample(n).to_text();
             let one = Checkpoint::parse(text.as_bytes(), "c").unwrap();
             for pieces in [1, 2, 3, 7] {
-                let read = parse(text.as_bytes(), pieces).expect("a checkpoint as written");
+                let read =
+                    parse(text.as_bytes(), pieces, Run::Threads).expect("a checkpoint as written");
                 assert_eq!(bits(&read), bits(&one), "{n} rows, {pieces} pieces");
                 assert_eq!(
                     (read.steps, read.counters, &read.colors),
@@ -172,7 +174,7 @@ mod tests {
                 assert_eq!(read.scene_digest, one.scene_digest);
             }
             let blanks = format!("{text}\n\r\n");
-            let read = parse(blanks.as_bytes(), 3).expect("blank lines at the end");
+            let read = parse(blanks.as_bytes(), 3, Run::Threads).expect("blank lines at the end");
             assert_eq!(bits(&read), bits(&one));
         }
     }
@@ -190,7 +192,11 @@ mod tests {
             let mut text = sample(n).to_text().into_bytes();
             let i = at.index(text.len());
             text[i] = byte;
-            if let Some(read) = parse(&text, pieces) {
+            proptest::prop_assert_eq!(
+                parse(&text, pieces, Run::Threads).map(|c| bits(&c)),
+                parse(&text, pieces, Run::Here).map(|c| bits(&c))
+            );
+            if let Some(read) = parse(&text, pieces, Run::Threads) {
                 let one = Checkpoint::parse(&text, "c").expect("one thread reads it too");
                 proptest::prop_assert_eq!(bits(&read), bits(&one));
                 proptest::prop_assert_eq!(read.colors, one.colors);
@@ -226,7 +232,7 @@ mod tests {
         ];
         for (k, bad) in damaged.iter().enumerate() {
             assert!(Checkpoint::parse(bad.as_bytes(), "c").is_err(), "case {k}");
-            assert!(parse(bad.as_bytes(), 3).is_none(), "case {k}");
+            assert!(parse(bad.as_bytes(), 3, Run::Threads).is_none(), "case {k}");
         }
     }
 }

@@ -16,6 +16,7 @@ pub(crate) mod pieces;
 use crate::geometry::Vec2;
 use crate::line::Color;
 use crate::schedule::Schedule;
+use crate::scoped::Run;
 use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -445,7 +446,7 @@ impl Scene {
     /// again on one thread.
     pub fn parse_on(text: &[u8], origin: &str, threads: usize) -> Result<Self, ParseError> {
         if threads > 1 && text.len() >= Schedule::PARSE_SHARED_FROM {
-            if let Some(scene) = pieces::parse(text, threads) {
+            if let Some(scene) = pieces::parse(text, threads, Run::Threads) {
                 return Ok(scene);
             }
         }

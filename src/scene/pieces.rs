@@ -12,42 +12,21 @@
 //! be started.
 
 use super::{strip_bom, Lexer, Parser, Scene, SceneLine, Token};
+use crate::scoped::Run;
 
-/// The scene `text` holds, read in up to `pieces` pieces at once, or
-/// `None` where it must be read on one thread (see the module's doc).
-pub(crate) fn parse(text: &[u8], pieces: usize) -> Option<Scene> {
-    read(text, pieces, |text, cuts| {
-        crate::scoped::each(cuts.len() - 1, |k| rows(text, cuts[k], cuts[k + 1]))
-    })
-}
-
-/// [`parse`] with the pieces read one after another on this thread: the
-/// same cuts and the same result, without the threads (for the fuzzer,
-/// which runs it on every input).
-#[cfg(any(test, fuzzing))]
-pub(crate) fn parse_here(text: &[u8], pieces: usize) -> Option<Scene> {
-    read(text, pieces, |text, cuts| {
-        (cuts.windows(2))
-            .map(|cut| rows(text, cut[0], cut[1]))
-            .collect()
-    })
-}
-
-/// The scene `text` holds, its rows read in pieces by `each`, given the
-/// text (without its byte-order mark) and where the pieces begin and the
-/// last ends; `None` where it must be read on one thread.
-fn read(
-    text: &[u8],
-    pieces: usize,
-    each: impl FnOnce(&[u8], &[usize]) -> Option<Vec<Vec<SceneLine>>>,
-) -> Option<Scene> {
+/// The scene `text` holds, its rows read in up to `pieces` pieces as
+/// `run` says, or `None` where it must be read on one thread (see the
+/// module's doc).
+pub(crate) fn parse(text: &[u8], pieces: usize, run: Run) -> Option<Scene> {
     let text = strip_bom(text);
     let mut lexer = Lexer::new(text);
     let Some((Token::Word(word), _)) = lexer.next() else {
         return None;
     };
     let declared: u64 = std::str::from_utf8(word).ok()?.parse().ok()?;
-    let mut read = each(text, &cuts(text, lexer.pos, pieces))?.into_iter();
+    let cuts = cuts(text, lexer.pos, pieces);
+    let read = run.each(cuts.len() - 1, |k| rows(text, cuts[k], cuts[k + 1]));
+    let mut read = read?.into_iter();
     let mut lines = read.next()?;
     let rest: Vec<Vec<SceneLine>> = read.collect();
     let count = lines.len() + rest.iter().map(Vec::len).sum::<usize>();
@@ -132,7 +111,8 @@ mod tests {
     fn pieces_read_the_rows_one_thread_reads() {
         let text = scene(1000).to_text();
         for pieces in [1, 2, 3, 4, 7, 64] {
-            let read = parse(text.as_bytes(), pieces).expect("one row a text line cuts anywhere");
+            let read = parse(text.as_bytes(), pieces, Run::Threads)
+                .expect("one row a text line cuts anywhere");
             assert_eq!(Some(read), serial(text.as_bytes()), "{pieces} pieces");
         }
         let cut = cuts(text.as_bytes(), 5, 4);
@@ -145,8 +125,11 @@ mod tests {
             "\u{feff}{}\n\n\n",
             scene(50).to_text().replace('\n', "\n\r\n  ")
         );
-        assert_eq!(parse(text.as_bytes(), 5), serial(text.as_bytes()));
-        assert!(parse(text.as_bytes(), 5).is_some());
+        assert_eq!(
+            parse(text.as_bytes(), 5, Run::Threads),
+            serial(text.as_bytes())
+        );
+        assert!(parse(text.as_bytes(), 5, Run::Threads).is_some());
     }
 
     #[test]
@@ -177,7 +160,7 @@ mod tests {
         // Wherever the cuts fall, pieces read what one thread reads, or
         // give up.
         for pieces in 2..12 {
-            if let Some(read) = parse(text, pieces) {
+            if let Some(read) = parse(text, pieces, Run::Threads) {
                 assert_eq!(Some(read), serial(text), "{pieces} pieces");
             }
         }
@@ -193,11 +176,11 @@ mod tests {
         rows[250] = rows[250].replace("), (", ") (");
         let broken = rows.join("\n");
         for bad in [more, fewer, broken, format!("{text}x")] {
-            assert_eq!(parse(bad.as_bytes(), 3), None);
+            assert_eq!(parse(bad.as_bytes(), 3, Run::Threads), None);
             assert_eq!(serial(bad.as_bytes()), None);
         }
-        assert_eq!(parse(b"", 2), None);
-        assert_eq!(parse(b"0\n", 2), serial(b"0\n"));
+        assert_eq!(parse(b"", 2, Run::Threads), None);
+        assert_eq!(parse(b"0\n", 2, Run::Threads), serial(b"0\n"));
     }
 
     proptest! {
@@ -220,8 +203,8 @@ mod tests {
                 2 => text[i] = byte,
                 _ => {}
             }
-            prop_assert_eq!(parse(&text, pieces), parse_here(&text, pieces));
-            if let Some(read) = parse(&text, pieces) {
+            prop_assert_eq!(parse(&text, pieces, Run::Threads), parse(&text, pieces, Run::Here));
+            if let Some(read) = parse(&text, pieces, Run::Threads) {
                 prop_assert_eq!(Some(read), serial(&text));
             } else if edit == 3 {
                 prop_assert!(false, "an unedited scene is read in pieces");
