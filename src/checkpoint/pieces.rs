@@ -42,12 +42,20 @@ pub(crate) fn parse(text: &[u8], pieces: usize, run: Run) -> Option<Checkpoint> 
         Some(Part::Sum(sum)) if sum == written => {}
         _ => return None,
     }
-    let (mut lines, mut colors) = (Vec::with_capacity(header.count), Vec::new());
-    colors.reserve_exact(header.count);
+    let mut rows: Vec<(usize, Vec<Line>, Vec<Color>)> = Vec::new();
     for part in parts {
-        let Part::Rows(first, piece_lines, piece_colors) = part else {
+        let Part::Rows(first, lines, colors) = part else {
             return None;
         };
+        rows.push((first, lines, colors));
+    }
+    // The declared count is checked before anything is made of it.
+    if rows.iter().map(|r| r.1.len()).sum::<usize>() != header.count {
+        return None;
+    }
+    let (mut lines, mut colors) = (Vec::with_capacity(header.count), Vec::new());
+    colors.reserve_exact(header.count);
+    for (first, piece_lines, piece_colors) in rows {
         if first != lines.len() {
             return None;
         }
