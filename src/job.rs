@@ -550,6 +550,8 @@ impl Job {
         let built_in = self.lines.is_none() && self.kind.is_none() && self.seed.is_none();
         let (scene, input_name) = match &self.input {
             Some(path) => {
+                // The scene's size is not known yet: every core, unless
+                // asked otherwise.
                 let threads = match self.config.threads {
                     0 => std::thread::available_parallelism().map_or(1, |n| n.get()),
                     asked => asked,
