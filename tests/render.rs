@@ -236,3 +236,39 @@ fn unknown_picture_types_are_refused() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg: unknown picture type"));
     assert!(out.stdout.is_empty());
 }
+
+#[test]
+fn a_picture_of_more_lines_than_strokes_pay_for_is_drawn_thin_where_they_are() {
+    // The cross, and 100,000 still dots in a block at the lower left: more
+    // lines than pictures stroke (`PICTURE_SMOOTH_UP_TO`).
+    let dir = temp_dir("thin");
+    let path = dir.join("many.in");
+    let mut text =
+        String::from("100002\n(100, 200), (1000, 200), 0, 0, 0\n(900, 300), (900, 700), 0, 0, 1\n");
+    for k in 0..100_000 {
+        let (x, y) = (100 + k % 400, 450 + k / 400);
+        text.push_str(&format!("({x}, {y}), ({x}.5, {y}), 0, 0, {}\n", k % 2));
+    }
+    std::fs::write(&path, text).unwrap();
+    let out = dir.join("many.png");
+    screensaver(&[
+        "0",
+        path.to_str().unwrap(),
+        "--render",
+        out.to_str().unwrap(),
+    ]);
+    let p = Pixmap::load_png(&out).unwrap();
+    assert_lines_drawn(&p, (500, 200), (900, 500));
+    for (x, y) in [(5, 5), (1175, 795), (500, 400), (700, 600), (1100, 200)] {
+        assert_eq!(rgb(&p, x, y), [0, 0, 0], "at {x}, {y}");
+    }
+    let p = &p;
+    let block = (450..700).flat_map(|y| (100..500).map(move |x| rgb(p, x, y)));
+    let (red, gray) = block.fold((0, 0), |(r, g), c| {
+        (r + usize::from(is_red(c)), g + usize::from(is_gray(c)))
+    });
+    assert!(
+        red > 20_000 && gray > 20_000,
+        "{red} red and {gray} gray in the block"
+    );
+}

@@ -154,13 +154,29 @@ impl View {
 
 /// Draws `lines` (coloured by `colors`) into `pixmap`, over black, the box
 /// filling the window's shape. Lines whose coordinates are not finite are
-/// skipped.
+/// skipped. Up to [`raster::PICTURE_SMOOTH_UP_TO`] lines are stroked by
+/// tiny-skia, more drawn thin, as the window draws large scenes.
 pub(crate) fn draw(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap) {
     let size = Size {
         width: pixmap.width(),
         height: pixmap.height(),
     };
-    draw_in_view(lines, colors, pixmap, &View::new(size));
+    let view = View::new(size);
+    if lines.len() <= raster::PICTURE_SMOOTH_UP_TO {
+        return draw_in_view(lines, colors, pixmap, &view);
+    }
+    let (width, height) = (size.width as usize, size.height as usize);
+    let mut pixels = vec![0; width * height];
+    raster::draw_thin(
+        lines,
+        colors,
+        &view,
+        &mut Canvas::new(&mut pixels, width, height),
+    );
+    for (out, rgb) in pixmap.pixels_mut().iter_mut().zip(pixels) {
+        let [_, r, g, b] = rgb.to_be_bytes();
+        *out = tiny_skia::ColorU8::from_rgba(r, g, b, 255).premultiply();
+    }
 }
 
 /// [`draw`] as `view` maps the box.

@@ -20,6 +20,13 @@ use tiny_skia::Pixmap;
 /// (docs/PERFORMANCE.md, "Drawing live").
 pub const SMOOTH_UP_TO: usize = 5_000;
 
+/// Pictures (`--render`) of up to this many lines are stroked by tiny-skia;
+/// larger ones are drawn with [`draw_thin`], as the window draws them.
+/// Strokes cost about 6 us a line (a picture of 100,000 lines 0.6 s, of a
+/// million 4.2 s and 940 MB); thin lines a few dozen nanoseconds
+/// (docs/PERFORMANCE.md, "Reading and writing files").
+pub const PICTURE_SMOOTH_UP_TO: usize = 100_000;
+
 /// A frame buffer: `height` rows of `width` pixels, each `0x00RRGGBB`.
 pub struct Canvas<'a> {
     pixels: &'a mut [u32],
