@@ -80,8 +80,8 @@ fn push_exponent(out: &mut String, exponent: i32) {
 /// For `k < 0` that is `(2d + 1) / (2^(1-k) 5^-k)`: a binary fraction only
 /// if `5^-k` divides `2d + 1 < 2e17 < 5^25`, so `-k <= 24` and `x` has at
 /// most 25 binary digits after the point. For `k >= 0`, `x` is a whole
-/// number. Values of the box have about 52 such digits and never go here;
-/// nor does zero, which is whole.
+/// number (zero among them, which `{:?}` spells as it must). Values of the
+/// box have about 52 such digits and never go here.
 fn may_tie(x: f64) -> bool {
     const TWO_TO_25: f64 = 33_554_432.0;
     const TWO_TO_52: f64 = 4_503_599_627_370_496.0;
