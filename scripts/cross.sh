@@ -106,8 +106,14 @@ x86-64-baseline)
     # The build users install and CI tests (rustup's toolchain): its
     # portable path is what the emulated CPU without AVX2 runs.
     say "building the native release binary"
-    cargo build --release --locked --bin screensaver >&2
-    exe="$root/target/release/screensaver"
+    # The program is taken from where cargo reports it, as scripts/wasm.sh
+    # takes the module: $CARGO_TARGET_DIR (or the build.target-dir of a
+    # cargo config) is honoured, not target/ assumed. Cargo names each
+    # artifact in a JSON line on stdout; its progress and any diagnostics
+    # go to stderr.
+    exe="$(cargo build --release --locked --bin screensaver --message-format=json-render-diagnostics |
+        sed -n 's/.*"executable":"\([^"]*\/screensaver\)".*/\1/p' | tail -n 1)"
+    [ -n "$exe" ] || die "cargo reported no screensaver executable (CARGO_TARGET_DIR=${CARGO_TARGET_DIR:-unset})"
     # Nehalem: SSE4.2, no AVX. Check that the emulated CPU has no AVX2 (a
     # C program asks the CPU as the dispatch does), or the run would prove
     # nothing about the portable path.

@@ -29,9 +29,12 @@ cd wasm
 # Cargo names each artifact it builds or finds fresh in a JSON line on
 # stdout (its progress and any diagnostics go to stderr): the module is
 # the file of the screensaver_wasm target that ends in .wasm.
+# --locked: the versions in wasm/Cargo.lock, as the native builds take
+# Cargo.lock's; a lock file that no longer matches the manifests fails the
+# build instead of being rewritten in the work tree.
 module="$(RUSTFLAGS="${RUSTFLAGS:-} -C target-feature=+simd128" RUSTC=/usr/bin/rustc RUSTC_BOOTSTRAP=1 \
     CARGO_TARGET_WASM32_UNKNOWN_UNKNOWN_LINKER="$lld" \
-    /usr/bin/cargo build --release --target wasm32-unknown-unknown -Zbuild-std=std,panic_abort \
+    /usr/bin/cargo build --release --locked --target wasm32-unknown-unknown -Zbuild-std=std,panic_abort \
     --message-format=json-render-diagnostics "$@" |
     sed -n 's/.*"filenames":\[[^]]*"\([^"]*\/screensaver_wasm\.wasm\)".*/\1/p' | tail -n 1)"
 [ -n "$module" ] && [ -f "$module" ] || { say "cargo reported no screensaver_wasm.wasm"; exit 1; }

@@ -5,7 +5,7 @@
 // client library).
 import { spawn } from "node:child_process";
 import { createServer } from "node:http";
-import { readFileSync, existsSync } from "node:fs";
+import { readFileSync, statSync } from "node:fs";
 import { join, extname } from "node:path";
 
 const TYPES = { ".html": "text/html", ".js": "text/javascript", ".css": "text/css", ".wasm": "application/wasm" };
@@ -13,29 +13,55 @@ export const sleep = (ms) => new Promise((ok) => setTimeout(ok, ms));
 
 // Serves `dist` at /, and `reference` and `scratch` (if given) at
 // /reference/ and /scratch/; adds the path of each request it cannot
-// answer to `missing`.
-async function serve(dist, reference, scratch, missing) {
+// answer to `missing`. Files only: a folder is not found (404), a path
+// that does not decode (a malformed `%` escape) is a bad request (400),
+// and a file it cannot read is a server error (500); the server goes on
+// serving after each. Exported for scripts/web-browser-test.mjs.
+export async function serve(dist, reference, scratch, missing) {
   const server = createServer((request, response) => {
-    const path = decodeURIComponent(new URL(request.url, "http://x").pathname);
+    const refuse = (status, text, what) => {
+      missing.push(what);
+      response.writeHead(status, { "content-type": "text/plain" }).end(text);
+    };
+    let path;
+    try {
+      path = decodeURIComponent(new URL(request.url, "http://x").pathname);
+    } catch {
+      refuse(400, "bad request: the path does not decode", request.url);
+      return;
+    }
     const file = path.startsWith("/reference/") && reference
       ? join(reference, path.slice("/reference/".length))
       : path.startsWith("/scratch/") && scratch
         ? join(scratch, path.slice("/scratch/".length))
         : join(dist, path === "/" ? "index.html" : path);
-    if (path.includes("..") || !existsSync(file)) {
-      missing.push(path);
-      response.writeHead(404).end("not found");
+    let isFile = false;
+    try {
+      isFile = !path.includes("..") && statSync(file).isFile();
+    } catch {
+      // No such file, or a name the file system refuses (a NUL): not found.
+    }
+    if (!isFile) {
+      refuse(404, "not found", path);
+      return;
+    }
+    let body;
+    try {
+      body = readFileSync(file);
+    } catch (e) {
+      refuse(500, `cannot read it: ${e.code ?? e.message}`, path);
       return;
     }
     response.writeHead(200, { "content-type": TYPES[extname(file)] ?? "text/plain" });
-    response.end(readFileSync(file));
+    response.end(body);
   });
   await new Promise((ok) => server.listen(0, "127.0.0.1", ok));
   return server;
 }
 
 // Starts the server and a browser of `width` x `height`; gives the calls
-// the scripts use, and `missing`: the paths the server answered 404.
+// the scripts use, and `missing`: the paths the server could not answer
+// (404, and 400 or 500 as `serve` says).
 export async function startBrowser({ dist, reference, scratch, width = 1180, height = 800 }) {
   const missing = [];
   const server = await serve(dist, reference, scratch, missing);

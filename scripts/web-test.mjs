@@ -446,6 +446,91 @@ await check("a bad URL parameter is named on the page, and the page runs the bui
   return got;
 });
 
+await check("a bad speed in the URL is named with what it should be: its range, frame or max", async () => {
+  const seen = [];
+  for (const speed of ["fast", "0", "2000000"]) {
+    await open(`?speed=${speed}`);
+    const shown = await until("the problem shown", async () => {
+      const t = await textOf("error");
+      return t && t.includes(`speed=${speed}`) ? t : null;
+    }, 10);
+    for (const want of ["from 1 to 1048576", "frame", "max"]) {
+      if (!shown.includes(want)) throw new Error(`${shown}\nexpected: ${want}`);
+    }
+    seen.push(shown.split("\n")[0]);
+  }
+  return seen[0];
+});
+
+await check("hud=yes, on and true show the HUD, off hides it, and another value is named", async () => {
+  for (const spelling of ["yes", "on", "true"]) {
+    await open(`?hud=${spelling}`);
+    await until("steps", async () => (await stepOf()) > 2, 20);
+    const hud = await textOf("hud");
+    if (!/^step \d+\n/.test(hud ?? "")) throw new Error(`hud=${spelling}: HUD text ${hud}`);
+    const error = await textOf("error");
+    if (error !== null) throw new Error(`hud=${spelling}: ${error}`);
+  }
+  await open("?hud=off");
+  await until("steps", async () => (await stepOf()) > 2, 20);
+  if ((await textOf("hud")) !== null) throw new Error("hud=off shows the HUD");
+  await open("?hud=maybe");
+  const shown = await until("the problem shown", async () => {
+    const t = await textOf("error");
+    return t && t.includes("hud=maybe") ? t : null;
+  }, 10);
+  if (!shown.includes("expected 1")) throw new Error(shown);
+  await until("steps", async () => (await stepOf()) > 2, 20);
+  if ((await textOf("hud")) !== null) throw new Error("hud=maybe shows the HUD");
+  return shown;
+});
+
+await check("lines, seed and cycle are off, and say why, while the built-in scene is chosen, and on for a kind", async () => {
+  // Each field: [disabled, its label's title].
+  const fields = () => run(`return ["lines", "seed", "cycle"].map((id) => {
+    const input = document.getElementById(id);
+    return [input.disabled, input.closest("label").title];
+  });`);
+  const choose = (kind) => run(`
+    const k = document.getElementById("kind");
+    k.value = arguments[0];
+    k.dispatchEvent(new Event("change", { bubbles: true }));`, kind);
+  const off = (list) => list.every(([disabled, title]) => disabled && title.includes("generated scenes only"));
+  const on = (list) => list.every(([disabled, title]) => !disabled && !title.includes("generated scenes only"));
+  await open("");
+  await until("steps", async () => (await stepOf()) > 2, 20);
+  const builtIn = await fields();
+  if (!off(builtIn)) throw new Error(`built-in: ${JSON.stringify(builtIn)}`);
+  await choose("ring");
+  if (!on(await fields())) throw new Error(`ring chosen: ${JSON.stringify(await fields())}`);
+  await choose("built-in");
+  if (!off(await fields())) throw new Error(`built-in chosen again: ${JSON.stringify(await fields())}`);
+  // A generated scene by URL: on from the start.
+  await open("?lines=300");
+  await until("the uniform scene", async () => (await chosen()) === "uniform", 20);
+  if (!on(await fields())) throw new Error(`?lines=300: ${JSON.stringify(await fields())}`);
+  return builtIn[0][1];
+});
+
+await check("a scene on another origin is named, with why: the page's origin, or CORS", async () => {
+  await open("");
+  const origin = await run("return location.origin;");
+  // The same server under another name: another origin, which sends no CORS header.
+  const other = origin.replace("127.0.0.1", "localhost");
+  if (other === origin) throw new Error(`the page is not on 127.0.0.1: ${origin}`);
+  const url = `${other}/reference/inputs/box.in`;
+  await open(`?scene=${encodeURIComponent(url)}`);
+  const shown = await until("the problem shown", async () => {
+    const t = await textOf("error");
+    return t && t.includes(url) ? t : null;
+  }, 20);
+  for (const want of ["another origin", origin, "CORS", "The built-in scene is on show instead."]) {
+    if (!shown.includes(want)) throw new Error(`${shown}\nexpected: ${want}`);
+  }
+  await until("steps", async () => (await stepOf()) > 2, 20);
+  return shown.split("\n")[0];
+});
+
 await browser.close();
 rmSync(scratchRoot, { recursive: true, force: true });
 console.log(`${passed} passed, ${failed} failed`);

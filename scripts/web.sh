@@ -2,8 +2,8 @@
 # Builds the web page into web/dist/: the simulation for WebAssembly
 # (scripts/wasm.sh, which installs what it needs and says where cargo put
 # the module) and the page's files.
-# Serve it with `python3 -m http.server -d web/dist` and open
-# http://localhost:8000/.
+# Serve it with `python3 -m http.server --bind 127.0.0.1 -d web/dist` (on
+# this machine only) and open http://127.0.0.1:8000/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 module="$(scripts/wasm.sh)"

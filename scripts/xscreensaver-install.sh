@@ -25,13 +25,20 @@ no display mode as root):
   - copies BINARY to ~/.local/bin/screensaver (a BINARY already in
     XScreenSaver's hack directory, as --system puts it, is used in place);
   - edits ~/.xscreensaver: adds "Screensaver (lines)" with that absolute
-    path to `programs:` (or updates an existing screensaver entry, keeping
-    its options), and selects it alone: `mode: one`, `selected: N`. The
-    rest of the file is kept. The mode and selection it replaces are noted
-    in a comment, and --uninstall puts them back. Running it twice changes
-    nothing the second time. A copy of the file before each change is
-    left in ~/.xscreensaver.bak. A running daemon rereads the file the next
-    time it blanks the screen.
+    path to `programs:` (in single quotes when it holds a space or another
+    character a shell would read: the daemon then runs the entry through
+    /bin/sh), or updates an existing screensaver entry, keeping its
+    options, and removes any other; and selects it alone: `mode: one`,
+    `selected: N`. The rest of the file is kept. The mode and selection it
+    replaces are noted in a comment, and --uninstall removes every
+    screensaver entry and puts them back (or, when you have chosen another
+    since, keeps yours, renumbered). Running it twice changes nothing the
+    second time. A copy of the file before each change is left in
+    ~/.xscreensaver.bak. A running daemon rereads the file the next time it
+    blanks the screen. (With a space in its path, the program runs when
+    selected alone, as here; in `mode: random` the daemon passes over it,
+    as it looks for the program by the command's text up to its first
+    space.)
 
 System-wide (as root; edits no one's ~/.xscreensaver):
   - copies BINARY into XScreenSaver's hack directory (/usr/libexec/xscreensaver
@@ -168,16 +175,70 @@ put() {
 # each ending in `\n\`, then a blank line), so a file that
 # xscreensaver-settings wrote comes back byte for byte.
 #
+# How the daemon reads a command: the file reader turns `\X` into X (`\t`
+# a tab, `\r` a return); a command holding any of *?$&!<>[];`'\"= is run
+# by /bin/sh -c "exec COMMAND", any other is split at spaces and tabs and
+# run directly. So a path with a space is written in single quotes (see
+# entry_command), and an entry is this hack's when the first word of its
+# command, as the shell reads it, names a file called NAME. The entries an
+# earlier version of this script wrote unquoted (a path with a space, taken
+# apart by the daemon) are recognised too, by the paths it wrote: CMD and
+# LEGACY.
+#
 # ENVIRON: ACTION (install or uninstall), CMD (the absolute path for the
-# entry), LABEL, NAME (the program's file name that marks this hack's
-# entries), FRESH (1 when there was no file). Prints the new file on stdout
-# and what it did on stderr.
+# entry), WORD (CMD as the entry writes it, quoted where it must be),
+# LEGACY (the path a user install writes, ~/.local/bin/NAME), LABEL, NAME
+# (the program's file name that marks this hack's entries), FRESH (1 when
+# there was no file). Prints the new file on stdout and what it did on
+# stderr.
 # shellcheck disable=SC2016 # awk's own $ signs
 edit_program='
 function trim(s) { sub(/^[ \t]+/, "", s); sub(/[ \t]+$/, "", s); return s }
-# Parses an entry: sets E_DISABLED, E_PROG (the command'"'"'s first word) and
-# E_ARGS (the rest).
-function parse(t,   s, q) {
+# The daemon'"'"'s reading of the file'"'"'s backslashes: sets U (the text
+# read) and UAT[k] (the characters of s that give U'"'"'s first k).
+function unescape(s,   i, c, m) {
+    U = ""; m = length(s); UAT[0] = 0
+    for (i = 1; i <= m; i++) {
+        c = substr(s, i, 1)
+        if (c == "\\" && i < m) {
+            c = substr(s, ++i, 1)
+            if (c == "t") c = "\t"; else if (c == "r") c = "\r"; else if (c == "n") c = "\n"
+        }
+        U = U c; UAT[length(U)] = i
+    }
+}
+# The first word of command c as /bin/sh reads it (quotes taken off): sets
+# W, and WEND (the characters of c it takes).
+function first_word(c,   i, m, ch, q) {
+    W = ""; m = length(c); i = 1
+    while (i <= m) {
+        ch = substr(c, i, 1)
+        if (ch == " " || ch == "\t") break
+        if (ch == SQ) {
+            q = index(substr(c, i + 1), SQ)
+            if (!q) { W = W substr(c, i + 1); i = m + 1; break }
+            W = W substr(c, i + 1, q - 1); i += q + 1
+        } else if (ch == "\"") {
+            for (i++; i <= m && substr(c, i, 1) != "\""; i++) {
+                ch = substr(c, i, 1)
+                if (ch == "\\" && i < m && index("\"\\$`", substr(c, i + 1, 1))) ch = substr(c, ++i, 1)
+                W = W ch
+            }
+            i++
+        } else if (ch == "\\" && i < m) {
+            W = W substr(c, i + 1, 1); i += 2
+        } else { W = W ch; i++ }
+    }
+    WEND = (i > m) ? m : i - 1
+}
+# Whether command c (as read) starts with path p as a word of its own.
+function starts_with(c, p) {
+    return p != "" && (c == p || (substr(c, 1, length(p)) == p && substr(c, length(p) + 1, 1) ~ /[ \t]/))
+}
+# Parses an entry: sets E_DISABLED, E_PROG (the program the command runs,
+# its first word as the shell reads it), E_WORD (that word as written) and
+# E_ARGS (the rest, as written).
+function parse(t,   s, c, w, q) {
     s = trim(t)
     E_DISABLED = 0
     if (s ~ /^-/) { E_DISABLED = 1; s = trim(substr(s, 2)) }
@@ -186,8 +247,13 @@ function parse(t,   s, q) {
         q = index(substr(s, 2), "\"")
         s = (q == 0) ? "" : trim(substr(s, q + 2))
     }
-    E_PROG = s; sub(/[ \t].*/, "", E_PROG)
-    E_ARGS = substr(s, length(E_PROG) + 1); E_ARGS = trim(E_ARGS)
+    unescape(s); c = U
+    # A path with a space, written unquoted by an earlier version.
+    if (starts_with(c, cmd) && cmd ~ /[ \t]/) { E_PROG = cmd; w = length(cmd) }
+    else if (starts_with(c, legacy) && legacy ~ /[ \t]/) { E_PROG = legacy; w = length(legacy) }
+    else { first_word(c); E_PROG = W; w = WEND }
+    E_WORD = substr(s, 1, UAT[w])
+    E_ARGS = trim(substr(s, UAT[w] + 1))
 }
 function ours(t,   b) { parse(t); b = E_PROG; sub(/.*\//, "", b); return b == NAME }
 function value(line) { sub(/^[^:]*:[ \t]*/, "", line); return trim(line) }
@@ -199,7 +265,9 @@ function note(s) { print s > "/dev/stderr" }
 
 END {
     action = ENVIRON["ACTION"]; cmd = ENVIRON["CMD"]; label = ENVIRON["LABEL"]
+    word = ENVIRON["WORD"]; legacy = ENVIRON["LEGACY"]
     NAME = ENVIRON["NAME"]; mark = "# screensaver-install: before it,"
+    SQ = "\047"
 
     # The programs block: from its key to the first line that does not end
     # in a backslash.
@@ -238,15 +306,23 @@ END {
     for (k = 1; k <= ne; k++) if (ours(E[k])) { OURS[k - 1] = 1; nours++ }
 
     if (action == "install") {
-        entry = "  \"" label "\"\t" cmd
+        entry = "  \"" label "\"\t" word
         at = 0
         for (k = 1; k <= ne; k++) if (ours(E[k])) { at = k; break }
         if (at) {
             parse(E[at])
-            if (E_PROG != cmd || E_DISABLED) {
+            if (E_PROG != cmd || E_WORD != word || E_DISABLED) {
                 E[at] = entry (E_ARGS != "" ? " " E_ARGS : "") "\t"
                 note("entry " (at - 1) " updated: " trim(E[at]))
             } else note("entry " (at - 1) " is already this program: " trim(E[at]))
+            # One entry of this hack: any other (as an earlier version added
+            # on a second run) goes. All come after the one kept.
+            j = 0
+            for (k = 1; k <= ne; k++) {
+                if (k != at && (k - 1) in OURS) { note("entry " (k - 1) " removed (another entry of " NAME "): " trim(E[k])); continue }
+                F[++j] = E[k]
+            }
+            ne = j; for (k = 1; k <= ne; k++) E[k] = F[k]
         } else {
             E[++ne] = entry "\t"; at = ne
             note("entry " (at - 1) " added: " trim(E[at]))
@@ -376,8 +452,36 @@ replace_config() {
     mv -f "$tmp" "$target"
 }
 
+# The entry's command for path $1, as the daemon must read it: the path as
+# it is when it holds nothing a shell would read otherwise, else in single
+# quotes (the daemon then runs it through /bin/sh), or in double quotes if
+# it holds a single quote. A path that neither can carry (a backslash, which
+# the daemon's file reader takes away and xscreensaver-settings does not
+# write back; a newline; a single quote beside one of "$`) is refused.
+entry_command() {
+    local path=$1
+    if [[ $path =~ ^[A-Za-z0-9_./+-]+$ ]]; then
+        printf '%s\n' "$path"
+    elif [[ $path == *[$'\\\n']* ]]; then
+        return 1
+    elif [[ $path != *\'* ]]; then
+        printf "'%s'\n" "$path"
+    elif [[ $path != *[\"\$\`]* ]]; then
+        printf '"%s"\n' "$path"
+    else
+        return 1
+    fi
+}
+
+die_unquotable() {
+    die "$1: XScreenSaver cannot run a program by this path (it holds a backslash, a newline, or a single quote beside one of \"\$\`): install it system-wide instead (--system, see --help)"
+}
+
 edit_config() {
-    local action=$1 entry=${2:-} config="$HOME/.xscreensaver" fresh=0 new log
+    local action=$1 entry=${2:-} config="$HOME/.xscreensaver" fresh=0 new log word=""
+    if [[ -n $entry ]]; then
+        word=$(entry_command "$entry") || die_unquotable "$entry"
+    fi
     # xscreensaver-settings writes the whole file when it saves, which would
     # undo this edit (or this edit its unsaved changes).
     if command -v pgrep >/dev/null &&
@@ -388,7 +492,7 @@ edit_config() {
     new=$(mktemp)
     log=$(mktemp)
     if ! { [[ -e $config ]] && cat -- "$config"; true; } |
-        ACTION=$action CMD=$entry LABEL=$label NAME=$name FRESH=$fresh \
+        ACTION=$action CMD=$entry WORD=$word LEGACY=$bin_dir/$name LABEL=$label NAME=$name FRESH=$fresh \
             awk "$edit_program" >"$new" 2>"$log"; then
         cat "$log" >&2
         rm -f "$new" "$log"
@@ -467,8 +571,10 @@ if [[ -n $hack_dir && $(dirname "$binary") == "$(readlink -f -- "$hack_dir")" ]]
     installed=$binary
     say "using $installed where it is (XScreenSaver's hack directory)"
 else
-    mkdir -p -- "$bin_dir"
     installed="$bin_dir/$name"
+    # Refused before anything is copied.
+    entry_command "$installed" >/dev/null || die_unquotable "$installed"
+    mkdir -p -- "$bin_dir"
     if [[ -e $installed ]] && cmp -s "$binary" "$installed"; then
         say "$installed is already this program ($("$installed" --version))"
     else

@@ -15,6 +15,9 @@ const MAX_CYCLE = 86400; // seconds, a day, as the command line
 const STEP_BUDGET_MS = 14; // time for steps in one picture at `max` speed
 const DEATH_CHECK_MS = 500;
 const MAX_RATE = 2 ** 20; // faster than this is `max`
+// The URL's spellings of hud: on (`?hud` alone too), off.
+const HUD_ON = ["1", "true", "yes", "on", ""];
+const HUD_OFF = ["0", "false", "no", "off"];
 
 const $ = (id) => document.getElementById(id);
 const canvas = $("picture");
@@ -412,6 +415,27 @@ function syncForm() {
     $("seed").value = scene.seed.toString();
   }
   $("cycle").value = state.cycle;
+  syncFields();
+}
+
+// Lines, seed and cycle are a generated scene's: with the built-in scene
+// or a file chosen, which they do not change, they are disabled, and their
+// labels' titles say why.
+function syncFields() {
+  const kind = $("kind").value;
+  const off = kind === "built-in" || kind === "file";
+  const why = kind === "built-in"
+    ? "the built-in scene is always the same (1000 lines, seed 6172)"
+    : "a file's scene is its own";
+  for (const id of ["lines", "seed", "cycle"]) {
+    const input = $(id);
+    const label = input.closest("label");
+    label.dataset.title ??= label.title;
+    input.disabled = off;
+    label.style.opacity = off ? "0.5" : "";
+    label.title = off ? `For generated scenes only: ${why}; choose a kind (${kinds.join(", ")}) to set ${id}`
+      : label.dataset.title;
+  }
 }
 
 // The link that reproduces what is on show, or, for a file from disk,
@@ -477,10 +501,15 @@ async function fromUrl() {
   if (speed === "max") state.pace = { kind: "max" };
   else if (speed === "frame" || speed === null) state.pace = { kind: "frame" };
   else {
-    const rate = number("speed", 1, MAX_RATE);
+    // As the command line words it, with the page's most.
+    const rate = numberIn(`speed=${speed}`, speed, 1, MAX_RATE, []);
     if (rate !== null) state.pace = { kind: "rate", rate };
+    else problems.push(`speed=${speed}: expected steps a second (a whole number from 1 to ${MAX_RATE}), frame (one step a picture) or max`);
   }
-  state.hud = ["1", "true", "yes", ""].includes(p.get("hud"));
+  const hud = p.get("hud");
+  if (hud === null || HUD_OFF.includes(hud.toLowerCase())) state.hud = false;
+  else if (HUD_ON.includes(hud.toLowerCase())) state.hud = true;
+  else problems.push(`hud=${hud}: expected 1 (or true, yes, on) to show the heads-up display, or 0 (or false, no, off)`);
   state.cycle = number("cycle", 0, MAX_CYCLE, false) ?? 0;
   const detector = p.get("detector") ?? "sweep";
   if (detectors.includes(detector)) state.detector = detector;
@@ -505,7 +534,7 @@ async function fromUrl() {
       if (!response.ok) throw new Error(`HTTP ${response.status}`);
       scene = { type: "file", name: sceneUrl, url: sceneUrl, bytes: new Uint8Array(await response.arrayBuffer()) };
     } catch (e) {
-      problems.push(`${sceneUrl}: cannot be read (${e.message})`);
+      problems.push(`${sceneUrl}: cannot be read (${e.message})${elsewhere(sceneUrl, e)}`);
       sceneRead = false;
     }
   } else if (kind !== null || lines !== null || seed !== null || state.cycle) {
@@ -515,6 +544,22 @@ async function fromUrl() {
       seed: seed ?? 6172n };
   }
   return { scene, problems, sceneRead };
+}
+
+// Why a scene's URL may fail to load where the browser says only that the
+// fetch failed (a TypeError, for a request it made or refused): from
+// another origin, the browser reads it only when its server allows it
+// (CORS). Nothing for a scene on the page's own origin.
+function elsewhere(sceneUrl, error) {
+  let url;
+  try {
+    url = new URL(sceneUrl, location.href);
+  } catch {
+    return "";
+  }
+  if (!(error instanceof TypeError) || url.origin === location.origin) return "";
+  return `: ${url.href} is on another origin than this page (${location.origin}); a scene must be on the page's `
+    + "origin, or served with CORS (its server sending Access-Control-Allow-Origin)";
 }
 
 // ---- start ---------------------------------------------------------------
@@ -545,6 +590,7 @@ async function main() {
     const action = e.target.closest("[data-action]")?.dataset.action;
     if (action) act(action);
   });
+  $("kind").addEventListener("change", syncFields);
   $("controls").addEventListener("submit", (e) => {
     e.preventDefault();
     runFromForm();
