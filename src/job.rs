@@ -185,9 +185,33 @@ pub enum JobError {
     /// were printed all the same.
     #[error("{}", .0.iter().map(ToString::to_string).collect::<Vec<_>>().join("; "))]
     Files(Vec<JobError>),
+    /// The run needs more memory than this process may have.
+    #[error(
+        "a scene of {} needs about {} MB of memory, more than this process can have \
+         (the memory free, or a limit such as `ulimit -v`)",
+        crate::plural(*lines, "line"),
+        bytes.div_ceil(1 << 20)
+    )]
+    Memory {
+        /// The scene's lines (at most, for a scene file not read yet).
+        lines: u64,
+        /// The bytes asked for.
+        bytes: u64,
+    },
     /// Writing the results failed.
     #[error("cannot write the results: {0}")]
     Results(#[source] std::io::Error),
+    /// The final state was not written: the run ended early, on an error,
+    /// and no file may claim to be the end of a run that did not end.
+    #[error("{}: not written: the run ended early, after step {step} of {of}", path.display())]
+    StateNotWritten {
+        /// The state file asked for.
+        path: PathBuf,
+        /// The step the run ended after.
+        step: u64,
+        /// The steps it was to run.
+        of: u64,
+    },
 }
 
 impl From<String> for JobError {
@@ -246,6 +270,8 @@ pub enum FileRole {
     Checkpoint,
     /// The pictures written.
     Pictures,
+    /// Standard output, where the results are printed, when it is a file.
+    Results,
 }
 
 impl std::fmt::Display for FileRole {
@@ -256,6 +282,7 @@ impl std::fmt::Display for FileRole {
             FileRole::State => "state",
             FileRole::Checkpoint => "checkpoint",
             FileRole::Pictures => "pictures'",
+            FileRole::Results => "results'",
         })
     }
 }
@@ -336,6 +363,25 @@ const DEFAULT_CYCLE: Duration = Duration::from_secs(60);
 
 /// Most frames a GIF gets unless `render_every` says otherwise.
 const GIF_FRAMES: u64 = 300;
+
+/// The most memory a run takes a line: a million generated lines peak at
+/// 249 MB on one thread and 261 MB on two (50 frames, `/usr/bin/time`),
+/// and a margin for the lines' order and the thread team.
+const BYTES_PER_LINE: u64 = 300;
+
+/// Fails, saying how much memory the run needs, where this process cannot
+/// have it: the memory for `lines` lines and `text` bytes of scene file is
+/// asked for, and given back at once, before the scene is read or made,
+/// so that a scene too large for the machine or its limits ends with a
+/// message rather than an abort part way.
+fn check_memory(lines: u64, text: u64) -> Result<(), JobError> {
+    let bytes = lines.saturating_mul(BYTES_PER_LINE).saturating_add(text);
+    let mut probe = Vec::<u8>::new();
+    match usize::try_from(bytes).map(|b| probe.try_reserve_exact(b)) {
+        Ok(Ok(())) => Ok(()),
+        _ => Err(JobError::Memory { lines, bytes }),
+    }
+}
 
 /// Threads to run on unless the job says ([`Schedule::default_threads`]).
 fn default_threads(live: bool, lines: usize) -> usize {
@@ -436,7 +482,8 @@ impl Job {
         // The results are printed whatever the files did: a file that could
         // not be written is reported after them, and the counts are kept.
         let failure = finished.failure.take();
-        let written = self.write_files(&finished.world, started.digest, failure);
+        let failed = failure.is_some();
+        let written = self.write_files(&finished.world, started.steps, started.digest, failure);
         if let Some(signal) = stopped {
             progress.note(Note::Stopped {
                 signal,
@@ -453,7 +500,7 @@ impl Job {
             });
         }
         let ran = Ran {
-            stopped: stopped.is_some(),
+            stopped: stopped.is_some() || failed,
             first_step,
             verified,
             seed: started.seed,
@@ -508,10 +555,21 @@ impl Job {
             (FileRole::Checkpoint, &self.checkpoint),
             (FileRole::Pictures, &self.render),
         ]);
-        let inputs = named(&[
+        let mut inputs = named(&[
             (FileRole::Scene, &self.input),
             (FileRole::Resume, &self.resume),
         ]);
+        // Replacing standard output's file would lose the results.
+        if let Some(identity) = output::stdout_identity() {
+            if let Some(output) = outputs.iter().find(|o| o.identity == identity) {
+                let path = output.path;
+                let role = FileRole::Results;
+                inputs.push(NamedFile { role, path, identity });
+            }
+        }
+        if let Some(clash) = self.frame_clash(&outputs, &inputs) {
+            return Err(clash);
+        }
         for (k, output) in outputs.iter().enumerate() {
             for input in &inputs {
                 let resumed = output.role == FileRole::Checkpoint && input.role == FileRole::Resume;
@@ -528,6 +586,30 @@ impl Job {
         Ok(())
     }
 
+    /// A numbered picture of a PNG sequence (`seq-000005.png` of `--render
+    /// seq.png`) that would be written over another file the job names.
+    fn frame_clash(&self, outputs: &[NamedFile], inputs: &[NamedFile]) -> Option<JobError> {
+        let render = self.render.as_deref()?;
+        let sequence = Target::for_path(render, self.frames_pictured());
+        if !matches!(sequence, Ok(Target::PngSequence(_))) {
+            return None;
+        }
+        let others = outputs.iter().chain(inputs);
+        let others = others.filter(|o| o.role != FileRole::Pictures);
+        others.into_iter().find_map(|other| {
+            let frame = frame_name(render, other.path)?;
+            let identity = output::identity(&frame)?;
+            (identity == other.identity).then(|| {
+                let frame = NamedFile {
+                    role: FileRole::Pictures,
+                    path: &frame,
+                    identity,
+                };
+                frame.clash(other)
+            })
+        })
+    }
+
     /// The arrangement of the `k`-th generated scene (from 0).
     fn kind_of(&self, k: u64) -> SceneKind {
         kind_of(self.kind, k)
@@ -542,14 +624,15 @@ impl Job {
         // shows other scenes.
         let seed = match self.seed {
             Some(seed) => seed,
-            None if endless => std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map_or(DEFAULT_SEED, |d| d.as_secs()),
+            None if endless => clock_seed(),
             None => DEFAULT_SEED,
         };
         let built_in = self.lines.is_none() && self.kind.is_none() && self.seed.is_none();
         let (scene, input_name) = match &self.input {
             Some(path) => {
+                if let Some((lines, size)) = Scene::peek_lines(path) {
+                    check_memory(lines, size)?;
+                }
                 // The scene's size is not known yet: every core, unless
                 // asked otherwise.
                 let threads = match self.config.threads {
@@ -559,6 +642,7 @@ impl Job {
                 (Scene::load_on(path, threads)?, path.display().to_string())
             }
             None => {
+                check_memory(lines as u64, 0)?;
                 let name = if built_in && !endless {
                     report::built_in_input()
                 } else {
@@ -771,9 +855,11 @@ impl Job {
     fn write_files(
         &self,
         world: &World,
+        steps: u64,
         digest: Option<u64>,
         failure: Option<RunError>,
     ) -> Result<(), JobError> {
+        let failed = failure.is_some();
         let mut errors: Vec<JobError> = failure.into_iter().map(JobError::from).collect();
         if let (Some(path), Some(digest)) = (&self.checkpoint, digest) {
             let checkpoints = Checkpoints {
@@ -783,9 +869,19 @@ impl Job {
             };
             errors.extend(checkpoints.save(world).err().map(JobError::from));
         }
-        if let Some(path) = &self.state_out {
-            let written = output::write_with(path, |out| world.write_state(out));
-            errors.extend(written.err().map(JobError::from));
+        // A checkpoint says its step; a state does not, so the state of a
+        // run that an error ended early is not written.
+        match &self.state_out {
+            Some(path) if failed => errors.push(JobError::StateNotWritten {
+                path: path.clone(),
+                step: world.steps(),
+                of: steps,
+            }),
+            Some(path) => {
+                let written = output::write_with(path, |out| world.write_state(out));
+                errors.extend(written.err().map(JobError::from));
+            }
+            None => {}
         }
         match errors.is_empty() {
             true => Ok(()),
@@ -815,7 +911,7 @@ impl Job {
             "input": self.input.as_ref().map(|p| p.display().to_string()),
             "lines": world.lines().len(),
             "detector": self.detector.name(),
-            "threads": self.config.threads,
+            "threads": world.threads_run(),
             "elapsed_seconds": finished.elapsed.as_secs_f64(),
             "line_wall_collisions": counts.wall,
             "line_line_collisions": counts.line,
@@ -886,6 +982,27 @@ fn named<'a>(files: &[(FileRole, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>> {
         .collect()
 }
 
+/// A seed from the clock, in nanoseconds, so that two endless runs started
+/// in one second show other scenes.
+fn clock_seed() -> u64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(DEFAULT_SEED, |d| d.as_nanos() as u64)
+}
+
+/// The name of the numbered picture of the sequence `render` that `other`'s
+/// file name would be, if it is of that form.
+fn frame_name(render: &std::path::Path, other: &std::path::Path) -> Option<PathBuf> {
+    let name = other.file_name()?.to_str()?;
+    let stem = render.file_stem()?.to_str()?;
+    let digits = name.strip_prefix(stem)?.strip_prefix('-')?;
+    let (digits, ext) = digits.split_once('.')?;
+    let index = digits.parse::<u64>().ok()?;
+    let frame = crate::render::sequence_name(render, index);
+    let same = frame.file_name()?.to_str()? == name && ext.eq_ignore_ascii_case("png");
+    same.then_some(frame)
+}
+
 /// The arrangement of the `k`-th generated scene (from 0): `kind`, or each
 /// kind in turn.
 fn kind_of(kind: Option<SceneKind>, k: u64) -> SceneKind {
@@ -945,6 +1062,34 @@ mod tests {
             cycle: Some(Duration::from_secs(1)),
             ..Job::default()
         }));
+    }
+
+    #[test]
+    fn endless_runs_started_together_get_other_seeds() {
+        let first = clock_seed();
+        std::thread::sleep(Duration::from_millis(2));
+        assert_ne!(first, clock_seed());
+    }
+
+    /// A small scene runs on one thread whatever the team, and says so.
+    #[test]
+    fn json_results_report_the_threads_that_ran() {
+        let threads = |lines: usize| {
+            let job = Job {
+                frames: Some(3),
+                json: true,
+                lines: Some(lines),
+                config: DetectorConfig {
+                    threads: 2,
+                    ..DetectorConfig::default()
+                },
+                ..Job::default()
+            };
+            let value: serde_json::Value = serde_json::from_str(&text_of(job).unwrap()).unwrap();
+            value["threads"].as_u64().unwrap()
+        };
+        assert_eq!(threads(20), 1);
+        assert_eq!(threads(20_000), 2);
     }
 
     #[test]

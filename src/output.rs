@@ -1,18 +1,25 @@
 //! Files written whole or not at all: every regular file the program writes
 //! goes to a temporary file in the same folder first and takes its final
 //! name only once it is complete, so an interrupted run or a failed write
-//! never leaves a partial file that looks finished.
+//! never leaves a partial file that looks finished. A file replaced keeps
+//! its mode, its owner and its group; one this user could not give back
+//! its owner is refused, never silently taken over.
 //!
 //! What is not a regular file is written to as it is: `-` is standard
 //! output; a device, a FIFO or a socket (`/dev/null`, `/dev/full`, a named
-//! pipe), and any path under `/dev` or `/proc` (`/dev/stdout`,
+//! pipe), and any name that leads through `/proc` (`/dev/stdout`,
 //! `/proc/self/fd/3`: names of files already open) are opened and written
-//! directly, never replaced. A symbolic link is followed: its target is
-//! written whole or not at all, and the link stays a link.
+//! directly, never replaced. A symbolic link is followed (its target is
+//! written whole or not at all, and the link stays a link) unless it is
+//! one the system itself would not follow: a link in a sticky folder that
+//! anyone may write (`/tmp`), owned by neither this user nor the folder's
+//! owner, is refused.
 //!
-//! Temporary files are registered while they exist, so that a second
-//! signal, which ends the process at once, removes them first
-//! ([`remove_temporaries`]).
+//! Temporary files are named after the process that made them
+//! (`.screensaver-PID-XXXXXX.part`) and registered while they exist, so
+//! that a second signal, which ends the process at once, removes them
+//! first ([`remove_temporaries`]); those a process ended by `kill -9` left
+//! are removed by the next run that writes in their folder.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -45,7 +52,7 @@ impl OutputError {
 /// The system's reason, with the folder named when it is missing, or when
 /// it exists but refuses new files (as `/proc` does, with "not found").
 fn describe(path: &Path, e: &std::io::Error) -> String {
-    let target = resolve(path);
+    let target = resolve(path).map_or_else(|_| path.to_path_buf(), |r| r.target);
     if e.kind() == std::io::ErrorKind::PermissionDenied && !target.exists() {
         return format!(
             "this user may not make files in the folder {} (permission denied)",
@@ -57,10 +64,7 @@ fn describe(path: &Path, e: &std::io::Error) -> String {
     }
     let folder = folder(&target);
     if folder.is_dir() {
-        format!(
-            "the folder {} exists but does not take new files ({e})",
-            folder.display()
-        )
+        format!("the folder {} exists but does not take new files", folder.display())
     } else {
         format!("the folder {} does not exist", folder.display())
     }
@@ -74,21 +78,88 @@ fn folder(path: &Path) -> &Path {
     }
 }
 
+/// Whether `path` ends in a separator, and so names a folder.
+fn names_a_folder(path: &Path) -> bool {
+    let text = path.as_os_str().as_encoded_bytes();
+    text.last().is_some_and(|&c| std::path::is_separator(c as char)) && text != b"-"
+}
+
 /// Most symbolic links followed in a row, as the system's own limit.
 const MOST_LINKS: usize = 40;
 
-/// The file `path` names once symbolic links are followed (`path` itself
-/// if it is not a link, or if the links go round); the target of a link
-/// to a file that does not exist yet is where that file will be made.
-fn resolve(path: &Path) -> PathBuf {
+/// Where a path leads once its symbolic links are followed.
+struct Resolved {
+    /// The file it names (`path` itself if it is not a link, or if the
+    /// links go round); the target of a link to a file that does not exist
+    /// yet is where that file will be made.
+    target: PathBuf,
+    /// Whether it led through `/proc`: the name of a file already open
+    /// (`/dev/stdout` -> `/proc/self/fd/1` -> the file).
+    through_proc: bool,
+}
+
+/// Follows the links from `path`, refusing one the system would not
+/// follow for this user ([`may_follow`]).
+fn resolve(path: &Path) -> std::io::Result<Resolved> {
     let mut at = path.to_path_buf();
+    let mut through_proc = path.starts_with("/proc");
     for _ in 0..MOST_LINKS {
-        match std::fs::read_link(&at) {
-            Ok(target) => at = folder(&at).join(target),
-            Err(_) => return at,
-        }
+        let Ok(target) = std::fs::read_link(&at) else {
+            return Ok(Resolved { target: at, through_proc });
+        };
+        check_link(&at)?;
+        at = folder(&at).join(target);
+        through_proc |= at.starts_with("/proc");
     }
-    path.to_path_buf()
+    Ok(Resolved {
+        target: path.to_path_buf(),
+        through_proc,
+    })
+}
+
+/// Refuses the link at `link` where the system would: in a sticky folder
+/// that anyone may write, a link owned by neither this user nor the
+/// folder's owner (Linux's `fs.protected_symlinks`). The program follows
+/// links itself to write their targets whole, so the system's own check
+/// never sees them.
+#[cfg(unix)]
+fn check_link(link: &Path) -> std::io::Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let (Ok(meta), Ok(dir)) = (std::fs::symlink_metadata(link), std::fs::metadata(folder(link)))
+    else {
+        return Ok(());
+    };
+    let user = rustix::process::geteuid().as_raw();
+    if may_follow(dir.mode(), dir.uid(), meta.uid(), user) {
+        return Ok(());
+    }
+    Err(std::io::Error::new(
+        std::io::ErrorKind::PermissionDenied,
+        format!(
+            "{} is a symbolic link in the shared folder {}, owned by another user \
+             (uid {}); it is not followed (remove it, or name the file it points to)",
+            link.display(),
+            folder(link).display(),
+            meta.uid()
+        ),
+    ))
+}
+
+#[cfg(not(unix))]
+fn check_link(_: &Path) -> std::io::Result<()> {
+    Ok(())
+}
+
+/// Whether `user` may follow a link owned by `link_owner` in a folder of
+/// mode `dir_mode` owned by `dir_owner`: anywhere but in a sticky folder
+/// that anyone may write; there, only a link of the user's own or of the
+/// folder's owner.
+#[cfg(unix)]
+fn may_follow(dir_mode: u32, dir_owner: u32, link_owner: u32, user: u32) -> bool {
+    const STICKY: u32 = 0o1000;
+    const OTHERS_WRITE: u32 = 0o002;
+    let shared = dir_mode & STICKY != 0 && dir_mode & OTHERS_WRITE != 0;
+    !shared || link_owner == user || link_owner == dir_owner
 }
 
 /// How a path is written.
@@ -97,24 +168,27 @@ enum Kind {
     /// Standard output (`-`).
     Stdout,
     /// Opened and written as it is: a device, a FIFO, a socket, or a name
-    /// under `/dev` or `/proc` for a file already open.
+    /// that leads through `/proc` to a file already open.
     Direct,
     /// A regular file (or a new one) at this path, links followed: written
     /// to a temporary file beside it and renamed over it when complete.
     Whole(PathBuf),
 }
 
-fn kind(path: &Path) -> Kind {
+fn kind(path: &Path) -> std::io::Result<Kind> {
     if path.as_os_str() == "-" {
-        return Kind::Stdout;
+        return Ok(Kind::Stdout);
     }
-    if path.starts_with("/dev") || path.starts_with("/proc") {
-        return Kind::Direct;
+    if let Ok(m) = std::fs::metadata(path) {
+        if !m.is_file() && !m.is_dir() {
+            return Ok(Kind::Direct);
+        }
     }
-    match std::fs::metadata(path) {
-        Ok(m) if !m.is_file() && !m.is_dir() => Kind::Direct,
-        _ => Kind::Whole(resolve(path)),
-    }
+    let resolved = resolve(path)?;
+    Ok(match resolved.through_proc {
+        true => Kind::Direct,
+        false => Kind::Whole(resolved.target),
+    })
 }
 
 /// Which file a path names, so that two names of one file (`./a` and
@@ -135,7 +209,7 @@ pub(crate) enum FileIdentity {
 /// outputs may share.
 #[cfg(any(test, feature = "window"))]
 pub(crate) fn identity(path: &Path) -> Option<FileIdentity> {
-    let Kind::Whole(target) = kind(path) else {
+    let Ok(Kind::Whole(target)) = kind(path) else {
         return None;
     };
     #[cfg(unix)]
@@ -150,6 +224,24 @@ pub(crate) fn identity(path: &Path) -> Option<FileIdentity> {
     let folder = folder(&target);
     let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
     Some(FileIdentity::Path(folder.join(target.file_name()?)))
+}
+
+/// The regular file standard output is written to, if it is one (`>
+/// file`): a run must not replace it with one of its outputs, which would
+/// lose what it prints.
+#[cfg(all(unix, any(test, feature = "window")))]
+pub(crate) fn stdout_identity() -> Option<FileIdentity> {
+    use std::os::fd::AsFd;
+    use std::os::unix::fs::MetadataExt;
+    let stdout = std::io::stdout();
+    let file = std::fs::File::from(stdout.as_fd().try_clone_to_owned().ok()?);
+    let m = file.metadata().ok().filter(std::fs::Metadata::is_file)?;
+    Some(FileIdentity::Inode(m.dev(), m.ino()))
+}
+
+#[cfg(all(not(unix), any(test, feature = "window")))]
+pub(crate) fn stdout_identity() -> Option<FileIdentity> {
+    None
 }
 
 /// The temporary files that exist now, removed by [`remove_temporaries`].
@@ -171,6 +263,84 @@ pub fn remove_temporaries() {
         let _ = std::fs::remove_file(path);
     }
     std::mem::forget(list);
+}
+
+/// How the program's temporary files are named: the prefix, the making
+/// process's id and a dash, random letters, the suffix.
+const TEMPORARY_PREFIX: &str = ".screensaver-";
+const TEMPORARY_SUFFIX: &str = ".part";
+
+/// Gives the new file `temp` the mode, owner and group of the file `old` it
+/// will replace, so that replacing a file never changes who may read it;
+/// fails where this user cannot give it the owner back.
+#[cfg(unix)]
+fn adopt(temp: &std::fs::File, old: &std::fs::Metadata) -> std::io::Result<()> {
+    use std::os::unix::fs::MetadataExt;
+    let new = temp.metadata()?;
+    if (new.uid(), new.gid()) != (old.uid(), old.gid()) {
+        std::os::unix::fs::fchown(temp, Some(old.uid()), Some(old.gid())).map_err(|_| {
+            std::io::Error::new(
+                std::io::ErrorKind::PermissionDenied,
+                format!(
+                    "it belongs to another user or group (uid {}, gid {}), and replacing it \
+                     would make it this user's; remove it first, or write elsewhere",
+                    old.uid(),
+                    old.gid()
+                ),
+            )
+        })?;
+    }
+    temp.set_permissions(old.permissions())
+}
+
+#[cfg(not(unix))]
+fn adopt(temp: &std::fs::File, old: &std::fs::Metadata) -> std::io::Result<()> {
+    temp.set_permissions(old.permissions())
+}
+
+/// The folders already cleared of stale temporary files by this process.
+static SWEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// Removes, once per folder and process, the temporary files that a
+/// process of this program ended at once (`kill -9`, a crash) left in
+/// `dir`: those of this user whose process no longer runs. Where the
+/// system cannot say which processes run (no `/proc`), nothing is removed.
+fn remove_stale_temporaries(dir: &Path) {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let mut swept = SWEPT.lock().unwrap_or_else(|e| e.into_inner());
+        let key = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+        if swept.contains(&key) {
+            return;
+        }
+        swept.push(key);
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
+        let user = rustix::process::geteuid().as_raw();
+        for entry in entries.flatten() {
+            let name = entry.file_name();
+            let Some(pid) = name.to_str().and_then(temporary_pid) else {
+                continue;
+            };
+            let ours = entry.metadata().is_ok_and(|m| m.is_file() && m.uid() == user);
+            if ours && !Path::new("/proc").join(pid.to_string()).exists() {
+                let _ = std::fs::remove_file(entry.path());
+            }
+        }
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (dir, &SWEPT);
+}
+
+/// The id of the process that made the temporary file named `name`, if it
+/// is one of this program's.
+fn temporary_pid(name: &str) -> Option<u32> {
+    let rest = name.strip_prefix(TEMPORARY_PREFIX)?;
+    rest.strip_suffix(TEMPORARY_SUFFIX)?;
+    let (pid, _) = rest.split_once('-')?;
+    pid.parse().ok()
 }
 
 /// Where an [`OutputFile`]'s bytes go.
@@ -205,7 +375,12 @@ impl OutputFile {
         if path.is_dir() {
             return Err(fail(std::io::Error::other("it is a folder")));
         }
-        let (sink, target) = match kind(path) {
+        if names_a_folder(path) {
+            return Err(fail(std::io::Error::other(
+                "a file's name cannot end in a separator (that names a folder)",
+            )));
+        }
+        let (sink, target) = match kind(path).map_err(fail)? {
             Kind::Stdout => (Sink::Stdout(std::io::stdout()), path.to_path_buf()),
             Kind::Direct => {
                 let file = std::fs::OpenOptions::new()
@@ -215,8 +390,10 @@ impl OutputFile {
                 (Sink::File(file), path.to_path_buf())
             }
             Kind::Whole(target) => {
+                remove_stale_temporaries(folder(&target));
                 let mut builder = tempfile::Builder::new();
-                builder.prefix(".screensaver-").suffix(".part");
+                let prefix = format!("{TEMPORARY_PREFIX}{}-", std::process::id());
+                builder.prefix(&prefix).suffix(TEMPORARY_SUFFIX);
                 // Temporary files are private by default; the final file is
                 // made as any new file is (read-write for all, less the
                 // umask).
@@ -231,6 +408,10 @@ impl OutputFile {
                 let temp = (builder.tempfile_in(folder(&target)))
                     .map_err(|e| fail(std::io::Error::from(e.kind())))?;
                 list.push(temp.path().to_path_buf());
+                drop(list);
+                if let Ok(old) = std::fs::metadata(&target) {
+                    adopt(temp.as_file(), &old).map_err(fail)?;
+                }
                 (Sink::Temporary(temp), target)
             }
         };
@@ -326,7 +507,7 @@ pub fn write_with(
 /// FIFO is not opened: that would wait for a reader). Nothing is left
 /// behind.
 pub fn check_writable(path: &Path) -> Result<(), OutputError> {
-    if is_fifo(path) {
+    if is_fifo(path) && !names_a_folder(path) {
         return Ok(());
     }
     OutputFile::create(path).map(drop)
@@ -515,5 +696,148 @@ mod tests {
         assert_eq!(listed(dir.path()), 1);
         other.commit().unwrap();
         assert_eq!(listed(dir.path()), 0);
+    }
+
+    /// Whether this process runs as root, which alone can make a file
+    /// another user's (the tests of other users' links and files).
+    #[cfg(unix)]
+    fn root() -> bool {
+        let root = rustix::process::geteuid().is_root();
+        // CI runs as root; a developer's run as another user cannot make
+        // another user's link, and says so rather than pass.
+        assert!(
+            root || std::env::var_os("CI").is_none(),
+            "CI runs these tests as root"
+        );
+        root
+    }
+
+    /// The rule on links: anywhere but a sticky folder anyone may write, any
+    /// link; there, only the user's own or the folder owner's.
+    #[cfg(unix)]
+    #[test]
+    fn links_in_shared_folders_are_followed_as_the_system_would() {
+        let (user, other, dir_owner) = (1000, 1001, 0);
+        assert!(may_follow(0o40755, dir_owner, other, user));
+        assert!(may_follow(0o40777, dir_owner, other, user), "not sticky");
+        assert!(may_follow(0o41755, dir_owner, other, user), "not shared");
+        assert!(!may_follow(0o41777, dir_owner, other, user), "/tmp");
+        assert!(may_follow(0o41777, dir_owner, user, user));
+        assert!(may_follow(0o41777, dir_owner, dir_owner, user));
+    }
+
+    /// A link another user planted in a sticky folder anyone may write is
+    /// refused by name, and its target is left as it was; the same link of
+    /// the user's own is followed.
+    #[cfg(unix)]
+    #[test]
+    fn another_users_link_in_a_shared_folder_is_refused() {
+        use std::os::unix::fs::PermissionsExt;
+        if !root() {
+            return;
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let shared = dir.path().join("tmp");
+        std::fs::create_dir(&shared).unwrap();
+        std::fs::set_permissions(&shared, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        let victim = dir.path().join("victim");
+        std::fs::write(&victim, b"precious").unwrap();
+        std::fs::set_permissions(&victim, std::fs::Permissions::from_mode(0o600)).unwrap();
+        let link = shared.join("out.state");
+        std::os::unix::fs::symlink(&victim, &link).unwrap();
+        std::os::unix::fs::lchown(&link, Some(65534), Some(65534)).unwrap();
+        let err = write_file(&link, b"rows").unwrap_err().to_string();
+        assert!(err.contains("is a symbolic link in the shared folder"), "{err}");
+        assert!(err.contains("owned by another user (uid 65534)"), "{err}");
+        assert!(check_writable(&link).is_err());
+        assert_eq!(std::fs::read(&victim).unwrap(), b"precious");
+        // A dangling one makes nothing either.
+        let dangling = shared.join("later");
+        std::os::unix::fs::symlink(dir.path().join("made"), &dangling).unwrap();
+        std::os::unix::fs::lchown(&dangling, Some(65534), Some(65534)).unwrap();
+        assert!(write_file(&dangling, b"rows").is_err());
+        assert!(!dir.path().join("made").exists());
+        // The user's own link is followed.
+        std::os::unix::fs::lchown(&link, Some(0), Some(0)).unwrap();
+        write_file(&link, b"rows").unwrap();
+        assert_eq!(std::fs::read(&victim).unwrap(), b"rows");
+    }
+
+    /// A file replaced keeps its mode, owner and group.
+    #[cfg(unix)]
+    #[test]
+    fn a_replaced_file_keeps_its_mode_and_owner() {
+        use std::os::unix::fs::{MetadataExt, PermissionsExt};
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("kept");
+        std::fs::write(&path, b"old").unwrap();
+        std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o640)).unwrap();
+        let owner = if root() { 65534 } else { std::fs::metadata(&path).unwrap().uid() };
+        if root() {
+            std::os::unix::fs::chown(&path, Some(owner), Some(owner)).unwrap();
+        }
+        write_file(&path, b"new").unwrap();
+        let m = std::fs::metadata(&path).unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        assert_eq!(m.mode() & 0o7777, 0o640);
+        assert_eq!(m.uid(), owner);
+    }
+
+    /// A regular file under `/dev` (a tmpfs such as `/dev/shm`) is replaced
+    /// whole like any other, never written over in place; a name that
+    /// leads through `/proc` is written where it leads.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_regular_file_under_dev_is_replaced_whole() {
+        let Ok(dir) = tempfile::tempdir_in("/dev/shm") else {
+            panic!("/dev/shm takes new files on Linux");
+        };
+        let path = dir.path().join("x");
+        std::fs::write(&path, b"a much longer old text").unwrap();
+        write_file(&path, b"new").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"new");
+        let new = dir.path().join("y");
+        write_file(&new, b"made").unwrap();
+        assert_eq!(std::fs::read(&new).unwrap(), b"made");
+        assert_eq!(kind(Path::new("/dev/stdout")).unwrap(), Kind::Direct);
+        assert_eq!(kind(Path::new("/proc/self/fd/1")).unwrap(), Kind::Direct);
+    }
+
+    /// A name that ends in a separator names a folder, and is refused
+    /// before anything is written, whether or not the folder exists.
+    #[test]
+    fn a_name_ending_in_a_separator_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("newdir/");
+        let err = check_writable(&path).unwrap_err().to_string();
+        assert!(err.contains("cannot end in a separator"), "{err}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+        assert!(!names_a_folder(Path::new("-")));
+        assert!(!names_a_folder(Path::new("a/b")));
+    }
+
+    /// The temporary files a killed process left are removed by the next
+    /// run that writes in their folder; a running process's are kept, and
+    /// so are files that only look alike.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn stale_temporaries_are_removed() {
+        let dir = tempfile::tempdir().unwrap();
+        // No process has an id this large (the system's most is 2^22).
+        let dead = dir.path().join(".screensaver-999999999-abcdef.part");
+        let alive = dir
+            .path()
+            .join(format!(".screensaver-{}-abcdef.part", std::process::id()));
+        let other = dir.path().join(".screensaver-notes.part");
+        for path in [&dead, &alive, &other] {
+            std::fs::write(path, b"x").unwrap();
+        }
+        write_file(&dir.path().join("out"), b"rows").unwrap();
+        assert!(!dead.exists());
+        assert!(alive.exists());
+        assert!(other.exists());
+        assert_eq!(temporary_pid(".screensaver-12-abc.part"), Some(12));
+        assert_eq!(temporary_pid(".screensaver-12-abc"), None);
+        assert_eq!(temporary_pid(".screensaver-x-abc.part"), None);
     }
 }

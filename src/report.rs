@@ -19,7 +19,8 @@ pub fn header(frames: Option<u64>, input: &str) -> String {
 
 /// The input's name for a generated scene.
 pub fn generated_input(kind: SceneKind, lines: usize, seed: u64) -> String {
-    format!("(none: generated {kind} scene, {lines} lines, seed {seed})")
+    let lines = crate::plural(lines as u64, "line");
+    format!("(none: generated {kind} scene, {lines}, seed {seed})")
 }
 
 /// The input's name for the built-in scene.
@@ -97,7 +98,7 @@ impl Stats {
             plan: world.detector().describe(),
             lines: world.lines().len(),
             steps: world.steps(),
-            threads: world.threads(),
+            threads: world.threads_run(),
             work: world.detector_stats(),
             times: world.phase_times().unwrap_or_default(),
             detector_phases: world.detector().phase_times(),
@@ -162,13 +163,15 @@ impl Stats {
         if let Some(h) = self.hand_offs.filter(|h| h.jobs > 0) {
             let jobs = h.jobs as f64;
             out += &format!(
-                "team: {:.1} hand-offs a step, {:.1} pieces each; the members ran {:.1}% of \
-                 the pieces (none of {} hand-offs); the stepping thread waited {:.2} us a step \
-                 for pieces running elsewhere, and parked {} times\n",
+                "team: {:.1} hand-offs a step, {:.1} pieces each; the other threads ran \
+                 {:.1}% of the pieces; {} of the {} hand-offs ran wholly on the stepping \
+                 thread; it waited {:.2} us a step for pieces running elsewhere, and slept \
+                 {} times\n",
                 jobs / steps,
                 h.pieces as f64 / jobs,
                 100.0 * h.member_pieces as f64 / (h.pieces as f64).max(1.0),
                 h.alone,
+                h.jobs,
                 h.wait.as_secs_f64() * 1e6 / steps,
                 h.parked,
             );
@@ -201,7 +204,7 @@ impl Stats {
         let (s, t, config) = (&self.work, &self.times, &self.config);
         let mut value = serde_json::json!({
             "detector": self.kind.name(),
-            "threads": config.threads,
+            "threads": self.threads,
             "candidate_pairs": s.candidate_pairs,
             "exact_tests": s.exact_tests,
             "events": s.events,

@@ -113,7 +113,7 @@ pub(crate) fn clock() -> Option<Instant> {
 }
 
 /// Whether a signal asked the program to stop.
-fn signalled() -> bool {
+pub(crate) fn signalled() -> bool {
     #[cfg(feature = "signals")]
     return crate::stop::requested().is_some();
     #[cfg(not(feature = "signals"))]
@@ -148,12 +148,11 @@ impl Run<'_> {
         let drawn_before = drawing;
         let start = clock();
         let since_start = || start.map_or(Duration::ZERO, |s| s.elapsed());
-        if let Some(verifier) = &mut verifier {
-            verifier.before_step(world);
-        }
+        // The oracle gives up its step when a signal comes: nothing runs.
+        let given_up = verifier.as_mut().is_some_and(|v| !v.before_step(world));
         let mut mismatch = None;
         let mut ran = 0;
-        let stopped = world.run_with(steps, |world| {
+        let stopped = if given_up { Some(true) } else { world.run_with(steps, |world| {
             ran += 1;
             if let Some(verifier) = &mut verifier {
                 if let Err(m) = verifier.after_step(world) {
@@ -188,10 +187,14 @@ impl Run<'_> {
             }
             // The oracle's events for the next step, if there is one.
             if let Some(verifier) = verifier.as_mut().filter(|_| ran < steps) {
-                verifier.before_step(world);
+                if !verifier.before_step(world) {
+                    return ControlFlow::Break(true);
+                }
             }
             ControlFlow::Continue(())
-        });
+        }) };
+        // A step given up part way, on a signal, ended the run there.
+        let stopped = stopped.or(world.gave_up_step().then_some(true));
         // The simulation alone: not the pictures, the checkpoints, nor the
         // all-pairs check of --verify.
         let verifying = verifier.as_ref().map_or(Duration::ZERO, |v| v.time);

@@ -1,4 +1,5 @@
-//! Stopping a run cleanly on SIGINT or SIGTERM: the first signal asks the
+//! Stopping a run cleanly on SIGINT, SIGTERM or SIGHUP (the terminal
+//! closed): the first signal asks the
 //! run to stop at the end of the current step (so that its results are
 //! printed and its files written whole); a second one ends the process at
 //! once, removing the temporary files of outputs being written.
@@ -18,6 +19,8 @@ pub enum Signal {
     Interrupt,
     /// What `kill` and screen-saver daemons send.
     Terminate,
+    /// The terminal the run was started from closed.
+    Hangup,
 }
 
 impl Signal {
@@ -26,6 +29,7 @@ impl Signal {
         match self {
             Signal::Interrupt => "SIGINT",
             Signal::Terminate => "SIGTERM",
+            Signal::Hangup => "SIGHUP",
         }
     }
 
@@ -59,17 +63,18 @@ impl Signal {
         match self {
             Signal::Interrupt => signal_hook::consts::SIGINT,
             Signal::Terminate => signal_hook::consts::SIGTERM,
+            Signal::Hangup => signal_hook::consts::SIGHUP,
         }
     }
 
-    /// The signal of this number (SIGTERM's, or else SIGINT: the only two
-    /// the handlers take).
+    /// The signal of this number (SIGTERM's, SIGHUP's, or else SIGINT:
+    /// the only three the handlers take).
     #[cfg(unix)]
     fn from_number(number: i32) -> Signal {
-        if number == signal_hook::consts::SIGTERM {
-            Signal::Terminate
-        } else {
-            Signal::Interrupt
+        match number {
+            signal_hook::consts::SIGTERM => Signal::Terminate,
+            signal_hook::consts::SIGHUP => Signal::Hangup,
+            _ => Signal::Interrupt,
         }
     }
 }
@@ -83,7 +88,7 @@ static RECEIVED: AtomicUsize = AtomicUsize::new(0);
 static INSTALLED: Mutex<bool> = Mutex::new(false);
 
 impl Signal {
-    /// Catches SIGINT and SIGTERM from now on (later calls do nothing):
+    /// Catches SIGINT, SIGTERM and SIGHUP from now on (later calls do nothing):
     /// a run stops cleanly after the step under way, and a second signal
     /// ends the process at once, removing the temporary files of outputs
     /// being written. Until it is called, signals end the process as they
@@ -105,7 +110,7 @@ fn install() -> std::io::Result<()> {
     if *installed {
         return Ok(());
     }
-    let numbers = [Signal::Interrupt, Signal::Terminate].map(Signal::number);
+    let numbers = [Signal::Interrupt, Signal::Terminate, Signal::Hangup].map(Signal::number);
     let mut signals = signal_hook::iterator::Signals::new(numbers)?;
     std::thread::Builder::new()
         .name("signals".to_string())
@@ -170,7 +175,8 @@ mod windows {
         fn code(self) -> usize {
             match self {
                 Signal::Interrupt => 1,
-                Signal::Terminate => 2,
+                // No terminal sends Windows a hangup; kept for the match.
+                Signal::Terminate | Signal::Hangup => 2,
             }
         }
     }

@@ -272,6 +272,12 @@ impl Team {
         self.members.len() + 1
     }
 
+    /// Whether a job has been handed out to the members yet (a team of
+    /// one, and a job of one piece, run on the calling thread alone).
+    pub fn has_shared(&self) -> bool {
+        Word::unpack(self.shared.word.load(Ordering::Relaxed)).job > 0
+    }
+
     /// Runs `job(k)` once for every piece `k` in `0..threads()`, on
     /// whichever threads claim them (the calling thread starts with piece
     /// 0 and takes every piece no member has claimed), and returns when

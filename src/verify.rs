@@ -80,17 +80,24 @@ impl Verifier {
     }
 
     /// Before a step: finds the oracle's events on `world` as it is.
-    pub fn before_step(&mut self, world: &World) {
+    /// Returns false where the oracle gave its step up on a signal: the
+    /// step is not to be run.
+    pub fn before_step(&mut self, world: &World) -> bool {
         let started = clock();
         let lines = world.lines().into_owned();
         let mut found = Findings::default();
         self.oracle.detect(Stored::by_id(&lines), DT, &mut found);
+        if found.abandoned {
+            self.time += started.map_or(Duration::ZERO, |s| s.elapsed());
+            return false;
+        }
         // Stored by id: slots are ids.
         let by_id = |e: &Event<Slot>| e.named(|s| s.as_id());
         let mut events: Vec<Event> = found.events.iter().map(by_id).collect();
         events.sort_unstable_by_key(Event::order_key);
         self.expected = Some(Expected { events, lines });
         self.time += started.map_or(Duration::ZERO, |s| s.elapsed());
+        true
     }
 
     /// After the step: its events must be the oracle's, but for sliver
@@ -150,7 +157,7 @@ mod tests {
     /// mismatch, if any.
     fn run(world: &mut World, verifier: &mut Verifier, steps: u64) -> Result<(), Mismatch> {
         for _ in 0..steps {
-            verifier.before_step(world);
+            assert!(verifier.before_step(world));
             world.step();
             verifier.after_step(world)?;
         }

@@ -35,6 +35,8 @@ pub struct World {
     colors: Vec<Color>,
     counters: Counters,
     steps: u64,
+    /// The last step was given up part way ([`World::gave_up_step`]).
+    gave_up: bool,
     detector: Box<dyn Detector>,
     /// What the last step's detection found: its events by slot (sorted in
     /// the order of resolution while the lines are in id order, else in
@@ -107,6 +109,7 @@ impl World {
             colors,
             counters: Counters::default(),
             steps: 0,
+            gave_up: false,
             detector,
             found: Findings::default(),
             events: Vec::new(),
@@ -182,6 +185,20 @@ impl World {
     /// Threads a step runs on.
     pub fn threads(&self) -> usize {
         self.team.as_ref().map_or(1, |t| t.threads())
+    }
+
+    /// Whether the last step was given up part way, on a signal (only the
+    /// all-pairs detector, whose steps of many lines take minutes, gives
+    /// up): the world is as it was before it.
+    pub fn gave_up_step(&self) -> bool {
+        self.gave_up
+    }
+
+    /// The threads that have stepped the world so far: its team's, once a
+    /// phase has been shared among them, else one (a small scene runs on
+    /// one thread whatever the team).
+    pub fn threads_run(&self) -> usize {
+        (self.team.as_ref()).map_or(1, |t| if t.has_shared() { t.threads() } else { 1 })
     }
 
     /// A world built from a scene (window coordinates converted to box
@@ -313,6 +330,12 @@ impl World {
         self.found.clear();
         let stored = self.storage.stored(&self.lines);
         self.detector.detect(stored, DT, &mut self.found);
+        // A detector that gave the step up on a signal leaves the world as
+        // it was before the step.
+        self.gave_up = self.found.abandoned;
+        if self.gave_up {
+            return;
+        }
         let t1 = self.lap(t0, |t, d| t.detect += d);
         let found = &mut self.found;
         self.events.clear();
@@ -414,6 +437,9 @@ impl World {
         }
         for _ in 0..n {
             self.step();
+            if self.gave_up {
+                return None;
+            }
             if let std::ops::ControlFlow::Break(b) = after_step(self) {
                 return Some(b);
             }

@@ -257,7 +257,8 @@ fn stats_tell_what_the_thread_teams_hand_offs_cost() {
         .find(|l| l.starts_with("team: "))
         .unwrap_or_else(|| panic!("no team line: {stdout}"));
     assert!(team.contains(" hand-offs a step, "), "{team}");
-    assert!(team.contains(" pieces each; the members ran "), "{team}");
+    assert!(team.contains(" pieces each; the other threads ran "), "{team}");
+    assert!(team.contains(" hand-offs ran wholly on the stepping thread; "), "{team}");
 
     // Sweeping every step (a kept step hands off two jobs: the move with
     // the boxes' check, and the comparison).
@@ -429,7 +430,8 @@ fn misplaced_arguments_get_messages_that_say_what_to_do() {
         "--render-every",
         "5",
     ]);
-    assert_eq!(out.status.code(), Some(1));
+    // A bad argument: status 2.
+    assert_eq!(out.status.code(), Some(2));
     assert!(
         text(&out.stderr).contains("an SVG holds one picture"),
         "{}",
@@ -460,16 +462,26 @@ fn xscreensavers_spellings_and_window_are_understood() {
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert!(err.contains("cannot open a window: no display"), "{err}");
-    // Under XScreenSaver's window, pictures in files are refused, not
-    // skipped.
+    // Under XScreenSaver's window (a run without FRAMES), pictures in
+    // files are refused, not skipped.
     let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
-        .args(["10", "--render", "x.png"])
+        .args(["--render", "x.png"])
         .env("XSCREENSAVER_WINDOW", "0x200007")
         .output()
         .unwrap();
     assert_eq!(out.status.code(), Some(1));
     let err = text(&out.stderr);
     assert!(err.contains("XSCREENSAVER_WINDOW is set"), "{err}");
+    // A run of so many frames goes off screen as asked, whatever the
+    // environment it inherited.
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["5", "--lines", "20"])
+        .env("XSCREENSAVER_WINDOW", "0x200007")
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("---- END RESULTS ----"));
 }
 
 #[test]

@@ -381,8 +381,9 @@ fn unwritable_outputs_are_reported_before_the_run() {
         "{err}"
     );
     assert!(out.stdout.is_empty(), "{}", text(&out.stdout));
+    // A folder is no picture's name: a bad argument.
     let out = screensaver(&["100000000", "--render", dir.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(2));
     let out = screensaver(&["100000000", "--checkpoint", dir.to_str().unwrap()]);
     assert!(
         text(&out.stderr).contains("it is a folder"),
@@ -517,4 +518,52 @@ fn a_shell_sees_the_signals_status() {
         "{}",
         text(&out.stderr)
     );
+}
+
+/// A closed terminal (SIGHUP) stops a run as SIGTERM does: the results of
+/// the steps run, the files whole, a death by the signal.
+#[cfg(unix)]
+#[test]
+fn sighup_stops_a_run_as_sigterm_does() {
+    let dir = folder("sighup");
+    let (checkpoint, state) = (dir.join("c"), dir.join("s"));
+    let child = spawn(&[
+        "100000000",
+        "--json",
+        "--checkpoint",
+        checkpoint.to_str().unwrap(),
+        "--checkpoint-every",
+        "20",
+        "--state-out",
+        state.to_str().unwrap(),
+    ]);
+    wait_for(&checkpoint);
+    signal(&child, "HUP");
+    let out = child.wait_with_output().unwrap();
+    common::assert_ended_by(out.status, "HUP", &text(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["interrupted"], true);
+    assert!(text(&out.stderr).contains("stopped by SIGHUP"));
+    assert!(state.exists());
+    assert_eq!(names_in(&dir), ["c", "s"]);
+}
+
+/// One signal stops the all-pairs detector within about a second, even
+/// part way through a step of 100,000 lines (minutes long): the step under
+/// way is given up, the results of the steps completed are printed.
+#[test]
+fn one_signal_stops_a_long_all_pairs_step_at_once() {
+    for extra in ["--detector=brute", "--verify"] {
+        let child = spawn(&["3", "--lines", "100000", "--json", extra]);
+        std::thread::sleep(Duration::from_millis(1500));
+        signal(&child, "INT");
+        let signalled = Instant::now();
+        let out = child.wait_with_output().unwrap();
+        let waited = signalled.elapsed();
+        common::assert_ended_by(out.status, "INT", &text(&out.stderr));
+        assert!(waited < Duration::from_secs(10), "{extra}: {waited:?} after SIGINT");
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(v["interrupted"], true, "{extra}");
+        assert_eq!(v["steps_run"], 0, "{extra}");
+    }
 }

@@ -217,3 +217,209 @@ fn a_failed_output_keeps_the_results() {
         text(&out.stdout)
     );
 }
+
+/// A numbered picture of `--render NAME.png --render-every K` is a file
+/// like any other: never another output's, nor the scene's.
+#[test]
+fn numbered_pictures_never_overwrite_another_file() {
+    let dir = folder("frames");
+    let args = [
+        "10",
+        "two.in",
+        "--render",
+        "seq.png",
+        "--render-every",
+        "5",
+        "--state-out",
+        "seq-000005.png",
+    ];
+    assert_refused(&dir, &args, ["--render", "--state-out"]);
+    std::fs::copy(dir.join("two.in"), dir.join("scene-000000.png")).unwrap();
+    let args = [
+        "10",
+        "scene-000000.png",
+        "--render",
+        "scene.png",
+        "--render-every",
+        "1",
+    ];
+    assert_refused(&dir, &args, ["--render", "INPUT"]);
+    // Names that are no frame of the sequence are left alone.
+    let out = screensaver(
+        &dir,
+        &["3", "two.in", "--render", "seq.png", "--render-every", "5", "--state-out", "seq-5.png"],
+    );
+    assert!(out.status.success(), "{}", text(&out.stderr));
+}
+
+/// Standard output sent into the state's file would be lost when the state
+/// replaces it: refused before the run, the file as it was.
+#[test]
+fn standard_output_into_an_output_file_is_refused() {
+    let dir = folder("stdout");
+    let results = dir.join("o.txt");
+    std::fs::write(&results, b"kept").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["5", "two.in", "--state-out", "o.txt"])
+        .current_dir(&dir)
+        .stdout(std::fs::OpenOptions::new().append(true).open(&results).unwrap())
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--state-out and standard output (`>`) name the same file"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(&results).unwrap(), b"kept");
+}
+
+/// A name ending in `/` names a folder: refused before the run (for a
+/// folder that does not exist as for one that does), never after it.
+#[test]
+fn an_output_named_as_a_folder_is_refused_before_the_run() {
+    let dir = folder("slash");
+    for flag in ["--state-out", "--checkpoint"] {
+        let out = screensaver(&dir, &["5", "two.in", flag, "newdir/"]);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{flag}: {stderr}");
+        assert!(out.stdout.is_empty(), "{flag}: ran before failing");
+        assert!(stderr.contains("newdir/: cannot write: a file's name cannot end in a separator"));
+    }
+    let out = screensaver(&dir, &["gen", "--lines", "5", "-o", "newdir/"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("cannot end in a separator"));
+    assert!(!dir.join("newdir").exists());
+}
+
+/// A checkpoint that fails part way ends the run there: the output says
+/// so and at which step, and no state file claims to be the run's end.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_periodic_checkpoint_writes_no_final_state() {
+    let dir = folder("full");
+    let args = [
+        "20",
+        "two.in",
+        "--checkpoint",
+        "/dev/full",
+        "--checkpoint-every",
+        "5",
+        "--state-out",
+        "end.state",
+        "--json",
+    ];
+    let out = screensaver(&dir, &args);
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["interrupted"], true);
+    assert_eq!(value["steps_run"], 5);
+    assert!(
+        stderr.contains("end.state: not written: the run ended early, after step 5 of 21"),
+        "{stderr}"
+    );
+    assert!(!dir.join("end.state").exists());
+}
+
+/// A regular file under `/dev` is replaced whole like any other file; a
+/// new one there is made, not refused with a false reason.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_regular_file_under_dev_is_written_whole() {
+    let shm = tempfile::tempdir_in("/dev/shm").expect("/dev/shm takes files on Linux");
+    let dir = folder("dev");
+    let old = shm.path().join("x");
+    std::fs::write(&old, vec![b'#'; 100_000]).unwrap();
+    let new = shm.path().join("new");
+    for path in [&old, &new] {
+        let out = screensaver(&dir, &["5", "two.in", "--state-out", path.to_str().unwrap()]);
+        assert!(out.status.success(), "{}", text(&out.stderr));
+        let state = std::fs::read_to_string(path).unwrap();
+        assert_eq!(state.lines().count(), 2, "{state}");
+        assert!(!state.contains('#'));
+    }
+    // A folder that takes no files is named without a contradiction.
+    let out = screensaver(&dir, &["5", "two.in", "--render", "/proc/x.png"]);
+    let stderr = text(&out.stderr);
+    assert!(stderr.contains("the folder /proc exists but does not take new files"), "{stderr}");
+    assert!(!stderr.contains("No such file"), "{stderr}");
+}
+
+/// Another user's link in a sticky folder anyone may write (as `/tmp`) is
+/// never followed by an output: refused by name, its target untouched.
+#[cfg(unix)]
+#[test]
+fn another_users_link_in_a_shared_folder_is_not_written_through() {
+    use std::os::unix::fs::{MetadataExt, PermissionsExt};
+    let dir = folder("link");
+    if std::fs::metadata(&dir).unwrap().uid() != 0 {
+        // Only root can make a link another user's.
+        assert!(std::env::var_os("CI").is_none(), "CI runs as root");
+        return;
+    }
+    let shared = dir.join("shared");
+    std::fs::create_dir_all(&shared).unwrap();
+    std::fs::set_permissions(&shared, std::fs::Permissions::from_mode(0o1777)).unwrap();
+    let victim = dir.join("victim");
+    std::fs::write(&victim, b"precious").unwrap();
+    std::fs::set_permissions(&victim, std::fs::Permissions::from_mode(0o600)).unwrap();
+    for (flag, name) in [("--state-out", "s"), ("--checkpoint", "c"), ("--render", "p.png")] {
+        let link = shared.join(name);
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink(&victim, &link).unwrap();
+        std::os::unix::fs::lchown(&link, Some(65534), Some(65534)).unwrap();
+        let out = screensaver(&dir, &["5", "two.in", flag, link.to_str().unwrap()]);
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{flag}: {stderr}");
+        assert!(stderr.contains("is a symbolic link in the shared folder"), "{stderr}");
+        assert!(out.stdout.is_empty(), "{flag}: ran before refusing");
+    }
+    let link = shared.join("gen.in");
+    std::os::unix::fs::symlink(&victim, &link).unwrap();
+    std::os::unix::fs::lchown(&link, Some(65534), Some(65534)).unwrap();
+    let out = screensaver(&dir, &["gen", "--lines", "5", "-o", link.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(std::fs::read(&victim).unwrap(), b"precious");
+    assert_eq!(std::fs::metadata(&victim).unwrap().mode() & 0o777, 0o600);
+}
+
+/// The temporary files a killed run left are cleared by the next run
+/// that writes in their folder.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_killed_runs_temporary_files_are_cleared() {
+    let dir = folder("stale");
+    let stale = dir.join(".screensaver-999999999-AbCdEf.part");
+    std::fs::write(&stale, vec![0; 4096]).unwrap();
+    let out = screensaver(&dir, &["5", "two.in", "--state-out", "s.state"]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(!stale.exists());
+}
+
+/// A scene too large for the memory this process may have ends with a
+/// plain message and status 1, before anything is printed.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_scene_too_large_for_the_memory_says_so() {
+    let dir = folder("memory");
+    let bin = env!("CARGO_BIN_EXE_screensaver");
+    let made = screensaver(&dir, &["gen", "--lines", "1000000", "-o", "m.in"]);
+    assert!(made.status.success());
+    for (args, lines) in [("1 --lines 2000000", 2_000_000), ("1 m.in", 1_000_000)] {
+        let out = Command::new("sh")
+            .args(["-c", &format!("ulimit -v 300000; exec '{bin}' {args}")])
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let stderr = text(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{args}: {stderr}");
+        assert!(
+            stderr.contains(&format!("a scene of {lines} lines needs about"))
+                && stderr.contains("MB of memory"),
+            "{args}: {stderr}"
+        );
+        assert!(out.stdout.is_empty(), "{args}: {}", text(&out.stdout));
+    }
+    std::fs::remove_file(dir.join("m.in")).unwrap();
+}

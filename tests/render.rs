@@ -232,7 +232,8 @@ fn unknown_picture_types_are_refused() {
         .args(["0", "--render", "x.jpg"])
         .output()
         .unwrap();
-    assert_eq!(out.status.code(), Some(1));
+    // A bad argument, as any other: status 2.
+    assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("x.jpg: unknown picture type"));
     assert!(out.stdout.is_empty());
 }

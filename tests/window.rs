@@ -35,6 +35,36 @@ fn screensaver(display: &str, args: &[&str], scene: &Path) -> Child {
         .expect("running screensaver")
 }
 
+/// Under `xvfb-run` as a user types it: a server with no other client,
+/// which resets whenever its last client leaves. Ten runs in a row, each
+/// opens its window and ends with its results.
+#[test]
+fn the_window_opens_under_plain_xvfb_run() {
+    if !common::x11::tools_found(&["xvfb-run", "Xvfb", "xauth"]) {
+        return;
+    }
+    let _turn = common::x11::turn();
+    let scene = scene();
+    for k in 0..10 {
+        let out = Command::new("xvfb-run")
+            .args(["-a", env!("CARGO_BIN_EXE_screensaver"), "-g", "3"])
+            .arg(&scene)
+            .env_remove("WAYLAND_DISPLAY")
+            .env_remove("XSCREENSAVER_WINDOW")
+            .output()
+            .expect("running xvfb-run");
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr),
+        );
+        assert!(
+            out.status.success() && stdout.contains("---- END RESULTS ----"),
+            "run {k}: {:?}\nstdout: {stdout}\nstderr: {stderr}",
+            out.status
+        );
+    }
+}
+
 #[test]
 fn the_window_shows_both_colours() {
     let Some(x) = Xvfb::start() else { return };

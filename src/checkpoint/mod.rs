@@ -172,6 +172,30 @@ pub enum ResumeError {
         /// The scene's digest.
         scene_digest: u64,
     },
+    /// A counter larger than any run of the checkpoint's lines and steps
+    /// reaches (a line hits the walls at most once a step, a pair meets at
+    /// most once): a run carrying it on could wrap past 2^64.
+    #[error(
+        "{name}:{line}: {value} {kind} collisions are more than {} can have in {steps} steps \
+         (at most {most})",
+        crate::plural(*lines as u64, "line")
+    )]
+    Counter {
+        /// The checkpoint's name.
+        name: String,
+        /// The counter's line.
+        line: usize,
+        /// `line-wall` or `line-line`.
+        kind: &'static str,
+        /// The counter.
+        value: u64,
+        /// Its lines.
+        lines: usize,
+        /// Its step.
+        steps: u64,
+        /// The most such a run counts.
+        most: u64,
+    },
     /// The checkpoint is past the run's last step.
     #[error("{name}:3: the checkpoint is at step {step}, past this run's {steps} steps")]
     PastTheEnd {
@@ -210,6 +234,24 @@ impl Checkpoint {
                 step: self.steps,
                 steps,
             });
+        }
+        let n = self.lines.len() as u64;
+        let pairs = n * n.saturating_sub(1) / 2;
+        for (line, kind, value, most) in [
+            (4, "line-wall", self.counters.wall, self.steps.saturating_mul(n)),
+            (5, "line-line", self.counters.line, self.steps.saturating_mul(pairs)),
+        ] {
+            if value > most {
+                return Err(ResumeError::Counter {
+                    name: name.to_string(),
+                    line,
+                    kind,
+                    value,
+                    lines: self.lines.len(),
+                    steps: self.steps,
+                    most,
+                });
+            }
         }
         Ok(())
     }
@@ -290,27 +332,32 @@ impl Checkpoint {
                 let at = row.as_ptr() as usize - text.as_ptr() as usize;
                 let mut hash = Fnv::default();
                 hash.bytes(&text[..at]);
-                let written = std::str::from_utf8(sum)
-                    .ok()
-                    .filter(|h| h.len() == 16)
-                    .and_then(|h| u64::from_str_radix(h, 16).ok());
-                match written {
-                    None => {
+                // The line exactly as written: 16 lower-case hex digits and
+                // a newline that ends the file.
+                let spelled = sum.get(..16).and_then(hex16);
+                let raw = &text[at + CHECKSUM.len()..];
+                let written = match (spelled, raw.get(16)) {
+                    (Some(w), Some(b'\n')) => w,
+                    _ => {
                         return Err(fail(
                             line,
                             format!(
-                                "expected `{CHECKSUM}` and 16 hex digits, found `{}`",
+                                "expected `{CHECKSUM}` and 16 hex digits (lower-case), then a \
+                                 newline, found `{}`",
                                 show(&String::from_utf8_lossy(row))
                             ),
                         ))
                     }
-                    Some(w) if w != hash.0 => {
-                        return Err(changed(text, origin, line, w, hash.0));
-                    }
-                    Some(_) => {}
+                };
+                if written != hash.0 {
+                    return Err(changed(text, origin, line, written, hash.0));
                 }
-                if let Some((later, _)) = rows.find(|(_, r)| !r.is_empty()) {
-                    return Err(fail(later, "text after the checksum".to_string()));
+                if raw.len() > 17 {
+                    let later = rows.find(|(_, r)| !r.is_empty()).map(|(k, _)| k);
+                    return Err(fail(
+                        later.unwrap_or(line + 1),
+                        "text after the checksum, which ends the file".to_string(),
+                    ));
                 }
                 summed = true;
                 break;
@@ -432,7 +479,7 @@ impl Header {
         let mut number = |key: &str| -> Result<u64, ParseError> {
             let (line, row) = header(&format!("`# {key}: N`"))?;
             row.strip_prefix(&format!("# {key}: "))
-                .and_then(|n| n.parse::<u64>().ok())
+                .and_then(decimal)
                 .ok_or_else(|| {
                     fail(
                         line,
@@ -516,14 +563,27 @@ fn show(text: &str) -> String {
 fn parse_scene_line(row: &str) -> Option<(usize, u64)> {
     let rest = row.strip_prefix("# scene: ")?;
     let (count, rest) = rest.split_once(' ')?;
-    let count: usize = count.parse().ok()?;
+    let count = usize::try_from(decimal(count)?).ok()?;
     let rest = rest
         .strip_prefix(if count == 1 { "line" } else { "lines" })?
         .strip_prefix(", digest ")?;
-    if rest.len() != 16 {
-        return None;
-    }
-    Some((count, u64::from_str_radix(rest, 16).ok()?))
+    Some((count, hex16(rest.as_bytes())?))
+}
+
+/// A number as the program writes it: decimal digits, without a sign or a
+/// leading zero.
+fn decimal(text: &str) -> Option<u64> {
+    let digits = !text.is_empty() && text.bytes().all(|b| b.is_ascii_digit());
+    let spelled = digits && (text == "0" || !text.starts_with('0'));
+    spelled.then(|| text.parse().ok()).flatten()
+}
+
+/// Sixteen lower-case hex digits, as the program writes a digest or a
+/// checksum.
+fn hex16(text: &[u8]) -> Option<u64> {
+    let spelled = text.len() == 16 && text.iter().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
+    let text = std::str::from_utf8(text).ok().filter(|_| spelled)?;
+    u64::from_str_radix(text, 16).ok()
 }
 
 /// One row: `id p1.x p1.y p2.x p2.y v.x v.y color`, for line `id`.
@@ -645,6 +705,8 @@ mod tests {
     #[test]
     fn damage_is_reported_with_its_line() {
         let text = sample().to_text();
+        let sum = text.rsplit_once("# checksum: ").unwrap().1.trim_end();
+        assert!(sum.bytes().any(|b| b.is_ascii_alphabetic()), "{sum}");
         let cases: Vec<(String, &str)> = vec![
             (String::new(), "c:1: not a screensaver checkpoint"),
             (
@@ -695,6 +757,32 @@ mod tests {
             (
                 text.replace("\n1 ", "\n1 \u{1b}"),
                 "c:7: row 1: `\\u{1b}-0.0` is not a number",
+            ),
+            // Only the spelling the program writes: lower-case hex, one
+            // newline that ends the file, numbers without sign or zeros.
+            (
+                text.replace(sum, &sum.to_uppercase()),
+                "c:8: expected `# checksum: ` and 16 hex digits",
+            ),
+            (
+                text.replace(&format!("{sum}\n"), &format!("{sum}\r\n")),
+                "c:8: expected `# checksum: ` and 16 hex digits",
+            ),
+            (
+                format!("{text}\n\n"),
+                "c:9: text after the checksum, which ends the file",
+            ),
+            (
+                text.replace("# steps: 1200", "# steps: +1200"),
+                "c:3: expected `# steps: N`",
+            ),
+            (
+                text.replace("# steps: 1200", "# steps: 01200"),
+                "c:3: expected `# steps: N`",
+            ),
+            (
+                text.replace("2 lines", "02 lines"),
+                "c:2: expected `# scene",
             ),
         ];
         for (bad, expected) in cases {
@@ -778,5 +866,32 @@ mod tests {
         assert!(wrong
             .to_string()
             .starts_with("a.ckpt:2: the checkpoint is of another scene (2 lines, digest "));
+        // Counters no run of 2 lines reaches in 1,200 steps.
+        let mut high = saved.clone();
+        high.counters.wall = 2401;
+        assert_eq!(
+            high.continues("a.ckpt", &scene, digest, 5000).unwrap_err().to_string(),
+            "a.ckpt:4: 2401 line-wall collisions are more than 2 lines can have in 1200 steps \
+             (at most 2400)"
+        );
+        high.counters.wall = 2400;
+        assert_eq!(high.continues("a.ckpt", &scene, digest, 5000), Ok(()));
+        high.counters.line = u64::MAX;
+        let err = high.continues("a.ckpt", &scene, digest, 5000).unwrap_err();
+        assert!(err.to_string().starts_with("a.ckpt:5: 18446744073709551615 line-line"));
+    }
+
+    /// Numbers and hex digits only as the program writes them.
+    #[test]
+    fn numbers_are_read_only_as_written() {
+        assert_eq!(decimal("1200"), Some(1200));
+        assert_eq!(decimal("0"), Some(0));
+        for bad in ["+5", "05", "", "-1", "1 ", "18446744073709551616"] {
+            assert_eq!(decimal(bad), None, "{bad}");
+        }
+        assert_eq!(hex16(b"0123456789abcdef"), Some(0x0123_4567_89ab_cdef));
+        for bad in [&b"0123456789ABCDEF"[..], b"+123456789abcdef", b"0123456789abcde"] {
+            assert_eq!(hex16(bad), None);
+        }
     }
 }

@@ -89,6 +89,10 @@ pub(crate) struct Findings {
     pub events: Vec<Event<Slot>>,
     /// The pair work done.
     pub counts: PairCounts,
+    /// Set by a detector that gave up the step part way (a signal asked
+    /// the program to stop during a step that takes minutes): the events
+    /// are not all there, and the step must not be resolved.
+    pub abandoned: bool,
 }
 
 impl Findings {
@@ -96,6 +100,7 @@ impl Findings {
     pub(crate) fn clear(&mut self) {
         self.events.clear();
         self.counts = PairCounts::default();
+        self.abandoned = false;
     }
 
     /// Counts `candidates` pairs whose boxes were compared.

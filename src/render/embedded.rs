@@ -127,7 +127,7 @@ fn open(target: Target) -> Result<Opened, String> {
 /// names: the display answers, the window exists and takes 24-bit true
 /// colour.
 pub fn check(target: Target) -> Result<(), String> {
-    open(target).map(drop)
+    open(target).map(|opened| super::window::keep_open(opened.conn))
 }
 
 /// Runs `scenes` drawn into the window `target` until the run ends, the

@@ -21,7 +21,10 @@ pub fn lines(snapshot: &Snapshot, fps: f64, pace: Pace) -> Vec<String> {
         format!("step {}", snapshot.step),
         format!("{} line-wall", snapshot.wall),
         format!("{} line-line", snapshot.line),
-        format!("{:.0} steps/s  {:.0} fps", snapshot.rate, fps),
+        match snapshot.paused {
+            true => format!("paused  {fps:.0} fps"),
+            false => format!("{:.0} steps/s  {fps:.0} fps", snapshot.rate),
+        },
         format!("pace: {pace}"),
     ];
     if snapshot.scene > 0 {
@@ -81,6 +84,7 @@ mod tests {
             wall: 7,
             line: 33,
             rate: 4000.4,
+            paused: false,
             scene: 0,
         };
         let text = lines(&snapshot, 59.6, Pace::PerFrame);
@@ -98,6 +102,12 @@ mod tests {
             lines(&snapshot, 59.6, Pace::Rate(500))[4],
             "pace: 500 steps/s max"
         );
+        // Paused, no rate: the run is not stepping.
+        let paused = Snapshot {
+            paused: true,
+            ..snapshot
+        };
+        assert_eq!(lines(&paused, 59.6, Pace::PerFrame)[3], "paused  60 fps");
     }
 
     #[test]

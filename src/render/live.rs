@@ -133,8 +133,10 @@ pub struct Snapshot {
     pub wall: u64,
     /// Line-line collisions in this scene.
     pub line: u64,
-    /// Steps per second, lately.
+    /// Steps per second, lately (kept while paused, for a change of pace).
     pub rate: f64,
+    /// Whether the run is paused: no rate to show.
+    pub paused: bool,
     /// Which scene (from 0).
     pub scene: u64,
 }
@@ -290,6 +292,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
                 wall: c.wall,
                 line: c.line,
                 rate,
+                paused: shared.paused.load(Ordering::Relaxed),
                 scene,
             };
             *shared

@@ -238,7 +238,8 @@ pub enum RenderError {
     UnknownType(PathBuf),
     /// A frame every K steps asked of a type that holds one picture.
     #[error(
-        "{0}: an SVG holds one picture, the last frame; leave out --render-every,          or name a .png (a numbered sequence) or a .gif"
+        "{0}: an SVG holds one picture, the last frame; leave out --render-every, \
+         or name a .png (a numbered sequence) or a .gif"
     )]
     OneFrameOnly(PathBuf),
     /// Writing failed.

@@ -74,17 +74,43 @@ pub struct Options {
     pub pace: Pace,
 }
 
+/// The window's title for a state of the run: the step, both counters and
+/// the rate, or that the run is paused.
+fn title(s: &Snapshot) -> String {
+    let rate = match s.paused {
+        true => "paused".to_string(),
+        false => format!("{:.0} steps/s", s.rate),
+    };
+    format!(
+        "screensaver - step {} - {} line-wall, {} line-line - {rate}",
+        s.step, s.wall, s.line
+    )
+}
+
 /// Fails, with a message that says what to do, when there is no display
-/// to open a window on or it does not answer: a connection is made and
-/// dropped, so that a run reports it before it prints anything.
+/// to open a window on or it does not answer: a connection is made, so
+/// that a run reports it before it prints anything, and kept
+/// ([`keep_open`]).
 pub fn check_display() -> Result<(), String> {
     display_named()?;
     match std::env::var_os("DISPLAY").is_some_and(|v| !v.is_empty()) {
         true => x11rb::connect(None)
-            .map(drop)
+            .map(|(conn, _)| keep_open(conn))
             .map_err(|_| unreachable_display()),
         false => Ok(()),
     }
+}
+
+/// The connection a check made, open until the process ends.
+static CHECKED: std::sync::Mutex<Option<x11rb::rust_connection::RustConnection>> =
+    std::sync::Mutex::new(None);
+
+/// Keeps the connection `conn` open until the process ends. An X server
+/// with no other client resets when its last client leaves (as Xvfb does
+/// under `xvfb-run`), and the run's own connection, made a moment later,
+/// would meet the server mid-reset and be cut.
+pub(super) fn keep_open(conn: x11rb::rust_connection::RustConnection) {
+    *CHECKED.lock().unwrap_or_else(|e| e.into_inner()) = Some(conn);
 }
 
 /// Fails, with a message that says what to do, when no display is named
@@ -199,15 +225,7 @@ impl App<'_> {
     /// Takes the latest state, if there is a new one.
     fn take_snapshot(&mut self) {
         if let Some(s) = self.run.shared.take() {
-            let paused = if self.run.shared.paused.load(Ordering::Relaxed) {
-                "  [paused]"
-            } else {
-                ""
-            };
-            self.title = format!(
-                "screensaver - step {} - {} line-wall, {} line-line - {:.0} steps/s{paused}",
-                s.step, s.wall, s.line, s.rate
-            );
+            self.title = title(&s);
             if let Some(old) = self.state.replace(s) {
                 self.run.shared.recycle(old);
             }
@@ -393,6 +411,34 @@ impl ApplicationHandler for App<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The title shows the rate while the run steps, and that it is
+    /// paused when it is not.
+    #[test]
+    fn a_paused_runs_title_shows_no_rate() {
+        let snapshot = Snapshot {
+            lines: Vec::new(),
+            colors: Vec::new(),
+            step: 12,
+            wall: 3,
+            line: 4,
+            rate: 950.2,
+            paused: false,
+            scene: 0,
+        };
+        assert_eq!(
+            title(&snapshot),
+            "screensaver - step 12 - 3 line-wall, 4 line-line - 950 steps/s"
+        );
+        let paused = Snapshot {
+            paused: true,
+            ..snapshot
+        };
+        assert_eq!(
+            title(&paused),
+            "screensaver - step 12 - 3 line-wall, 4 line-line - paused"
+        );
+    }
 
     #[test]
     fn keys_map_to_actions() {

@@ -65,6 +65,12 @@ pub enum ParseErrorKind {
         /// The token found.
         found: String,
     },
+    /// The first token is a whole number too large to count lines by.
+    #[error("the number of lines `{found}` is too large (at most {})", u64::MAX)]
+    CountTooLarge {
+        /// The token found.
+        found: String,
+    },
     /// The file ends before the declared number of rows.
     #[error("the file declares {} but ends after {found}", crate::plural(*declared, "line"))]
     TooFewRows {
@@ -396,7 +402,11 @@ impl Scene {
                 .and_then(|s| s.parse::<u64>().ok())
                 .ok_or_else(|| {
                     let found = show(word);
-                    parser.error(line, ParseErrorKind::BadCount { found })
+                    let digits = !word.is_empty() && word.iter().all(u8::is_ascii_digit);
+                    match digits {
+                        true => parser.error(line, ParseErrorKind::CountTooLarge { found }),
+                        false => parser.error(line, ParseErrorKind::BadCount { found }),
+                    }
                 })?,
             Some((token, line)) => {
                 let found = match token {
@@ -411,9 +421,8 @@ impl Scene {
             }
         };
 
-        // Never trust the declared count for the allocation: a row takes at
-        // least 15 bytes, which bounds how many the text can hold.
-        let capacity = declared.min(text.len() as u64 / 15 + 1);
+        // Never trust the declared count for the allocation.
+        let capacity = rows_at_most(declared, text.len() as u64);
         let mut lines = Vec::with_capacity(capacity as usize);
         for row in 1..=declared {
             parser.row = row;
@@ -468,6 +477,23 @@ impl Scene {
         Ok(Self::parse_on(&text, &path.display().to_string(), threads)?)
     }
 
+    /// The lines the scene file at `path` can hold at most, by its first
+    /// number and its size (without reading the rest), and its size: what
+    /// a run must plan memory for before it reads the file. `None` where
+    /// the file cannot be read or does not start with a count.
+    pub fn peek_lines(path: &Path) -> Option<(u64, u64)> {
+        use std::io::Read;
+        let mut file = std::fs::File::open(path).ok()?;
+        let size = file.metadata().ok()?.len();
+        let mut head = Vec::with_capacity(64);
+        Read::by_ref(&mut file).take(64).read_to_end(&mut head).ok()?;
+        let head = strip_bom(&head);
+        let start = head.iter().position(|c| !c.is_ascii_whitespace())?;
+        let digits = head[start..].iter().take_while(|c| c.is_ascii_digit()).count();
+        let declared = std::str::from_utf8(&head[start..start + digits]).ok()?;
+        Some((rows_at_most(declared.parse().ok()?, size), size))
+    }
+
     /// The scene as text that [`Scene::parse`] reads back to an identical
     /// scene (every value printed as the shortest decimal that round-trips).
     pub fn to_text(&self) -> String {
@@ -476,6 +502,12 @@ impl Scene {
             .expect("writing to memory");
         String::from_utf8(out).expect("scene text is ASCII")
     }
+}
+
+/// The rows a text of `len` bytes that declares `declared` can hold: a row
+/// takes at least 15 bytes, which bounds how many the text can hold.
+fn rows_at_most(declared: u64, len: u64) -> u64 {
+    declared.min(len / 15 + 1)
 }
 
 /// `text` without a UTF-8 byte-order mark, which some editors put first

@@ -178,6 +178,7 @@ pub fn assert_ended_by(status: std::process::ExitStatus, name: &str, context: &s
         let number = match name {
             "INT" => 2,
             "TERM" => 15,
+            "HUP" => 1,
             _ => panic!("no signal {name}"),
         };
         assert_eq!(

@@ -52,6 +52,12 @@ pub struct Xvfb {
 /// Whose turn it is to run a server.
 static TURN: Mutex<()> = Mutex::new(());
 
+/// Waits for the turn to run an X server (one at a time), for a test that
+/// starts its own (`xvfb-run`).
+pub fn turn() -> MutexGuard<'static, ()> {
+    TURN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 impl Xvfb {
     /// A server with a 1280 x 900 screen.
     pub fn start() -> Option<Xvfb> {

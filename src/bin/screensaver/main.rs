@@ -12,6 +12,7 @@ use clap::error::ErrorKind;
 use clap::parser::ValueSource;
 use clap::{ArgMatches, CommandFactory, FromArgMatches};
 use screensaver::job::{Job, JobError, Screen};
+use screensaver::render::RenderError;
 use screensaver::{DetectorConfig, DetectorKind, Signal};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -38,6 +39,11 @@ impl From<JobError> for Failure {
                 Failure::Usage(ErrorKind::ArgumentConflict, words::conflict(&c))
             }
             JobError::Results(e) => stdout_failure(e, "the results"),
+            // A picture's name the program cannot write is a bad argument,
+            // like any other.
+            JobError::Pictures(
+                e @ (RenderError::UnknownType(_) | RenderError::OneFrameOnly(_)),
+            ) => Failure::Usage(ErrorKind::InvalidValue, format!("--render: {e}")),
             JobError::Files(errors) => {
                 Failure::Errors(errors.iter().map(ToString::to_string).collect())
             }
@@ -64,7 +70,7 @@ fn main() -> ExitCode {
     let matches = Cli::command().get_matches_from(with_xscreensaver_spellings(std::env::args_os()));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Err(e) = Signal::catch() {
-        eprintln!("screensaver: warning: cannot catch SIGINT and SIGTERM: {e}");
+        eprintln!("screensaver: warning: cannot catch SIGINT, SIGTERM and SIGHUP: {e}");
     }
     let outcome = match &cli.command {
         Some(Command::Gen(args)) => gen(args),
@@ -122,7 +128,10 @@ fn stdout_failure(e: std::io::Error, what: &str) -> Failure {
 }
 
 /// The screen a run asked for, if any: `--window-id` before `--root`
-/// before XScreenSaver's variable before `-g` and `--fullscreen`.
+/// before XScreenSaver's variable before `-g` and `--fullscreen`. The
+/// variable is read only by a run without FRAMES, as XScreenSaver starts
+/// its display modes: a run of so many frames goes off screen as asked,
+/// whatever the environment it inherited.
 fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
     if let Some(id) = cli.window_id {
         return Ok(Some(Screen::WindowId(id)));
@@ -130,7 +139,8 @@ fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
     if cli.root {
         return Ok(Some(Screen::Root));
     }
-    if !cli.graphics && !cli.fullscreen {
+    let frames_given = cli.frames.as_deref().is_some_and(|f| parse_frames(f).is_ok());
+    if !cli.graphics && !cli.fullscreen && !frames_given {
         if let Some(screen) = Screen::from_environment() {
             if cli.render.is_some() || cli.verify {
                 return Err(Failure::Error(

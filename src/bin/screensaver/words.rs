@@ -19,6 +19,7 @@ fn flag(role: FileRole) -> &'static str {
         FileRole::State => "--state-out",
         FileRole::Checkpoint => "--checkpoint",
         FileRole::Pictures => "--render",
+        FileRole::Results => "standard output (`>`)",
     }
 }
 
