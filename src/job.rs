@@ -564,7 +564,11 @@ impl Job {
             if let Some(output) = outputs.iter().find(|o| o.identity == identity) {
                 let path = output.path;
                 let role = FileRole::Results;
-                inputs.push(NamedFile { role, path, identity });
+                inputs.push(NamedFile {
+                    role,
+                    path,
+                    identity,
+                });
             }
         }
         if let Some(clash) = self.frame_clash(&outputs, &inputs) {

@@ -2,9 +2,8 @@
 //! line moves by its velocity for one time step, then bounces off the
 //! walls it has crossed, exactly as the reference checks them.
 
-use crate::detect::swept::One;
 use crate::geometry::Vec2;
-use crate::lanes::{set_points, DefaultLanes};
+use crate::lanes::{set_points, DefaultLanes, One};
 use crate::line::Line;
 use crate::team::Team;
 
@@ -104,26 +103,11 @@ pub(crate) fn advance(lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64
     }
 }
 
-/// `a + b`, with `a`'s NaN (quieted) where both are NaN: the sum the
-/// move makes of a point and its travel, the same bits on every path.
-/// Which of two NaNs an addition gives is the compiler's choice (it may
-/// swap the operands), and the scalar and vector code of the move would
-/// choose differently; a NaN `a` gives `a + a` instead, whichever way
-/// round, as the addition with `a` first gives on x86-64.
-#[inline(always)]
-pub(crate) fn add_first(a: f64, b: f64) -> f64 {
-    if a.is_nan() {
-        a + a
-    } else {
-        a + b
-    }
-}
-
 /// The move and the walls of lines in lanes, written once over a lane
 /// type `$L` whose lanes are lines (one value of each line a lane;
 /// [`One`] for a line alone, the hull batch's four at a time): given
 /// `[p1.x, p1.y, p2.x, p2.y]`, `v.x` and `v.y`, gives the points moved by
-/// `v * DT` ([`add_first`]), then [`bounce_lanes!`] of them: the velocity after the walls
+/// `v * DT` ([`add_first`](crate::lanes::add_first)), then [`bounce_lanes!`] of them: the velocity after the walls
 /// and the mask of the lines that hit one. Every lane type performs the
 /// same operations in the same order, so each gives the same bits.
 macro_rules! advance_lanes {

@@ -64,7 +64,10 @@ fn describe(path: &Path, e: &std::io::Error) -> String {
     }
     let folder = folder(&target);
     if folder.is_dir() {
-        format!("the folder {} exists but does not take new files", folder.display())
+        format!(
+            "the folder {} exists but does not take new files",
+            folder.display()
+        )
     } else {
         format!("the folder {} does not exist", folder.display())
     }
@@ -81,7 +84,9 @@ fn folder(path: &Path) -> &Path {
 /// Whether `path` ends in a separator, and so names a folder.
 fn names_a_folder(path: &Path) -> bool {
     let text = path.as_os_str().as_encoded_bytes();
-    text.last().is_some_and(|&c| std::path::is_separator(c as char)) && text != b"-"
+    text.last()
+        .is_some_and(|&c| std::path::is_separator(c as char))
+        && text != b"-"
 }
 
 /// Most symbolic links followed in a row, as the system's own limit.
@@ -105,7 +110,10 @@ fn resolve(path: &Path) -> std::io::Result<Resolved> {
     let mut through_proc = path.starts_with("/proc");
     for _ in 0..MOST_LINKS {
         let Ok(target) = std::fs::read_link(&at) else {
-            return Ok(Resolved { target: at, through_proc });
+            return Ok(Resolved {
+                target: at,
+                through_proc,
+            });
         };
         check_link(&at)?;
         at = folder(&at).join(target);
@@ -125,8 +133,10 @@ fn resolve(path: &Path) -> std::io::Result<Resolved> {
 #[cfg(unix)]
 fn check_link(link: &Path) -> std::io::Result<()> {
     use std::os::unix::fs::MetadataExt;
-    let (Ok(meta), Ok(dir)) = (std::fs::symlink_metadata(link), std::fs::metadata(folder(link)))
-    else {
+    let (Ok(meta), Ok(dir)) = (
+        std::fs::symlink_metadata(link),
+        std::fs::metadata(folder(link)),
+    ) else {
         return Ok(());
     };
     let user = rustix::process::geteuid().as_raw();
@@ -324,7 +334,9 @@ fn remove_stale_temporaries(dir: &Path) {
             let Some(pid) = name.to_str().and_then(temporary_pid) else {
                 continue;
             };
-            let ours = entry.metadata().is_ok_and(|m| m.is_file() && m.uid() == user);
+            let ours = entry
+                .metadata()
+                .is_ok_and(|m| m.is_file() && m.uid() == user);
             if ours && !Path::new("/proc").join(pid.to_string()).exists() {
                 let _ = std::fs::remove_file(entry.path());
             }
@@ -747,7 +759,10 @@ mod tests {
         std::os::unix::fs::symlink(&victim, &link).unwrap();
         std::os::unix::fs::lchown(&link, Some(65534), Some(65534)).unwrap();
         let err = write_file(&link, b"rows").unwrap_err().to_string();
-        assert!(err.contains("is a symbolic link in the shared folder"), "{err}");
+        assert!(
+            err.contains("is a symbolic link in the shared folder"),
+            "{err}"
+        );
         assert!(err.contains("owned by another user (uid 65534)"), "{err}");
         assert!(check_writable(&link).is_err());
         assert_eq!(std::fs::read(&victim).unwrap(), b"precious");
@@ -772,7 +787,11 @@ mod tests {
         let path = dir.path().join("kept");
         std::fs::write(&path, b"old").unwrap();
         std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o640)).unwrap();
-        let owner = if root() { 65534 } else { std::fs::metadata(&path).unwrap().uid() };
+        let owner = if root() {
+            65534
+        } else {
+            std::fs::metadata(&path).unwrap().uid()
+        };
         if root() {
             std::os::unix::fs::chown(&path, Some(owner), Some(owner)).unwrap();
         }

@@ -3,6 +3,7 @@
 //! so many steps, a progress callback, a way to stop early), with the
 //! simulation's own time measured apart from all of these.
 
+use crate::detect::clock::now as clock;
 use crate::output;
 #[cfg(feature = "render")]
 use crate::render::Recorder;
@@ -105,13 +106,6 @@ pub enum RunError {
     Mismatch(String),
 }
 
-/// The time now, where there is a clock to read: std's `Instant` panics in
-/// WebAssembly without a host, so a run there (the web page's, which times
-/// itself) reports no time.
-pub(crate) fn clock() -> Option<Instant> {
-    (!cfg!(all(target_arch = "wasm32", target_os = "unknown"))).then(Instant::now)
-}
-
 /// Whether a signal asked the program to stop.
 pub(crate) fn signalled() -> bool {
     #[cfg(feature = "signals")]
@@ -152,47 +146,51 @@ impl Run<'_> {
         let given_up = verifier.as_mut().is_some_and(|v| !v.before_step(world));
         let mut mismatch = None;
         let mut ran = 0;
-        let stopped = if given_up { Some(true) } else { world.run_with(steps, |world| {
-            ran += 1;
-            if let Some(verifier) = &mut verifier {
-                if let Err(m) = verifier.after_step(world) {
-                    mismatch = Some(m);
-                    return ControlFlow::Break(false);
+        let stopped = if given_up {
+            Some(true)
+        } else {
+            world.run_with(steps, |world| {
+                ran += 1;
+                if let Some(verifier) = &mut verifier {
+                    if let Err(m) = verifier.after_step(world) {
+                        mismatch = Some(m);
+                        return ControlFlow::Break(false);
+                    }
                 }
-            }
-            #[cfg(feature = "render")]
-            if let Some(recorder) = &mut recorder {
-                let started = Instant::now();
-                let written = recorder.after_step(world);
-                drawing += started.elapsed();
-                if let Err(e) = written {
-                    failed = Some(RunError::Picture(e));
-                    return ControlFlow::Break(false);
+                #[cfg(feature = "render")]
+                if let Some(recorder) = &mut recorder {
+                    let started = Instant::now();
+                    let written = recorder.after_step(world);
+                    drawing += started.elapsed();
+                    if let Err(e) = written {
+                        failed = Some(RunError::Picture(e));
+                        return ControlFlow::Break(false);
+                    }
                 }
-            }
-            if let Some(checkpoints) = checkpoints.filter(|c| c.due(world)) {
-                let started = Instant::now();
-                let saved = checkpoints.save(world);
-                saving += started.elapsed();
-                if let Err(e) = saved {
-                    failed = Some(e);
-                    return ControlFlow::Break(false);
+                if let Some(checkpoints) = checkpoints.filter(|c| c.due(world)) {
+                    let started = Instant::now();
+                    let saved = checkpoints.save(world);
+                    saving += started.elapsed();
+                    if let Err(e) = saved {
+                        failed = Some(e);
+                        return ControlFlow::Break(false);
+                    }
                 }
-            }
-            if let Some(progress) = &mut progress {
-                progress(world, since_start());
-            }
-            if stop.is_some_and(|stop| stop(world)) || signalled() {
-                return ControlFlow::Break(true);
-            }
-            // The oracle's events for the next step, if there is one.
-            if let Some(verifier) = verifier.as_mut().filter(|_| ran < steps) {
-                if !verifier.before_step(world) {
+                if let Some(progress) = &mut progress {
+                    progress(world, since_start());
+                }
+                if stop.is_some_and(|stop| stop(world)) || signalled() {
                     return ControlFlow::Break(true);
                 }
-            }
-            ControlFlow::Continue(())
-        }) };
+                // The oracle's events for the next step, if there is one.
+                if let Some(verifier) = verifier.as_mut().filter(|_| ran < steps) {
+                    if !verifier.before_step(world) {
+                        return ControlFlow::Break(true);
+                    }
+                }
+                ControlFlow::Continue(())
+            })
+        };
         // A step given up part way, on a signal, ended the run there.
         let stopped = stopped.or(world.gave_up_step().then_some(true));
         // The simulation alone: not the pictures, the checkpoints, nor the

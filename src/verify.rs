@@ -4,11 +4,11 @@
 //! only by sliver events (the contract's documented exception), which are
 //! counted.
 
+use crate::detect::clock::now as clock;
 use crate::detect::{Brute, Detector, Findings, Stored};
 use crate::index::{Index, Slot};
 use crate::line::{Line, DT};
 use crate::narrow::Event;
-use crate::run::clock;
 use crate::World;
 use std::time::Duration;
 

@@ -257,8 +257,14 @@ fn stats_tell_what_the_thread_teams_hand_offs_cost() {
         .find(|l| l.starts_with("team: "))
         .unwrap_or_else(|| panic!("no team line: {stdout}"));
     assert!(team.contains(" hand-offs a step, "), "{team}");
-    assert!(team.contains(" pieces each; the other threads ran "), "{team}");
-    assert!(team.contains(" hand-offs ran wholly on the stepping thread; "), "{team}");
+    assert!(
+        team.contains(" pieces each; the other threads ran "),
+        "{team}"
+    );
+    assert!(
+        team.contains(" hand-offs ran wholly on the stepping thread; "),
+        "{team}"
+    );
 
     // Sweeping every step (a kept step hands off two jobs: the move with
     // the boxes' check, and the comparison).

@@ -561,7 +561,10 @@ fn one_signal_stops_a_long_all_pairs_step_at_once() {
         let out = child.wait_with_output().unwrap();
         let waited = signalled.elapsed();
         common::assert_ended_by(out.status, "INT", &text(&out.stderr));
-        assert!(waited < Duration::from_secs(10), "{extra}: {waited:?} after SIGINT");
+        assert!(
+            waited < Duration::from_secs(10),
+            "{extra}: {waited:?} after SIGINT"
+        );
         let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
         assert_eq!(v["interrupted"], true, "{extra}");
         assert_eq!(v["steps_run"], 0, "{extra}");

@@ -247,7 +247,16 @@ fn numbered_pictures_never_overwrite_another_file() {
     // Names that are no frame of the sequence are left alone.
     let out = screensaver(
         &dir,
-        &["3", "two.in", "--render", "seq.png", "--render-every", "5", "--state-out", "seq-5.png"],
+        &[
+            "3",
+            "two.in",
+            "--render",
+            "seq.png",
+            "--render-every",
+            "5",
+            "--state-out",
+            "seq-5.png",
+        ],
     );
     assert!(out.status.success(), "{}", text(&out.stderr));
 }
@@ -262,7 +271,12 @@ fn standard_output_into_an_output_file_is_refused() {
     let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
         .args(["5", "two.in", "--state-out", "o.txt"])
         .current_dir(&dir)
-        .stdout(std::fs::OpenOptions::new().append(true).open(&results).unwrap())
+        .stdout(
+            std::fs::OpenOptions::new()
+                .append(true)
+                .open(&results)
+                .unwrap(),
+        )
         .output()
         .unwrap();
     let stderr = text(&out.stderr);
@@ -333,7 +347,10 @@ fn a_regular_file_under_dev_is_written_whole() {
     std::fs::write(&old, vec![b'#'; 100_000]).unwrap();
     let new = shm.path().join("new");
     for path in [&old, &new] {
-        let out = screensaver(&dir, &["5", "two.in", "--state-out", path.to_str().unwrap()]);
+        let out = screensaver(
+            &dir,
+            &["5", "two.in", "--state-out", path.to_str().unwrap()],
+        );
         assert!(out.status.success(), "{}", text(&out.stderr));
         let state = std::fs::read_to_string(path).unwrap();
         assert_eq!(state.lines().count(), 2, "{state}");
@@ -342,7 +359,10 @@ fn a_regular_file_under_dev_is_written_whole() {
     // A folder that takes no files is named without a contradiction.
     let out = screensaver(&dir, &["5", "two.in", "--render", "/proc/x.png"]);
     let stderr = text(&out.stderr);
-    assert!(stderr.contains("the folder /proc exists but does not take new files"), "{stderr}");
+    assert!(
+        stderr.contains("the folder /proc exists but does not take new files"),
+        "{stderr}"
+    );
     assert!(!stderr.contains("No such file"), "{stderr}");
 }
 
@@ -364,7 +384,11 @@ fn another_users_link_in_a_shared_folder_is_not_written_through() {
     let victim = dir.join("victim");
     std::fs::write(&victim, b"precious").unwrap();
     std::fs::set_permissions(&victim, std::fs::Permissions::from_mode(0o600)).unwrap();
-    for (flag, name) in [("--state-out", "s"), ("--checkpoint", "c"), ("--render", "p.png")] {
+    for (flag, name) in [
+        ("--state-out", "s"),
+        ("--checkpoint", "c"),
+        ("--render", "p.png"),
+    ] {
         let link = shared.join(name);
         let _ = std::fs::remove_file(&link);
         std::os::unix::fs::symlink(&victim, &link).unwrap();
@@ -372,7 +396,10 @@ fn another_users_link_in_a_shared_folder_is_not_written_through() {
         let out = screensaver(&dir, &["5", "two.in", flag, link.to_str().unwrap()]);
         let stderr = text(&out.stderr);
         assert_eq!(out.status.code(), Some(1), "{flag}: {stderr}");
-        assert!(stderr.contains("is a symbolic link in the shared folder"), "{stderr}");
+        assert!(
+            stderr.contains("is a symbolic link in the shared folder"),
+            "{stderr}"
+        );
         assert!(out.stdout.is_empty(), "{flag}: ran before refusing");
     }
     let link = shared.join("gen.in");

@@ -238,8 +238,18 @@ impl Checkpoint {
         let n = self.lines.len() as u64;
         let pairs = n * n.saturating_sub(1) / 2;
         for (line, kind, value, most) in [
-            (4, "line-wall", self.counters.wall, self.steps.saturating_mul(n)),
-            (5, "line-line", self.counters.line, self.steps.saturating_mul(pairs)),
+            (
+                4,
+                "line-wall",
+                self.counters.wall,
+                self.steps.saturating_mul(n),
+            ),
+            (
+                5,
+                "line-line",
+                self.counters.line,
+                self.steps.saturating_mul(pairs),
+            ),
         ] {
             if value > most {
                 return Err(ResumeError::Counter {
@@ -870,7 +880,9 @@ mod tests {
         let mut high = saved.clone();
         high.counters.wall = 2401;
         assert_eq!(
-            high.continues("a.ckpt", &scene, digest, 5000).unwrap_err().to_string(),
+            high.continues("a.ckpt", &scene, digest, 5000)
+                .unwrap_err()
+                .to_string(),
             "a.ckpt:4: 2401 line-wall collisions are more than 2 lines can have in 1200 steps \
              (at most 2400)"
         );
@@ -878,7 +890,9 @@ mod tests {
         assert_eq!(high.continues("a.ckpt", &scene, digest, 5000), Ok(()));
         high.counters.line = u64::MAX;
         let err = high.continues("a.ckpt", &scene, digest, 5000).unwrap_err();
-        assert!(err.to_string().starts_with("a.ckpt:5: 18446744073709551615 line-line"));
+        assert!(err
+            .to_string()
+            .starts_with("a.ckpt:5: 18446744073709551615 line-line"));
     }
 
     /// Numbers and hex digits only as the program writes them.
@@ -890,7 +904,11 @@ mod tests {
             assert_eq!(decimal(bad), None, "{bad}");
         }
         assert_eq!(hex16(b"0123456789abcdef"), Some(0x0123_4567_89ab_cdef));
-        for bad in [&b"0123456789ABCDEF"[..], b"+123456789abcdef", b"0123456789abcde"] {
+        for bad in [
+            &b"0123456789ABCDEF"[..],
+            b"+123456789abcdef",
+            b"0123456789abcde",
+        ] {
             assert_eq!(hex16(bad), None);
         }
     }

@@ -1,6 +1,14 @@
-//! Timing a detector's own phases, for `--stats`.
+//! Clocks: the time now, where there is one, and the time a detector
+//! spends in each of its own phases, for `--stats`.
 
 use std::time::{Duration, Instant};
+
+/// The time now, where there is a clock to read: std's `Instant` panics in
+/// WebAssembly without a host, so a run there (the web page's, which times
+/// itself) reports no time.
+pub(crate) fn now() -> Option<Instant> {
+    (!cfg!(all(target_arch = "wasm32", target_os = "unknown"))).then(Instant::now)
+}
 
 /// Time spent in each of `N` phases, and when the phase under way began.
 #[derive(Debug)]

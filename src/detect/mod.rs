@@ -13,7 +13,7 @@
 //! [`DetectorKind::ALL`], the one list every front end reads).
 
 mod brute;
-mod clock;
+pub(crate) mod clock;
 pub(crate) mod pairs;
 mod quadtree;
 pub(crate) mod sweep;

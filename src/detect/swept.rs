@@ -17,6 +17,7 @@
 //!   line.
 
 use crate::geometry::Vec2;
+use crate::lanes::One;
 use crate::line::{Line, WINDOW_HEIGHT, WINDOW_WIDTH};
 
 /// A line's padded swept hull, bounded in eight directions: the axes `x`
@@ -68,25 +69,7 @@ impl SweptBox {
     }
 }
 
-/// `min` without NaN handling: one instruction. Callers rule NaN out.
-#[inline(always)]
-pub(crate) fn min(a: f64, b: f64) -> f64 {
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-/// `max` without NaN handling: one instruction. Callers rule NaN out.
-#[inline(always)]
-pub(crate) fn max(a: f64, b: f64) -> f64 {
-    if a > b {
-        a
-    } else {
-        b
-    }
-}
+pub(crate) use crate::lanes::{max, min};
 
 /// A line's endpoints now and one step ahead.
 #[inline]
@@ -216,88 +199,6 @@ macro_rules! padded_hull {
     }};
 }
 pub(crate) use padded_hull;
-
-/// One line's value as a lane type of one lane, for [`padded_hull!`] and
-/// [`advance_lanes!`](crate::motion::advance_lanes) (a mask is a value
-/// with every bit set, or none).
-#[derive(Clone, Copy)]
-pub(crate) struct One(pub f64);
-
-impl One {
-    #[inline(always)]
-    pub fn splat(x: f64) -> Self {
-        One(x)
-    }
-    #[inline(always)]
-    pub fn add(self, o: Self) -> Self {
-        One(self.0 + o.0)
-    }
-    #[inline(always)]
-    pub fn add_first(self, o: Self) -> Self {
-        One(crate::motion::add_first(self.0, o.0))
-    }
-    #[inline(always)]
-    pub fn sub(self, o: Self) -> Self {
-        One(self.0 - o.0)
-    }
-    #[inline(always)]
-    pub fn mul(self, o: Self) -> Self {
-        One(self.0 * o.0)
-    }
-    #[inline(always)]
-    pub fn min(self, o: Self) -> Self {
-        One(min(self.0, o.0))
-    }
-    #[inline(always)]
-    pub fn max(self, o: Self) -> Self {
-        One(max(self.0, o.0))
-    }
-    #[inline(always)]
-    pub fn neg(self) -> Self {
-        One(-self.0)
-    }
-    #[inline(always)]
-    fn mask(holds: bool) -> Self {
-        One(f64::from_bits(if holds { u64::MAX } else { 0 }))
-    }
-    #[inline(always)]
-    pub fn gt(self, o: Self) -> Self {
-        One::mask(self.0 > o.0)
-    }
-    #[inline(always)]
-    pub fn lt(self, o: Self) -> Self {
-        One::mask(self.0 < o.0)
-    }
-    #[inline(always)]
-    pub fn and(self, o: Self) -> Self {
-        One(f64::from_bits(self.0.to_bits() & o.0.to_bits()))
-    }
-    #[inline(always)]
-    pub fn or(self, o: Self) -> Self {
-        One(f64::from_bits(self.0.to_bits() | o.0.to_bits()))
-    }
-    /// The value with its sign flipped (exactly as `-v`) where `mask` is
-    /// set.
-    #[inline(always)]
-    pub fn flip(self, mask: Self) -> Self {
-        let sign = mask.0.to_bits() & (1 << 63);
-        One(f64::from_bits(self.0.to_bits() ^ sign))
-    }
-    #[inline(always)]
-    pub fn hits(mask: Self) -> u64 {
-        u64::from(mask.0.to_bits() != 0)
-    }
-    /// Set where `low <= x <= high` (not for NaN).
-    #[inline(always)]
-    pub fn inside(self, low: Self, high: Self) -> Self {
-        One::mask(low.0 <= self.0 && self.0 <= high.0)
-    }
-    /// Whether `mask` is set.
-    #[inline(always)]
-    pub fn all(mask: Self) -> bool {
-        mask.0.to_bits() != 0
-    }
-}
 
 /// Relative padding of swept boxes: far above the rounding errors of the
 /// predicates (near `2^-50` of the coordinates), far below any line's size.

@@ -18,8 +18,46 @@
 use crate::geometry::Vec2;
 use crate::line::Line;
 
+mod one;
+pub(crate) use one::One;
+
 /// Lines a batch of `f64` lanes takes at most.
 pub(crate) const LANES: usize = 4;
+
+/// `min` without NaN handling: one instruction. Callers rule NaN out.
+#[inline(always)]
+pub(crate) fn min(a: f64, b: f64) -> f64 {
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `max` without NaN handling: one instruction. Callers rule NaN out.
+#[inline(always)]
+pub(crate) fn max(a: f64, b: f64) -> f64 {
+    if a > b {
+        a
+    } else {
+        b
+    }
+}
+
+/// `a + b`, with `a`'s NaN (quieted) where both are NaN: the sum the
+/// move makes of a point and its travel, the same bits on every path.
+/// Which of two NaNs an addition gives is the compiler's choice (it may
+/// swap the operands), and the scalar and vector code of the move would
+/// choose differently; a NaN `a` gives `a + a` instead, whichever way
+/// round, as the addition with `a` first gives on x86-64.
+#[inline(always)]
+pub(crate) fn add_first(a: f64, b: f64) -> f64 {
+    if a.is_nan() {
+        a + a
+    } else {
+        a + b
+    }
+}
 
 /// Methods `name(self, o)` of a lane type, each the operation `op` on
 /// every lane, with the attributes given: of its one register, or with
@@ -119,7 +157,7 @@ impl Scalar {
     }
     #[inline(always)]
     pub fn add_first(self, o: Self) -> Self {
-        self.map2(o, crate::motion::add_first)
+        self.map2(o, add_first)
     }
     #[inline(always)]
     pub fn mul(self, o: Self) -> Self {

@@ -22,7 +22,17 @@
 //! hull, in three parts, each small enough to be inlined where it is
 //! called.
 
-use crate::detect::sweep::hull::{Packed, DIRECTIONS, NO_KEY};
+/// The key of a box that takes no part in the sweep (a line without a
+/// finite hull): it sorts after every real key, and no comparison
+/// `key <= end` with a real box's end holds for it, so it also stops a
+/// scan.
+pub(crate) const NO_KEY: f32 = f32::INFINITY;
+
+/// Eight `f32` lower bounds: `[lo_x, lo_y, lo_u, lo_w, -hi_x, -hi_y, -hi_u, -hi_w]`.
+pub(crate) type Packed = [f32; 8];
+
+/// Lanes per half of a packed hull: one per direction.
+pub(crate) const DIRECTIONS: usize = 4;
 
 /// `N` plain values.
 #[derive(Clone, Copy)]

@@ -486,10 +486,16 @@ impl Scene {
         let mut file = std::fs::File::open(path).ok()?;
         let size = file.metadata().ok()?.len();
         let mut head = Vec::with_capacity(64);
-        Read::by_ref(&mut file).take(64).read_to_end(&mut head).ok()?;
+        Read::by_ref(&mut file)
+            .take(64)
+            .read_to_end(&mut head)
+            .ok()?;
         let head = strip_bom(&head);
         let start = head.iter().position(|c| !c.is_ascii_whitespace())?;
-        let digits = head[start..].iter().take_while(|c| c.is_ascii_digit()).count();
+        let digits = head[start..]
+            .iter()
+            .take_while(|c| c.is_ascii_digit())
+            .count();
         let declared = std::str::from_utf8(&head[start..start + digits]).ok()?;
         Some((rows_at_most(declared.parse().ok()?, size), size))
     }

@@ -139,7 +139,10 @@ fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
     if cli.root {
         return Ok(Some(Screen::Root));
     }
-    let frames_given = cli.frames.as_deref().is_some_and(|f| parse_frames(f).is_ok());
+    let frames_given = cli
+        .frames
+        .as_deref()
+        .is_some_and(|f| parse_frames(f).is_ok());
     if !cli.graphics && !cli.fullscreen && !frames_given {
         if let Some(screen) = Screen::from_environment() {
             if cli.render.is_some() || cli.verify {

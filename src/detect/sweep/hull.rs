@@ -26,17 +26,8 @@ use crate::line::Line;
 use crate::motion::advance_lanes;
 use multiversion::multiversion;
 
-/// The key of a box that takes no part in the sweep (a line without a
-/// finite hull): it sorts after every real key, and no comparison
-/// `key <= end` with a real box's end holds for it, so it also stops a
-/// scan.
-pub(crate) const NO_KEY: f32 = f32::INFINITY;
-
-/// Eight `f32` lower bounds: `[lo_x, lo_y, lo_u, lo_w, -hi_x, -hi_y, -hi_u, -hi_w]`.
-pub(crate) type Packed = [f32; 8];
-
-/// Lanes per half of a packed hull: one per direction.
-pub(crate) const DIRECTIONS: usize = 4;
+/// The packed box format, which the lanes write.
+pub(crate) use crate::lanes::single::{Packed, DIRECTIONS, NO_KEY};
 
 /// Lines whose coordinates (now or one step ahead) reach beyond this are
 /// treated as wild (tested against every line), which keeps every packed
@@ -640,7 +631,7 @@ mod tests {
             for (name, (moved, hulls, keys, made_hits)) in &made {
                 proptest::prop_assert_eq!(*made_hits, hits, "{}", name);
                 // NaNs by sign and payload too (the move's sums take the
-                // point's NaN, `motion::add_first`).
+                // point's NaN, `lanes::add_first`).
                 let bits = |l: &Line| [l.p1.x, l.p1.y, l.p2.x, l.p2.y, l.v.x, l.v.y].map(f64::to_bits);
                 for (a, b) in moved.iter().zip(&alone) {
                     proptest::prop_assert_eq!(bits(a), bits(b), "{}", name);

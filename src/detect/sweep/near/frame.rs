@@ -1,7 +1,6 @@
 //! The frame the widened boxes move with ([`super`]), and how far it has
 //! moved since they were made.
 
-use super::settle::inside_moved;
 use super::{travel, ROUNDING};
 use crate::detect::sweep::hull::Packed;
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
@@ -149,6 +148,14 @@ impl Shift {
         }
         None
     }
+}
+
+/// Whether box `b` lies in box `w` moved by `s` (each lane's shift
+/// rounded up): each lane of `b` is greater than the other's moved, as
+/// rounded to nearest, so at least its exact value.
+#[inline(always)]
+pub(super) fn inside_moved(b: &Packed, w: &Packed, s: &Packed) -> bool {
+    (0..8).fold(true, |all, l| all & (b[l] > w[l] + s[l]))
 }
 
 #[cfg(test)]

@@ -2,7 +2,7 @@
 //! `f32` boxes themselves, lane by lane, so that no rounding lets a box
 //! out unnoticed; with AVX2 a block of eight boxes at a time.
 
-use super::frame::Shift;
+use super::frame::{inside_moved, Shift};
 use super::NOWHERE;
 use crate::detect::sweep::hull::{Packed, NO_KEY};
 use crate::index::Slot;
@@ -81,7 +81,7 @@ mod lanes {
     /// Calls `check(from, to)` for each block of boxes `from..to` of
     /// `boxes` (a whole block at a time) of which one may not lie in its
     /// widened box of `wide` (moved by `shift`, if any) as
-    /// [`inside`](super::inside) or [`inside_moved`](super::inside_moved)
+    /// [`inside`](super::inside) or [`inside_moved`](super::super::frame::inside_moved)
     /// tells (the same comparisons, lane by lane). Returns where the
     /// whole blocks end.
     #[inline]
@@ -138,12 +138,4 @@ mod lanes {
 #[inline(always)]
 pub(super) fn inside(b: &Packed, w: &Packed) -> bool {
     (0..8).fold(true, |all, l| all & (b[l] >= w[l]))
-}
-
-/// Whether box `b` lies in box `w` moved by `s` (each lane's shift
-/// rounded up): each lane of `b` is greater than the other's moved, as
-/// rounded to nearest, so at least its exact value.
-#[inline(always)]
-pub(super) fn inside_moved(b: &Packed, w: &Packed, s: &Packed) -> bool {
-    (0..8).fold(true, |all, l| all & (b[l] > w[l] + s[l]))
 }

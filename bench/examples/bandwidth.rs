@@ -3,7 +3,7 @@
 //! (docs/PERFORMANCE.md, "Instructions a line costs each step").
 //!
 //! ```sh
-//! cargo run --release --example bandwidth -- [--megabytes M] [--rounds R]
+//! cargo run --release -p screensaver-bench --example bandwidth -- [--megabytes M] [--rounds R]
 //! ```
 //!
 //! Times, on buffers of `M` megabytes (48 by default, the lines of a

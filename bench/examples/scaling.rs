@@ -3,7 +3,7 @@
 //! log-log plot.
 //!
 //! ```sh
-//! cargo run --release --example scaling -- [--max-lines N] [--out docs/scaling.png]
+//! cargo run --release -p screensaver-bench --example scaling -- [--max-lines N] [--out docs/scaling.png]
 //! ```
 //!
 //! Each configuration runs the same scene (`gen --lines N --seed 7`) for
@@ -11,7 +11,7 @@
 //! timed run. The all-pairs detector stops at 10^4 lines. The ceiling is
 //! what two threads could do at most: two copies of the one-thread sweep
 //! run at once (nothing shared, nothing to wait for), their steps added up
-//! (as `examples/ceiling.rs` measures it on one scene). Text in the plot
+//! (as `bench/examples/ceiling.rs` measures it on one scene). Text in the plot
 //! uses DejaVu Sans from Debian's `fonts-dejavu-core`.
 
 use plotters::prelude::*;

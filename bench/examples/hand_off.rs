@@ -4,7 +4,7 @@
 //! paralight's fixed ranges.
 //!
 //! ```sh
-//! cargo run --release --example hand_off -- [team|rayon|chili|paralight]
+//! cargo run --release -p screensaver-bench --example hand_off -- [team|rayon|chili|paralight]
 //! ```
 //!
 //! Each part is a chain of dependent multiplications (`work` turns of

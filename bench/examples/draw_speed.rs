@@ -1,6 +1,6 @@
 //! Time a frame's drawing at several scene sizes, with tiny-skia's strokes
 //! and with the thin-line rasteriser (lines in id order, and in the order
-//! a world stepped by the sweep stores them): `cargo run --release --example
+//! a world stepped by the sweep stores them): `cargo run --release -p screensaver-bench --example
 //! draw_speed -- [WIDTHxHEIGHT] [KIND]`. Prints the median of several
 //! frames for each, in milliseconds.
 

@@ -3,7 +3,7 @@
 //! machine slows both alike; prints the median of each and their ratio.
 //!
 //! ```sh
-//! cargo run --release --example versus_broccoli -- [LINES] [ROUNDS] [uniform|clustered]
+//! cargo run --release -p screensaver-bench --example versus_broccoli -- [LINES] [ROUNDS] [uniform|clustered]
 //! ```
 //!
 //! The boxes are the axis-aligned swept boxes of a generated scene's first

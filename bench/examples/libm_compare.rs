@@ -4,7 +4,7 @@
 //! differs where glibc's is not correctly rounded.
 //!
 //! ```text
-//! cargo run --release --example libm_compare -- [PAIRS per class] [SEED] [--hypot-only]
+//! cargo run --release -p screensaver-bench --example libm_compare -- [PAIRS per class] [SEED] [--hypot-only]
 //! ```
 //!
 //! Runs on every core; prints a Markdown table.

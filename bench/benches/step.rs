@@ -13,7 +13,7 @@ use std::path::PathBuf;
 fn reference_dir() -> PathBuf {
     std::env::var_os("SCREENSAVER_REFERENCE")
         .map(PathBuf::from)
-        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared/reference"))
+        .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../shared/reference"))
 }
 
 fn scenes() -> Vec<(String, Scene)> {

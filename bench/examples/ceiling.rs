@@ -2,7 +2,7 @@
 //! beside how much faster they do make it.
 //!
 //! ```sh
-//! cargo run --release --example ceiling -- [SCENE] [--frames F] [--threads N] [--rounds R]
+//! cargo run --release -p screensaver-bench --example ceiling -- [SCENE] [--frames F] [--threads N] [--rounds R]
 //! ```
 //!
 //! Each round times three things, one after another: the scene on one
