@@ -148,7 +148,7 @@ impl Findings {
     /// Tests the pair in slots `a` and `b` of `stored`, whose hulls
     /// overlap, the lower id first, with the prefilter and the exact test
     /// made by `screen` (as [`screen`] answers): from code compiled for
-    /// AVX2, [`crate::narrow::four::screen`] (inlined where the compiler
+    /// AVX2, [`crate::lanes::intersect::screen`] (inlined where the compiler
     /// finds it pays) rather than [`screen`], which chooses the
     /// processor's code at each call.
     #[inline(always)]
@@ -214,7 +214,7 @@ impl Findings {
 /// first), then, where it keeps the pair, the exact test: `None` for a pair
 /// the prefilter rules out, else `Some` of what [`intersect`] finds. With
 /// AVX2 both are made in lanes, the exact test's orientation tests four
-/// at a time ([`crate::narrow::four`]), chosen when the program starts;
+/// at a time ([`crate::lanes::intersect`]), chosen when the program starts;
 /// the answers are the same.
 #[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
 #[cfg_attr(
@@ -223,7 +223,7 @@ impl Findings {
 )]
 pub(crate) fn screen(l1: &Line, l2: &Line, dt: f64) -> Option<Option<IntersectionKind>> {
     multiversion::target::match_target! {
-        "x86_64+avx2" => crate::narrow::four::screen(l1, l2, dt),
+        "x86_64+avx2" => crate::lanes::intersect::screen(l1, l2, dt),
         _ => {
             let bound = || max(magnitude(l1, dt), magnitude(l2, dt));
             may_intersect(l1, l2, dt, bound).then(|| intersect(l1, l2, dt))

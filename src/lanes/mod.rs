@@ -18,6 +18,9 @@
 use crate::geometry::Vec2;
 use crate::line::Line;
 
+pub(crate) mod blocks;
+#[cfg(target_arch = "x86_64")]
+pub(crate) mod intersect;
 mod one;
 pub(crate) use one::One;
 

@@ -4,9 +4,6 @@ use crate::geometry::{inside_parallelogram, segments_cross, Vec2};
 pub use crate::index::{LineId, Slot};
 use crate::line::Line;
 
-#[cfg(target_arch = "x86_64")]
-pub(crate) mod four;
-
 /// How two lines meet during a step.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum IntersectionKind {

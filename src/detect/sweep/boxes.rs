@@ -341,7 +341,9 @@ pub(crate) fn insert(
 ) -> Option<usize> {
     multiversion::target::match_target! {
         "x86_64+avx2+bmi1" => {
-            let out_of_order = |run: &[f32; IN_ORDER_RUN + 1]| out_of_order_avx2(run);
+            let out_of_order = |run: &[f32; IN_ORDER_RUN + 1]| {
+                crate::lanes::blocks::out_of_order_avx2(run)
+            };
             insert_with(b, from, budget, until_in_place, Some(out_of_order))
         }
         _ => insert_with(b, from, budget, until_in_place, out_of_order_without_avx2()),
@@ -419,12 +421,7 @@ fn insert_with(
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 #[inline(always)]
 fn out_of_order_without_avx2() -> Option<OutOfOrder> {
-    use core::arch::wasm32::{f32x4, f32x4_gt, i32x4_bitmask};
-    Some(|run| {
-        let four = |k: usize| f32x4(run[k], run[k + 1], run[k + 2], run[k + 3]);
-        let half = |k: usize| u32::from(i32x4_bitmask(f32x4_gt(four(k), four(k + 1))));
-        half(0) | half(4) << 4
-    })
+    Some(crate::lanes::blocks::out_of_order_simd128)
 }
 
 /// Other targets: one box at a time (see the WebAssembly version).
@@ -434,21 +431,8 @@ fn out_of_order_without_avx2() -> Option<OutOfOrder> {
     None
 }
 
-/// [`OutOfOrder`] with AVX2: the eight keys against the eight before them
-/// in one comparison.
-#[cfg(target_arch = "x86_64")]
-#[inline]
-#[target_feature(enable = "avx2")]
-fn out_of_order_avx2(run: &[f32; IN_ORDER_RUN + 1]) -> u32 {
-    use std::arch::x86_64::{__m256, _mm256_cmp_ps, _mm256_movemask_ps, _CMP_GT_OQ};
-    let before: __m256 =
-        bytemuck::cast(<[f32; IN_ORDER_RUN]>::try_from(&run[..IN_ORDER_RUN]).expect("a run"));
-    let after: __m256 = bytemuck::cast(<[f32; IN_ORDER_RUN]>::try_from(&run[1..]).expect("a run"));
-    _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_GT_OQ>(before, after)) as u32
-}
-
 /// Boxes [`insert`] checks at once for a run already in order.
-const IN_ORDER_RUN: usize = 8;
+const IN_ORDER_RUN: usize = crate::lanes::blocks::BLOCK;
 
 #[cfg(test)]
 mod tests {

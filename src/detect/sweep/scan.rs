@@ -8,11 +8,11 @@ use super::layout::GroupView;
 use super::Chunk;
 use crate::detect::{Findings, Stored};
 use crate::index::Slot;
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::blocks;
 use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::IntersectionKind;
 use multiversion::multiversion;
-#[cfg(target_arch = "x86_64")]
-use std::arch::x86_64::_mm256_set1_ps;
 
 /// Hands `found` the noted `pairs` of places to test, the first of each
 /// pair's slot from `first`, the second's from `second`. In scenes larger
@@ -36,7 +36,7 @@ pub(crate) fn test_pairs(
     let slots = (first, second);
     multiversion::target::match_target! {
         "x86_64+avx2" => {
-            let screen = |l1: &Line, l2: &Line, dt| crate::narrow::four::screen(l1, l2, dt);
+            let screen = |l1: &Line, l2: &Line, dt| crate::lanes::intersect::screen(l1, l2, dt);
             test_each(found, (stored, dt), pairs, slots, screen)
         }
         _ => test_each(found, (stored, dt), pairs, slots, crate::detect::pairs::screen),
@@ -215,7 +215,7 @@ pub(crate) fn sweep(
     multiversion::target::match_target! {
         "x86_64+avx2+popcnt+bmi1" => {
             let masks = |end, reach: &Packed| {
-                let (end8, reach8) = (_mm256_set1_ps(end), bytemuck::cast(*reach));
+                let (end8, reach8) = (blocks::splat(end), blocks::packed(reach));
                 move |k8: &[f32; BLOCK], h8: &[Packed; BLOCK]| {
                     (blocks::within(k8, end8), blocks::overlapping(h8, reach8))
                 }
@@ -244,7 +244,7 @@ pub(crate) fn meeting(hulls: &[Packed], reach: &Packed, met: &mut Vec<u32>) {
     let whole = hulls.len() / BLOCK * BLOCK;
     multiversion::target::match_target! {
         "x86_64+avx2" => {
-            let reach8 = bytemuck::cast(*reach);
+            let reach8 = blocks::packed(reach);
             for (c, h8) in hulls[..whole].chunks_exact(BLOCK).enumerate() {
                 let mut mask = blocks::overlapping(h8.try_into().expect("a block"), reach8);
                 while mask != 0 {
@@ -277,7 +277,7 @@ pub(crate) fn meeting(hulls: &[Packed], reach: &Packed, met: &mut Vec<u32>) {
 const DENSE_WITHOUT_AVX2: bool = cfg!(all(target_arch = "wasm32", target_feature = "simd128"));
 
 /// Boxes compared at a time by a block.
-const BLOCK: usize = 8;
+const BLOCK: usize = crate::lanes::blocks::BLOCK;
 
 /// Which of a block of boxes meet the key after them (see [`sweep_with`]).
 #[cfg(any(test, not(all(target_arch = "wasm32", target_feature = "simd128"))))]
@@ -429,29 +429,7 @@ fn sweep_box(
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 #[inline(always)]
 fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> (u32, u32) {
-    use core::arch::wasm32::{
-        f32x4, f32x4_le, f32x4_splat, i16x8_narrow_i32x4, i32x4_bitmask, i32x4_eq, i32x4_splat,
-        i8x16_narrow_i16x8, v128, v128_not, v128_or,
-    };
-    let half = |v: &[f32], k: usize| f32x4(v[k], v[k + 1], v[k + 2], v[k + 3]);
-    let end4 = f32x4_splat(end);
-    let (reach_lo, reach_hi) = (half(reach, 0), half(reach, 4));
-    move |keys, hulls| {
-        let within = |k| u32::from(i32x4_bitmask(f32x4_le(half(keys, k), end4)));
-        // Not at most (NaN too): beyond reach.
-        let beyond = |k: usize| -> v128 {
-            let lo = f32x4_le(half(&hulls[k], 0), reach_lo);
-            let hi = f32x4_le(half(&hulls[k], 4), reach_hi);
-            v128_or(v128_not(lo), v128_not(hi))
-        };
-        let quad = |k: usize| {
-            let low = i16x8_narrow_i32x4(beyond(k), beyond(k + 1));
-            let high = i16x8_narrow_i32x4(beyond(k + 2), beyond(k + 3));
-            let bytes = i8x16_narrow_i16x8(low, high);
-            u32::from(i32x4_bitmask(i32x4_eq(bytes, i32x4_splat(0))))
-        };
-        (within(0) | within(4) << 4, quad(0) | quad(4) << 4)
-    }
+    crate::lanes::blocks::masks_simd128(end, reach)
 }
 
 /// Which of a block of boxes meet the key after them (see
@@ -461,24 +439,8 @@ fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
 #[inline(always)]
 fn reaching_without_avx2(along: usize) -> Option<impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -> u32> {
-    use core::arch::wasm32::{f32x4, f32x4_le, f32x4_neg, f32x4_pmin, f32x4_splat, i32x4_bitmask};
-    let lane = super::hull::DIRECTIONS + along;
-    Some(move |next: &[f32; BLOCK], hulls: &[Packed; BLOCK]| {
-        let within = |k: usize| {
-            let low = f32x4(
-                hulls[k][lane],
-                hulls[k + 1][lane],
-                hulls[k + 2][lane],
-                hulls[k + 3][lane],
-            );
-            // `pmin(MAX, x)` is `x < MAX ? x : MAX`: MAX for NaN, as
-            // `f32::min` gives.
-            let end = f32x4_pmin(f32x4_splat(f32::MAX), f32x4_neg(low));
-            let keys = f32x4(next[k], next[k + 1], next[k + 2], next[k + 3]);
-            u32::from(i32x4_bitmask(f32x4_le(keys, end)))
-        };
-        within(0) | within(4) << 4
-    })
+    let reaching = crate::lanes::blocks::reaching_simd128;
+    Some(move |next: &[f32; BLOCK], hulls: &[Packed; BLOCK]| reaching(next, hulls, along))
 }
 
 /// Other targets: one box at a time (see the WebAssembly version).
@@ -501,86 +463,6 @@ fn masks(end: f32, reach: &Packed) -> impl Fn(&[f32; BLOCK], &[Packed; BLOCK]) -
             overlapping |= u32::from(overlaps(&h8[k], &reach)) << k;
         }
         (within, overlapping)
-    }
-}
-
-/// The masks of a block (see [`sweep_with`]) with AVX2.
-#[cfg(target_arch = "x86_64")]
-mod blocks {
-    use super::{Packed, BLOCK};
-    use crate::detect::sweep::hull::DIRECTIONS;
-    use std::arch::x86_64::{
-        __m256, __m256i, _mm256_blend_ps, _mm256_castps_si256, _mm256_castsi256_ps, _mm256_cmp_ps,
-        _mm256_cmpeq_epi32, _mm256_min_ps, _mm256_movemask_ps, _mm256_or_si256, _mm256_packs_epi16,
-        _mm256_packs_epi32, _mm256_permute2x128_si256, _mm256_permutevar8x32_ps, _mm256_set1_epi32,
-        _mm256_set1_ps, _mm256_setzero_si256, _mm256_xor_ps, _CMP_LE_OQ, _CMP_NLE_UQ,
-    };
-
-    /// Which of eight keys are at most `end8`'s: bit `k` for `keys[k]`,
-    /// in one comparison.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn within(keys: &[f32; BLOCK], end8: __m256) -> u32 {
-        let k8: __m256 = bytemuck::cast(*keys);
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(k8, end8)) as u32
-    }
-
-    /// Which of eight boxes `hulls` meet the key after them, `next[k]`
-    /// after `hulls[k]`: bit `k` where `next[k]` is at most the box's
-    /// greatest value along `along` (and at most `f32::MAX`), as the sweep
-    /// asks of each box. Each hull's lane is spread to a register by one
-    /// permutation and blended into its place.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn reaching(next: &[f32; BLOCK], hulls: &[Packed; BLOCK], along: usize) -> u32 {
-        let lane = _mm256_set1_epi32((DIRECTIONS + along) as i32);
-        let spread = |k: usize| _mm256_permutevar8x32_ps(bytemuck::cast(hulls[k]), lane);
-        // Lane k: hull k's negated greatest value.
-        let mut low = spread(0);
-        low = _mm256_blend_ps::<0b0000_0010>(low, spread(1));
-        low = _mm256_blend_ps::<0b0000_0100>(low, spread(2));
-        low = _mm256_blend_ps::<0b0000_1000>(low, spread(3));
-        low = _mm256_blend_ps::<0b0001_0000>(low, spread(4));
-        low = _mm256_blend_ps::<0b0010_0000>(low, spread(5));
-        low = _mm256_blend_ps::<0b0100_0000>(low, spread(6));
-        low = _mm256_blend_ps::<0b1000_0000>(low, spread(7));
-        let end = _mm256_min_ps(
-            _mm256_xor_ps(low, _mm256_set1_ps(-0.0)),
-            _mm256_set1_ps(f32::MAX),
-        );
-        within(next, end)
-    }
-
-    /// Which of eight hulls overlap the box whose reach is `reach8`: bit
-    /// `k` for `hulls[k]`. Each hull's lanes beyond reach (NaN too) come
-    /// out of one comparison as all ones; packing them to bytes, two hulls
-    /// at a time then four, and folding each hull's two halves together
-    /// leaves four bytes a hull, which are all zero exactly when no lane
-    /// is beyond. That is a few vector instructions for the whole block,
-    /// rather than a mask, a test and a shift for each hull
-    /// (docs/DESIGN.md, "Sweep and prune", the sweep).
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn overlapping(hulls: &[Packed; BLOCK], reach8: __m256) -> u32 {
-        let beyond = |k: usize| {
-            let hull: __m256 = bytemuck::cast(hulls[k]);
-            _mm256_castps_si256(_mm256_cmp_ps::<_CMP_NLE_UQ>(hull, reach8))
-        };
-        // Per 128-bit half, as 16-bit lanes: hull 2m's four lanes of that
-        // half, then hull 2m + 1's.
-        let pairs = [0, 2, 4, 6].map(|k| _mm256_packs_epi32(beyond(k), beyond(k + 1)));
-        // As bytes: in the low half, lanes 0 to 3 of hulls 0..4 (a 32-bit
-        // word each); in the high half, their lanes 4 to 7.
-        let low: __m256i = _mm256_packs_epi16(pairs[0], pairs[1]);
-        let high: __m256i = _mm256_packs_epi16(pairs[2], pairs[3]);
-        // Word k: hull k's lanes 0 to 3, or'ed with word k of its lanes 4
-        // to 7.
-        let halves = _mm256_or_si256(
-            _mm256_permute2x128_si256::<0x20>(low, high),
-            _mm256_permute2x128_si256::<0x31>(low, high),
-        );
-        let within = _mm256_cmpeq_epi32(halves, _mm256_setzero_si256());
-        _mm256_movemask_ps(_mm256_castsi256_ps(within)) as u32
     }
 }
 

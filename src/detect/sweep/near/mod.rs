@@ -658,7 +658,7 @@ fn compare(
 ) {
     multiversion::target::match_target! {
         "x86_64+avx2" => {
-            let screen = |l1: &Line, l2: &Line, dt| crate::narrow::four::screen(l1, l2, dt);
+            let screen = |l1: &Line, l2: &Line, dt| crate::lanes::intersect::screen(l1, l2, dt);
             compare_each((pairs, fresh, leaving, hits), boxes, (stored, dt), found, screen)
         }
         _ => compare_each((pairs, fresh, leaving, hits), boxes, (stored, dt), found, crate::detect::pairs::screen),

@@ -14,7 +14,7 @@ use multiversion::multiversion;
 /// lie in its widened box `wide`. Returns the lines without a box. The
 /// lines without a box are found in a loop of their own, and the rare
 /// leaver is taken by a branch: with AVX2 one a block of eight boxes,
-/// compared at once ([`lanes::blocks_not_within`]), and the boxes of a
+/// compared at once ([`not_within`](crate::lanes::blocks::not_within)), and the boxes of a
 /// block that may hold a leaver then checked one by one.
 #[cfg_attr(not(screensaver_baseline), multiversion(targets("x86_64+avx2")))]
 #[cfg_attr(
@@ -52,7 +52,7 @@ pub(super) fn settle(
             let mut check = |from: usize, to: usize| {
                 (from..to).filter(|&k| !within(k, &boxes[k], &wide[k])).for_each(&mut leave)
             };
-            let whole = lanes::blocks_not_within(boxes, wide, shift, &mut check);
+            let whole = crate::lanes::blocks::not_within(boxes, wide, shift, &mut check);
             check(whole, boxes.len());
         }
         _ => {
@@ -62,73 +62,6 @@ pub(super) fn settle(
         }
     }
     unboxed
-}
-
-/// [`settle`]'s check of a block of boxes at once with AVX2.
-#[cfg(target_arch = "x86_64")]
-mod lanes {
-    use super::Packed;
-    use std::arch::x86_64::{
-        __m256, _mm256_add_ps, _mm256_and_ps, _mm256_cmp_ps, _mm256_movemask_ps, _CMP_GE_OQ,
-        _CMP_GT_OQ,
-    };
-
-    /// Boxes checked at once: each compared with its widened box, the
-    /// comparisons put together, and one branch on them, which is nearly
-    /// always not taken.
-    const BLOCK: usize = 8;
-
-    /// Calls `check(from, to)` for each block of boxes `from..to` of
-    /// `boxes` (a whole block at a time) of which one may not lie in its
-    /// widened box of `wide` (moved by `shift`, if any) as
-    /// [`inside`](super::inside) or [`inside_moved`](super::super::frame::inside_moved)
-    /// tells (the same comparisons, lane by lane). Returns where the
-    /// whole blocks end.
-    #[inline]
-    #[target_feature(enable = "avx2")]
-    pub(super) fn blocks_not_within(
-        boxes: &[Packed],
-        wide: &[Packed],
-        shift: Option<&Packed>,
-        check: &mut impl FnMut(usize, usize),
-    ) -> usize {
-        let lanes = |p: &Packed| -> __m256 { bytemuck::cast(*p) };
-        let whole = boxes.len().min(wide.len()) / BLOCK * BLOCK;
-        let blocks = boxes[..whole]
-            .chunks_exact(BLOCK)
-            .zip(wide.chunks_exact(BLOCK));
-        let all = |each: &dyn Fn(usize) -> __m256| {
-            let pairs: [__m256; BLOCK / 2] =
-                std::array::from_fn(|k| _mm256_and_ps(each(2 * k), each(2 * k + 1)));
-            let all = _mm256_and_ps(
-                _mm256_and_ps(pairs[0], pairs[1]),
-                _mm256_and_ps(pairs[2], pairs[3]),
-            );
-            _mm256_movemask_ps(all) == 0xFF
-        };
-        match shift {
-            None => {
-                for (c, (b, w)) in blocks.enumerate() {
-                    let each = |k: usize| _mm256_cmp_ps::<_CMP_GE_OQ>(lanes(&b[k]), lanes(&w[k]));
-                    if !all(&each) {
-                        check(c * BLOCK, (c + 1) * BLOCK);
-                    }
-                }
-            }
-            Some(s) => {
-                let s = lanes(s);
-                for (c, (b, w)) in blocks.enumerate() {
-                    let each = |k: usize| {
-                        _mm256_cmp_ps::<_CMP_GT_OQ>(lanes(&b[k]), _mm256_add_ps(lanes(&w[k]), s))
-                    };
-                    if !all(&each) {
-                        check(c * BLOCK, (c + 1) * BLOCK);
-                    }
-                }
-            }
-        }
-        whole
-    }
 }
 
 /// Whether box `b` lies in box `w`: each of its lanes is at least the

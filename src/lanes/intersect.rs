@@ -1,5 +1,5 @@
-//! [`intersect`](super::intersect) with its orientation tests four at a
-//! time, in AVX2 registers.
+//! [`intersect`](crate::narrow::intersect) with its orientation tests four
+//! at a time, in AVX2 registers.
 //!
 //! The exact test asks whether `l1` crosses four segments (`l2` now, and
 //! the three other sides of the parallelogram `l2` sweeps relative to
@@ -18,9 +18,9 @@
 //! same comparisons, when any lane needs it. The decision after the signs
 //! is [`kind_of`], shared with the scalar test.
 
-use super::{kind_of, may_intersect, IntersectionKind};
-use crate::detect::swept::max;
+use super::max;
 use crate::line::Line;
+use crate::narrow::{kind_of, may_intersect, IntersectionKind};
 use std::arch::x86_64::{
     __m128d, __m256d, _mm256_add_pd, _mm256_and_pd, _mm256_cmp_pd, _mm256_max_pd, _mm256_min_pd,
     _mm256_movemask_pd, _mm256_mul_pd, _mm256_or_pd, _mm256_permute2f128_pd, _mm256_permute4x64_pd,
@@ -85,7 +85,7 @@ fn pick<const IMM: i32>(x: __m256d) -> __m256d {
 
 /// The prefilter and the exact test of `l1` and `l2` (the lower id
 /// first): `None` where [`may_intersect`] rules the pair out, else `Some`
-/// of what [`intersect`](super::intersect) finds. The same answers for
+/// of what [`intersect`](crate::narrow::intersect) finds. The same answers for
 /// every pair of lines (the property tests of `crate::detect::pairs` hold
 /// it to that); the magnitude the prefilter's margin takes is made in
 /// lanes too, by the same operations.
@@ -160,7 +160,7 @@ impl Lanes {
         }
     }
 
-    /// [`intersect`](super::intersect)`(l1, l2, dt)` of the lines these
+    /// [`intersect`](crate::narrow::intersect)`(l1, l2, dt)` of the lines these
     /// lanes hold (`dt` taken in the relative move).
     #[inline]
     #[target_feature(enable = "avx2")]
