@@ -190,7 +190,7 @@ pub enum JobError {
         "a scene of {} needs about {} MB of memory, more than this process can have \
          (the memory free, or a limit such as `ulimit -v`)",
         crate::plural(*lines, "line"),
-        bytes.div_ceil(1 << 20)
+        bytes.div_ceil(1_000_000)
     )]
     Memory {
         /// The scene's lines (at most, for a scene file not read yet).
@@ -483,6 +483,7 @@ impl Job {
         // not be written is reported after them, and the counts are kept.
         let failure = finished.failure.take();
         let failed = failure.is_some();
+        let short = failed && finished.world.steps() < started.steps;
         let written = self.write_files(&finished.world, started.steps, started.digest, failure);
         if let Some(signal) = stopped {
             progress.note(Note::Stopped {
@@ -500,7 +501,7 @@ impl Job {
             });
         }
         let ran = Ran {
-            stopped: stopped.is_some() || failed,
+            stopped: stopped.is_some() || short,
             first_step,
             verified,
             seed: started.seed,
@@ -539,10 +540,15 @@ impl Job {
         } else {
             None
         };
-        match conflict {
-            Some(conflict) => Err(conflict.into()),
-            None => self.check_clashes(),
+        if let Some(conflict) = conflict {
+            return Err(conflict.into());
         }
+        // A picture's name the program cannot write, before anything is
+        // read or made.
+        if let Some(path) = &self.render {
+            Target::for_path(path, self.frames_pictured())?;
+        }
+        self.check_clashes()
     }
 
     /// Refuses a file written over a file the run reads, or written twice:
@@ -598,7 +604,22 @@ impl Job {
         if !matches!(sequence, Ok(Target::PngSequence(_))) {
             return None;
         }
-        let others = outputs.iter().chain(inputs);
+        // Standard output's file, when it has a frame's name.
+        let results = output::stdout_identity().and_then(|identity| {
+            let dir = render.parent().filter(|p| !p.as_os_str().is_empty());
+            let entries = std::fs::read_dir(dir.unwrap_or(std::path::Path::new("."))).ok()?;
+            let path = entries.flatten().map(|e| e.path()).find(|path| {
+                frame_name(render, path).is_some()
+                    && output::identity(path) == Some(identity.clone())
+            })?;
+            Some((path, identity))
+        });
+        let results = results.as_ref().map(|(path, identity)| NamedFile {
+            role: FileRole::Results,
+            path,
+            identity: identity.clone(),
+        });
+        let others = outputs.iter().chain(inputs).chain(results.as_ref());
         let others = others.filter(|o| o.role != FileRole::Pictures);
         others.into_iter().find_map(|other| {
             let frame = frame_name(render, other.path)?;
@@ -863,7 +884,9 @@ impl Job {
         digest: Option<u64>,
         failure: Option<RunError>,
     ) -> Result<(), JobError> {
-        let failed = failure.is_some();
+        // Ended before its last step (a picture that failed after it, the
+        // run's end all the same, is no reason to hold the state back).
+        let short = failure.is_some() && world.steps() < steps;
         let mut errors: Vec<JobError> = failure.into_iter().map(JobError::from).collect();
         if let (Some(path), Some(digest)) = (&self.checkpoint, digest) {
             let checkpoints = Checkpoints {
@@ -876,7 +899,7 @@ impl Job {
         // A checkpoint says its step; a state does not, so the state of a
         // run that an error ended early is not written.
         match &self.state_out {
-            Some(path) if failed => errors.push(JobError::StateNotWritten {
+            Some(path) if short => errors.push(JobError::StateNotWritten {
                 path: path.clone(),
                 step: world.steps(),
                 of: steps,

@@ -74,7 +74,7 @@ pub(crate) mod world;
 
 /// Parts of the library that are not its API, public only with the
 /// `internals` feature, for the project's own measuring tools
-/// (`examples/hand_off.rs`, `libm_compare.rs`, `draw_speed.rs`): they may
+/// (`bench/examples/hand_off.rs`, `libm_compare.rs`, `draw_speed.rs`): they may
 /// change with any release.
 #[cfg(feature = "internals")]
 pub mod internals {

@@ -52,6 +52,11 @@ impl OutputError {
 /// The system's reason, with the folder named when it is missing, or when
 /// it exists but refuses new files (as `/proc` does, with "not found").
 fn describe(path: &Path, e: &std::io::Error) -> String {
+    // An error that says its own reason (a refused link, a file of another
+    // user's) is passed on as it is.
+    if e.get_ref().is_some() {
+        return e.to_string();
+    }
     let target = resolve(path).map_or_else(|_| path.to_path_buf(), |r| r.target);
     if e.kind() == std::io::ErrorKind::PermissionDenied && !target.exists() {
         return format!(
@@ -98,8 +103,8 @@ struct Resolved {
     /// links go round); the target of a link to a file that does not exist
     /// yet is where that file will be made.
     target: PathBuf,
-    /// Whether it led through `/proc`: the name of a file already open
-    /// (`/dev/stdout` -> `/proc/self/fd/1` -> the file).
+    /// Whether it led through `/proc` or `/dev/fd`: the name of a file
+    /// already open (`/dev/stdout` -> `/proc/self/fd/1` -> the file).
     through_proc: bool,
 }
 
@@ -107,7 +112,8 @@ struct Resolved {
 /// follow for this user ([`may_follow`]).
 fn resolve(path: &Path) -> std::io::Result<Resolved> {
     let mut at = path.to_path_buf();
-    let mut through_proc = path.starts_with("/proc");
+    let open_already = |at: &Path| at.starts_with("/proc") || at.starts_with("/dev/fd");
+    let mut through_proc = open_already(path);
     for _ in 0..MOST_LINKS {
         let Ok(target) = std::fs::read_link(&at) else {
             return Ok(Resolved {
@@ -117,7 +123,7 @@ fn resolve(path: &Path) -> std::io::Result<Resolved> {
         };
         check_link(&at)?;
         at = folder(&at).join(target);
-        through_proc |= at.starts_with("/proc");
+        through_proc |= open_already(&at);
     }
     Ok(Resolved {
         target: path.to_path_buf(),
@@ -189,15 +195,15 @@ fn kind(path: &Path) -> std::io::Result<Kind> {
     if path.as_os_str() == "-" {
         return Ok(Kind::Stdout);
     }
-    if let Ok(m) = std::fs::metadata(path) {
-        if !m.is_file() && !m.is_dir() {
-            return Ok(Kind::Direct);
-        }
-    }
+    // The links first, each checked: a link another user planted to a
+    // device or a FIFO is refused like any other.
     let resolved = resolve(path)?;
-    Ok(match resolved.through_proc {
-        true => Kind::Direct,
-        false => Kind::Whole(resolved.target),
+    if resolved.through_proc {
+        return Ok(Kind::Direct);
+    }
+    Ok(match std::fs::metadata(&resolved.target) {
+        Ok(m) if !m.is_file() && !m.is_dir() => Kind::Direct,
+        _ => Kind::Whole(resolved.target),
     })
 }
 
@@ -311,14 +317,32 @@ fn adopt(temp: &std::fs::File, old: &std::fs::Metadata) -> std::io::Result<()> {
 /// The folders already cleared of stale temporary files by this process.
 static SWEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
 
+/// The id of this process (0 where there are none: WebAssembly).
+fn process_id() -> u32 {
+    match cfg!(all(target_arch = "wasm32", target_os = "unknown")) {
+        true => 0,
+        false => std::process::id(),
+    }
+}
+
+/// How long a temporary file of a process that no longer runs is left
+/// alone: a process of this user elsewhere (another host sharing the
+/// folder, another process namespace) that is writing it keeps it newer.
+#[cfg(target_os = "linux")]
+const STALE_AFTER: std::time::Duration = std::time::Duration::from_secs(600);
+
 /// Removes, once per folder and process, the temporary files that a
 /// process of this program ended at once (`kill -9`, a crash) left in
-/// `dir`: those of this user whose process no longer runs. Where the
-/// system cannot say which processes run (no `/proc`), nothing is removed.
+/// `dir`: those of this user whose process no longer runs and that have
+/// not changed for [`STALE_AFTER`]. Where the system cannot say which
+/// processes run (no `/proc`), nothing is removed.
 fn remove_stale_temporaries(dir: &Path) {
     #[cfg(target_os = "linux")]
     {
         use std::os::unix::fs::MetadataExt;
+        if !Path::new("/proc/self").exists() {
+            return;
+        }
         let mut swept = SWEPT.lock().unwrap_or_else(|e| e.into_inner());
         let key = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
         if swept.contains(&key) {
@@ -334,9 +358,13 @@ fn remove_stale_temporaries(dir: &Path) {
             let Some(pid) = name.to_str().and_then(temporary_pid) else {
                 continue;
             };
+            let old = |m: &std::fs::Metadata| {
+                let age = m.modified().ok().and_then(|t| t.elapsed().ok());
+                age.is_some_and(|age| age >= STALE_AFTER)
+            };
             let ours = entry
                 .metadata()
-                .is_ok_and(|m| m.is_file() && m.uid() == user);
+                .is_ok_and(|m| m.is_file() && m.uid() == user && old(&m));
             if ours && !Path::new("/proc").join(pid.to_string()).exists() {
                 let _ = std::fs::remove_file(entry.path());
             }
@@ -348,6 +376,7 @@ fn remove_stale_temporaries(dir: &Path) {
 
 /// The id of the process that made the temporary file named `name`, if it
 /// is one of this program's.
+#[cfg(any(test, target_os = "linux"))]
 fn temporary_pid(name: &str) -> Option<u32> {
     let rest = name.strip_prefix(TEMPORARY_PREFIX)?;
     rest.strip_suffix(TEMPORARY_SUFFIX)?;
@@ -404,7 +433,7 @@ impl OutputFile {
             Kind::Whole(target) => {
                 remove_stale_temporaries(folder(&target));
                 let mut builder = tempfile::Builder::new();
-                let prefix = format!("{TEMPORARY_PREFIX}{}-", std::process::id());
+                let prefix = format!("{TEMPORARY_PREFIX}{}-", process_id());
                 builder.prefix(&prefix).suffix(TEMPORARY_SUFFIX);
                 // Temporary files are private by default; the final file is
                 // made as any new file is (read-write for all, less the
@@ -419,11 +448,12 @@ impl OutputFile {
                 // which tempfile adds, means nothing to the user.
                 let temp = (builder.tempfile_in(folder(&target)))
                     .map_err(|e| fail(std::io::Error::from(e.kind())))?;
-                list.push(temp.path().to_path_buf());
-                drop(list);
+                // Listed only once it is to be kept (a file that cannot
+                // take the old one's owner is removed as it drops).
                 if let Ok(old) = std::fs::metadata(&target) {
                     adopt(temp.as_file(), &old).map_err(fail)?;
                 }
+                list.push(temp.path().to_path_buf());
                 (Sink::Temporary(temp), target)
             }
         };
@@ -820,6 +850,7 @@ mod tests {
         assert_eq!(std::fs::read(&new).unwrap(), b"made");
         assert_eq!(kind(Path::new("/dev/stdout")).unwrap(), Kind::Direct);
         assert_eq!(kind(Path::new("/proc/self/fd/1")).unwrap(), Kind::Direct);
+        assert_eq!(kind(Path::new("/dev/fd/1")).unwrap(), Kind::Direct);
     }
 
     /// A name that ends in a separator names a folder, and is refused
@@ -848,11 +879,21 @@ mod tests {
             .path()
             .join(format!(".screensaver-{}-abcdef.part", std::process::id()));
         let other = dir.path().join(".screensaver-notes.part");
-        for path in [&dead, &alive, &other] {
+        let recent = dir.path().join(".screensaver-999999998-abcdef.part");
+        let long_ago = std::time::SystemTime::now() - STALE_AFTER * 2;
+        for path in [&dead, &alive, &other, &recent] {
             std::fs::write(path, b"x").unwrap();
+            if path != &recent {
+                let file = std::fs::File::options().write(true).open(path).unwrap();
+                file.set_modified(long_ago).unwrap();
+            }
         }
         write_file(&dir.path().join("out"), b"rows").unwrap();
         assert!(!dead.exists());
+        assert!(
+            recent.exists(),
+            "changed lately: perhaps a process elsewhere"
+        );
         assert!(alive.exists());
         assert!(other.exists());
         assert_eq!(temporary_pid(".screensaver-12-abc.part"), Some(12));

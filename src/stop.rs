@@ -110,7 +110,14 @@ fn install() -> std::io::Result<()> {
     if *installed {
         return Ok(());
     }
-    let numbers = [Signal::Interrupt, Signal::Terminate, Signal::Hangup].map(Signal::number);
+    // A signal the program was started ignoring stays ignored: `nohup`
+    // ignores SIGHUP, a shell script's background jobs SIGINT, and a run
+    // started so must go on when the terminal closes.
+    let ignored = ignored_at_start();
+    let numbers = [Signal::Interrupt, Signal::Terminate, Signal::Hangup]
+        .map(Signal::number)
+        .into_iter()
+        .filter(|&n| !ignored(n));
     let mut signals = signal_hook::iterator::Signals::new(numbers)?;
     std::thread::Builder::new()
         .name("signals".to_string())
@@ -129,6 +136,23 @@ fn install() -> std::io::Result<()> {
         })?;
     *installed = true;
     Ok(())
+}
+
+/// Which signals the process was started ignoring. Linux says in
+/// `/proc/self/status` (`SigIgn`, a bit for each signal); elsewhere the
+/// disposition cannot be read without `unsafe`, so SIGHUP is taken as
+/// ignored (left to its default) and the others as not.
+#[cfg(unix)]
+fn ignored_at_start() -> impl Fn(i32) -> bool {
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let mask = status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigIgn:"))
+        .and_then(|hex| u64::from_str_radix(hex.trim(), 16).ok());
+    move |number: i32| match mask {
+        Some(mask) => (1..=64).contains(&number) && mask & (1 << (number - 1)) != 0,
+        None => number == signal_hook::consts::SIGHUP,
+    }
 }
 
 /// The signal that asked the run to stop, if one has.

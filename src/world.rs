@@ -334,6 +334,8 @@ impl World {
         // it was before the step.
         self.gave_up = self.found.abandoned;
         if self.gave_up {
+            self.found.clear();
+            self.events.clear();
             return;
         }
         let t1 = self.lap(t0, |t, d| t.detect += d);

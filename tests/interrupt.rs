@@ -570,3 +570,47 @@ fn one_signal_stops_a_long_all_pairs_step_at_once() {
         assert_eq!(v["steps_run"], 0, "{extra}");
     }
 }
+
+/// A signal the run was started ignoring (`nohup` ignores SIGHUP) stays
+/// ignored: the run goes on when the terminal closes.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_run_started_ignoring_sighup_goes_on_after_one() {
+    let dir = folder("nohup");
+    let checkpoint = dir.join("c");
+    let command = format!(
+        "trap '' HUP; exec '{}' 100000000 --checkpoint '{}' --checkpoint-every 20",
+        env!("CARGO_BIN_EXE_screensaver"),
+        checkpoint.display()
+    );
+    let child = Command::new("sh")
+        .args(["-c", &command])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    wait_for(&checkpoint);
+    signal(&child, "HUP");
+    std::thread::sleep(Duration::from_millis(500));
+    signal(&child, "TERM");
+    let out = child.wait_with_output().unwrap();
+    common::assert_ended_by(out.status, "TERM", &text(&out.stderr));
+    assert!(text(&out.stderr).contains("stopped by SIGTERM"));
+}
+
+/// A scene read from a pipe (`/dev/stdin`) is read whole: nothing looks
+/// at it before the loading does.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_scene_from_a_pipe_is_read_whole() {
+    let bin = env!("CARGO_BIN_EXE_screensaver");
+    let out = Command::new("sh")
+        .args([
+            "-c",
+            &format!("'{bin}' gen --lines 50 | '{bin}' 5 /dev/stdin"),
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    assert!(text(&out.stdout).contains("---- END RESULTS ----"));
+}

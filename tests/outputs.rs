@@ -263,6 +263,7 @@ fn numbered_pictures_never_overwrite_another_file() {
 
 /// Standard output sent into the state's file would be lost when the state
 /// replaces it: refused before the run, the file as it was.
+#[cfg(unix)]
 #[test]
 fn standard_output_into_an_output_file_is_refused() {
     let dir = folder("stdout");
@@ -419,6 +420,10 @@ fn a_killed_runs_temporary_files_are_cleared() {
     let dir = folder("stale");
     let stale = dir.join(".screensaver-999999999-AbCdEf.part");
     std::fs::write(&stale, vec![0; 4096]).unwrap();
+    // Left an hour ago by a process that no longer runs.
+    let an_hour_ago = std::time::SystemTime::now() - std::time::Duration::from_secs(3600);
+    let file = std::fs::File::options().write(true).open(&stale).unwrap();
+    file.set_modified(an_hour_ago).unwrap();
     let out = screensaver(&dir, &["5", "two.in", "--state-out", "s.state"]);
     assert!(out.status.success(), "{}", text(&out.stderr));
     assert!(!stale.exists());
@@ -449,4 +454,61 @@ fn a_scene_too_large_for_the_memory_says_so() {
         assert!(out.stdout.is_empty(), "{args}: {}", text(&out.stdout));
     }
     std::fs::remove_file(dir.join("m.in")).unwrap();
+}
+
+/// A picture that fails after the last step leaves the run complete: the
+/// state is written, the run is not called interrupted, and the error is
+/// said with status 1.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_picture_failing_after_the_last_step_keeps_the_state() {
+    let dir = folder("late-picture");
+    std::os::unix::fs::symlink("/dev/full", dir.join("x.png")).unwrap();
+    let out = screensaver(
+        &dir,
+        &[
+            "5",
+            "two.in",
+            "--render",
+            "x.png",
+            "--state-out",
+            "s.state",
+            "--json",
+        ],
+    );
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    let value: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(value["interrupted"], false);
+    assert_eq!(value["steps_run"], 6);
+    assert!(dir.join("s.state").exists(), "{stderr}");
+    assert!(stderr.contains("x.png: cannot write"), "{stderr}");
+}
+
+/// Standard output sent to a file that a numbered picture would replace is
+/// refused before the run.
+#[cfg(unix)]
+#[test]
+fn standard_output_into_a_numbered_picture_is_refused() {
+    let dir = folder("stdout-frame");
+    let results = dir.join("seq-000005.png");
+    std::fs::write(&results, b"kept").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
+        .args(["10", "two.in", "--render", "seq.png", "--render-every", "5"])
+        .current_dir(&dir)
+        .stdout(
+            std::fs::OpenOptions::new()
+                .append(true)
+                .open(&results)
+                .unwrap(),
+        )
+        .output()
+        .unwrap();
+    let stderr = text(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(
+        stderr.contains("--render and standard output (`>`) name the same file"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(&results).unwrap(), b"kept");
 }

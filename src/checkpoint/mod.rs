@@ -236,7 +236,7 @@ impl Checkpoint {
             });
         }
         let n = self.lines.len() as u64;
-        let pairs = n * n.saturating_sub(1) / 2;
+        let pairs = n.saturating_mul(n.saturating_sub(1)) / 2;
         for (line, kind, value, most) in [
             (
                 4,

@@ -153,7 +153,7 @@ pub struct DetectorConfig {
     /// split subtrees of a sixteenth of this and up). Speed only.
     pub grain: usize,
     /// Sweep: whether the pairs a sweep finds are kept for the steps
-    /// after it (docs/DESIGN.md, "Near pairs"). Speed only.
+    /// after it (docs/DESIGN.md, "Sweep and prune", near pairs). Speed only.
     pub keep_pairs: KeepPairs,
 }
 

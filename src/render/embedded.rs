@@ -5,7 +5,7 @@
 //! put into it as an image (x11rb, the X protocol in Rust, no C library),
 //! the picture stretched over the whole window, and it follows the
 //! window's size as it changes. The run ends when the window goes away,
-//! on SIGINT or SIGTERM (the daemon ends hacks with SIGTERM), or after the
+//! on SIGINT, SIGTERM or SIGHUP (the daemon ends hacks with SIGTERM), or after the
 //! frames asked for.
 
 use super::live::{FrameClock, Outcome, Pace, Scenes, Simulation};

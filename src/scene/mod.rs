@@ -484,7 +484,9 @@ impl Scene {
     pub fn peek_lines(path: &Path) -> Option<(u64, u64)> {
         use std::io::Read;
         let mut file = std::fs::File::open(path).ok()?;
-        let size = file.metadata().ok()?.len();
+        // A pipe (`/dev/stdin`, `<(...)`) is read once, by the loading
+        // itself, and says no size.
+        let size = Some(file.metadata().ok()?).filter(|m| m.is_file())?.len();
         let mut head = Vec::with_capacity(64);
         Read::by_ref(&mut file)
             .take(64)

@@ -3,6 +3,15 @@
 //! It reads its arguments into a [`Job`], which the library runs; what is
 //! here is the command line, its exit codes and the progress bar.
 
+/// `eprintln!` that never panics: after a hangup the terminal is gone,
+/// and a message that cannot be shown must not change how the run ends.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 mod args;
 mod progress;
 mod words;
@@ -70,7 +79,7 @@ fn main() -> ExitCode {
     let matches = Cli::command().get_matches_from(with_xscreensaver_spellings(std::env::args_os()));
     let cli = Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit());
     if let Err(e) = Signal::catch() {
-        eprintln!("screensaver: warning: cannot catch SIGINT, SIGTERM and SIGHUP: {e}");
+        say!("screensaver: warning: cannot catch SIGINT, SIGTERM and SIGHUP: {e}");
     }
     let outcome = match &cli.command {
         Some(Command::Gen(args)) => gen(args),
@@ -84,12 +93,12 @@ fn main() -> ExitCode {
             signal.end_process()
         }
         Err(Failure::Error(message)) => {
-            eprintln!("screensaver: error: {message}");
+            say!("screensaver: error: {message}");
             ExitCode::FAILURE
         }
         Err(Failure::Errors(messages)) => {
             for message in messages {
-                eprintln!("screensaver: error: {message}");
+                say!("screensaver: error: {message}");
             }
             ExitCode::FAILURE
         }
@@ -111,7 +120,7 @@ fn gen(args: &GenArgs) -> Result<Option<Signal>, Failure> {
             let what = args.output.as_ref().map_or("the scene".into(), |p| {
                 format!("{}: nothing written", p.display())
             });
-            eprintln!("screensaver: gen stopped by {}: {what}", signal.name());
+            say!("screensaver: gen stopped by {}: {what}", signal.name());
             Ok(Some(signal))
         }
         None => written.map(|()| None),

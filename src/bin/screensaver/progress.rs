@@ -41,8 +41,8 @@ impl Progress for Bar {
     fn note(&mut self, note: Note) {
         let line = format!("screensaver: {}", crate::words::note(&note));
         match &self.bar {
-            Some(bar) => bar.suspend(|| eprintln!("{line}")),
-            None => eprintln!("{line}"),
+            Some(bar) => bar.suspend(|| say!("{line}")),
+            None => say!("{line}"),
         }
     }
 }

@@ -43,7 +43,7 @@ use settle::settle;
 
 /// Steps of its line's travel a box is widened by: the steps it stays
 /// inside its widened box if nothing turns its line. Wider keeps the pairs
-/// longer but keeps more of them (docs/DESIGN.md, "Near pairs").
+/// longer but keeps more of them (docs/DESIGN.md, "Sweep and prune", near pairs).
 const MARGIN_STEPS: f64 = 8.0;
 
 /// The most a diagonal's value moves for a unit of travel along `x` or
