@@ -6,6 +6,12 @@
 
 use crate::line::LARGE_SCENE;
 
+/// Default for the smallest piece of work handed to a thread, in lines
+/// or events, where a phase is cut into many pieces (`--grain`): the
+/// quadtree's phases, the tied events' waves, and the move of scenes
+/// beyond 256 grains.
+pub const DEFAULT_GRAIN: usize = 16 * 1024;
+
 /// The step's thresholds.
 pub(crate) struct Schedule;
 

@@ -22,6 +22,7 @@ mod banded;
 
 use crate::detect::sweep::hull::{pack, DIRECTIONS};
 use crate::detect::sweep::plan;
+use crate::detect::sweep::tuning::LayoutCost;
 
 /// An axis-aligned box, closed: boxes that only touch overlap. A box whose
 /// least value exceeds its greatest on either axis, or that holds a NaN, is
@@ -122,7 +123,7 @@ const BROAD_SAMPLE: usize = 2048;
 /// fastest on generated uniform and clustered boxes, clustered ones
 /// gaining the most from the extra bands it buys (`versus_broccoli`;
 /// `docs/DESIGN.md`, "The broad phase on your own boxes").
-const LAYOUT_COST: plan::LayoutCost = plan::LayoutCost {
+const LAYOUT_COST: LayoutCost = LayoutCost {
     per_box: 4.0,
     per_guest: 0.0,
 };

@@ -19,8 +19,9 @@ mod quadtree;
 pub(crate) mod sweep;
 pub(crate) mod swept;
 
+pub use crate::schedule::DEFAULT_GRAIN;
 pub use brute::Brute;
-pub use quadtree::{Quadtree, DEFAULT_GRAIN, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
+pub use quadtree::{Quadtree, DEFAULT_LEAF_SIZE, DEFAULT_MAX_DEPTH};
 pub use sweep::Sweep;
 pub use swept::swept_box;
 

@@ -103,9 +103,6 @@ impl Default for Quadtree {
     }
 }
 
-/// Default for the smallest piece of work handed to a thread, in lines.
-pub const DEFAULT_GRAIN: usize = 16 * 1024;
-
 /// The sort key given to slots left out of the tree: above every real key.
 const UNBOXED_KEY: u64 = u64::MAX;
 

@@ -7,7 +7,9 @@
 //! apart) it stops after a budget of moves and a radix sort does the job.
 
 use super::hull::{Packed, NO_KEY};
+use crate::detect::sweep::tuning::MOVES_PER_BOX;
 use crate::index::Slot;
+use crate::lanes::blocks::BLOCK as IN_ORDER_RUN;
 use crate::team::{self, Team};
 use multiversion::multiversion;
 use std::ops::Range;
@@ -213,12 +215,6 @@ fn permute<T: Copy>(v: &mut [T], order: &[(f32, u32)], spare: &mut Vec<T>) {
     spare.extend(order.iter().map(|&(_, at)| v[at as usize]));
     v.copy_from_slice(spare);
 }
-
-/// Moves an insertion sort may make per box before it gives way to a
-/// radix sort: a nearly sorted band is put right in place by a few moves,
-/// while boxes far out of order cost the radix sort's fixed passes less
-/// (docs/DESIGN.md, "Sweep and prune", one band, and "Tried and dropped").
-pub(crate) const MOVES_PER_BOX: usize = 8;
 
 /// Boxes as parallel arrays, followed by one sentinel box (key
 /// [`NO_KEY`]) so that a scan always stops.
@@ -430,9 +426,6 @@ fn out_of_order_without_avx2() -> Option<OutOfOrder> {
 fn out_of_order_without_avx2() -> Option<OutOfOrder> {
     None
 }
-
-/// Boxes [`insert`] checks at once for a run already in order.
-const IN_ORDER_RUN: usize = crate::lanes::blocks::BLOCK;
 
 #[cfg(test)]
 mod tests {

@@ -67,9 +67,13 @@ mod mend;
 mod near;
 pub(crate) mod plan;
 pub(crate) mod scan;
+pub(crate) mod tuning;
 
 use super::clock::PhaseClock;
 use super::{Detector, DetectorConfig, Findings, Stored};
+use crate::detect::sweep::tuning::{
+    DENSE, LAYOUT_COST, NOTE_BLOCK, PLAN_EVERY, PLAN_EVERY_MOST, TEAM_SWEEP_CHUNK,
+};
 use crate::index::Slot;
 use crate::line::{Line, DT};
 use crate::schedule::Schedule;
@@ -83,32 +87,6 @@ use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
-/// Steps between two plans (the first step always makes one). A plan of
-/// one band that comes out as the one before (one band, the same
-/// direction) doubles the wait, up to [`PLAN_EVERY_MOST`]: a plan costs a
-/// few hundred instructions a sampled box (two sorts of the sample in each
-/// of four directions), some 2% of a scene of a thousand lines planned
-/// every 256 steps.
-const PLAN_EVERY: u64 = 256;
-
-/// The longest wait between two plans of one band along one direction.
-const PLAN_EVERY_MOST: u64 = 4096;
-
-/// Boxes made at a time before the movers among them are noted (16 KB of
-/// hulls, at hand in the cache).
-const NOTE_BLOCK: usize = 512;
-
-/// Candidates a box (last step) above which the sweep meets every box's
-/// candidates a block of eight at a time, with no branch on how many it
-/// has ([`scan::sweep`]). In a dense scene the branch on a box's count
-/// is mispredicted often and the blocks are mostly full; in a sparse one
-/// most boxes meet one candidate or none, and a block is wasted work
-/// (docs/DESIGN.md, "Sweep and prune", the sweep).
-const DENSE: f64 = 2.0;
-
-/// Boxes a thread of a team sweeps at a time (with one band).
-const TEAM_SWEEP_CHUNK: usize = 256;
-
 /// The sweep's phases, as [`Detector::phase_times`] names them: making
 /// the boxes and noting the movers (and now and then the plan); with one
 /// band, sorting them; with several, laying them out band by band (until
@@ -116,10 +94,15 @@ const TEAM_SWEEP_CHUNK: usize = 256;
 /// bands as soon as it laid them out); sweeping and testing the pairs that
 /// overlap, and the wild lines.
 const PHASES: [&str; 4] = ["hulls", "sort", "layout", "sweep and test"];
-const HULLS: usize = 0;
-const SORT: usize = 1;
-const LAYOUT: usize = 2;
-const SWEEP: usize = 3;
+
+/// The sweep's phases, in [`PHASES`]' order.
+#[derive(Clone, Copy)]
+enum Phase {
+    Hulls,
+    Sort,
+    Layout,
+    Sweep,
+}
 
 /// The sweep's phase timing.
 type Clock = PhaseClock<{ PHASES.len() }>;
@@ -184,9 +167,9 @@ impl Sweep {
         }
     }
 
-    fn lap(&mut self, phase: usize) {
+    fn lap(&mut self, phase: Phase) {
         if let Some(clock) = &mut self.clock {
-            clock.lap(phase);
+            clock.lap(phase as usize);
         }
     }
 
@@ -318,7 +301,7 @@ impl Sweep {
     fn make_plan(&mut self) {
         let n = self.sorted.len();
         let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
-        let plan = plan::choose(plan::LAYOUT, &sample, boxed, hull::DIRECTIONS);
+        let plan = plan::choose(LAYOUT_COST, &sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
             for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
@@ -371,11 +354,11 @@ impl Sweep {
         let laid = (self.sorted.slice(n), self.plan.along);
         if keep && self.near.make(lines, dt, &self.team_for_kept(n), laid) {
             // The pairs kept hold: no sweep this step.
-            for phase in [HULLS, SORT, LAYOUT] {
+            for phase in [Phase::Hulls, Phase::Sort, Phase::Layout] {
                 self.lap(phase);
             }
             self.test_kept((stored, dt), found, &self.team_for_kept(n));
-            self.lap(SWEEP);
+            self.lap(Phase::Sweep);
             self.choose(found.counts.candidates - before.candidates, false);
             return;
         }
@@ -388,15 +371,15 @@ impl Sweep {
             self.make_plan();
         }
         self.until_plan = self.until_plan.saturating_sub(1);
-        self.lap(HULLS);
+        self.lap(Phase::Hulls);
 
         let (boxed, swept) = if self.plan.bands.count > 1 {
             self.lay_out_and_sweep(stored, dt, found)
         } else {
             self.layout.forget();
             let boxed = self.sorted.sort(&self.team_for(n));
-            self.lap(SORT);
-            self.lap(LAYOUT);
+            self.lap(Phase::Sort);
+            self.lap(Phase::Layout);
             self.sweep_chunks(stored, dt, boxed, found);
             (boxed, boxed)
         };
@@ -414,7 +397,7 @@ impl Sweep {
                 .extend(wild.iter().filter(|&&s| !stored.line(s).is_inert()));
             found.test_wild(stored, &self.wild, boxed_slots.iter().copied(), dt);
         }
-        self.lap(SWEEP);
+        self.lap(Phase::Sweep);
         self.choose(found.counts.candidates - before.candidates, true);
     }
 
@@ -453,7 +436,7 @@ impl Sweep {
         let bands = self.plan.bands;
         let team = self.team_for(n);
         let groups = team.threads();
-        self.lap(SORT);
+        self.lap(Phase::Sort);
         let mut chunks = std::mem::take(&mut self.chunks);
         // A member without a group (fewer bands than threads) finds
         // nothing: every group's findings start empty.
@@ -475,7 +458,7 @@ impl Sweep {
         let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
             let end = layout_end.into_inner().expect("the layout's end");
-            clock.lap_at(LAYOUT, end.unwrap_or_else(Instant::now));
+            clock.lap_at(Phase::Layout as usize, end.unwrap_or_else(Instant::now));
         }
         drop(parts);
         chunks[..groups]

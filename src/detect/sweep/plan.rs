@@ -10,6 +10,7 @@
 use super::bands::Bands;
 use super::hull::NO_KEY;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
+use crate::detect::sweep::tuning::{LayoutCost, MAX_BANDS, SAMPLE, SWEEP_COST};
 
 /// How to sweep: the direction, and the bands cut across the other one.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -25,39 +26,6 @@ pub(crate) struct Plan {
 fn across(a: usize) -> usize {
     [1, 0, 3, 2][a]
 }
-
-/// The model's cost of sweeping one box (its own work, apart from the
-/// pairs it meets), in units of one candidate pair met: a box's loop
-/// ends with a branch no predictor foresees, so it costs several
-/// candidates' worth (docs/DESIGN.md, "Sweep and prune", the plan).
-const SWEEP_COST: f64 = 5.0;
-
-/// What laying boxes out in bands costs the model, in units of one
-/// candidate pair met.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct LayoutCost {
-    /// Each box laid out in a band (its home or a guest).
-    pub per_box: f64,
-    /// Each guest, on top of that.
-    pub per_guest: f64,
-}
-
-/// The layout's cost in units of one candidate: a box laid out (kept
-/// from the step before and updated), and each guest on top of it, listed
-/// in every band it reaches above its home and swept against that band's
-/// homes. Set where the model's choices matched the measured ones: `koch`
-/// is cut into bands, and `mit` (whose long lines make a third of its
-/// boxes guests), `sin_wave` and `smalllines` are not.
-pub(crate) const LAYOUT: LayoutCost = LayoutCost {
-    per_box: 3.0,
-    per_guest: 20.0,
-};
-
-/// Most boxes the plan looks at; beyond this it samples evenly.
-const SAMPLE: usize = 16 * 1024;
-
-/// The most bands a plan cuts.
-const MAX_BANDS: usize = 1 << 14;
 
 /// What the sample says about one direction.
 #[derive(Clone, Copy, Debug)]
@@ -162,7 +130,7 @@ pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
 /// sweeping along one of the first `directions` directions (2: the axes
 /// only, for boxes without diagonals; 4: the diagonals too), for a sweep
-/// that lays boxes out in bands at `layout` ([`LAYOUT`]).
+/// that lays boxes out in bands at `layout` ([`LAYOUT_COST`]).
 pub(crate) fn choose(
     layout: LayoutCost,
     sample: &[Packed],
@@ -202,6 +170,7 @@ pub(crate) fn choose(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::sweep::tuning::LAYOUT_COST;
     use proptest::prelude::*;
 
     /// The pairs met, counted by a binary search for every box.
@@ -252,7 +221,7 @@ mod tests {
         // Boxes strung out along x, all at the same height: along y every
         // pair meets, along x only neighbours.
         let sample: Vec<Packed> = (0..200).map(|i| boxed(i as f32, 0.0, 1.5, 1.0)).collect();
-        let plan = choose(LAYOUT, &sample, sample.len(), 2);
+        let plan = choose(LAYOUT_COST, &sample, sample.len(), 2);
         assert_eq!(plan.along, 0);
         assert_eq!(plan.bands.count, 1);
     }
@@ -265,10 +234,11 @@ mod tests {
                 boxed(x, y, 1.0, 1.0)
             })
             .collect();
-        let plan = choose(LAYOUT, &sample, 1_000_000, 2);
+        let plan = choose(LAYOUT_COST, &sample, 1_000_000, 2);
         assert!(plan.bands.count > 16, "{plan:?}");
         // More bands cost more than they save past the model's optimum.
-        let cost = |total, candidates, share, count| cost(LAYOUT, total, candidates, share, count);
+        let cost =
+            |total, candidates, share, count| cost(LAYOUT_COST, total, candidates, share, count);
         assert!(cost(1000, 1e6, 0.001, 1) > cost(1000, 1e6, 0.001, 30));
         assert!(cost(1000, 1e3, 0.1, 1) < cost(1000, 1e3, 0.1, 30));
     }

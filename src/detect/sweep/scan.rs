@@ -6,10 +6,12 @@ use super::boxes::BoxSlice;
 use super::hull::{hi, overlaps, reach, Packed};
 use super::layout::GroupView;
 use super::Chunk;
+use crate::detect::sweep::tuning::DENSE_WITHOUT_AVX2;
 use crate::detect::{Findings, Stored};
 use crate::index::Slot;
 #[cfg(target_arch = "x86_64")]
 use crate::lanes::blocks;
+use crate::lanes::blocks::BLOCK;
 use crate::line::{read_ahead, Line, LARGE_SCENE, READ_AHEAD};
 use crate::narrow::IntersectionKind;
 use multiversion::multiversion;
@@ -267,17 +269,6 @@ pub(crate) fn meeting(hulls: &[Packed], reach: &Packed, met: &mut Vec<u32>) {
         }
     }
 }
-
-/// Whether a dense scene is scanned a block at a time where the processor
-/// lacks AVX2: on WebAssembly, whose SIMD makes a block's masks in a few
-/// instructions, it pays as it does with AVX2; on x86-64's baseline even
-/// masks made with SSE2 lost to the single loop, and other targets, whose
-/// masks are made lane by lane, keep the single loop too (docs/DESIGN.md,
-/// "Sweep and prune", the sweep).
-const DENSE_WITHOUT_AVX2: bool = cfg!(all(target_arch = "wasm32", target_feature = "simd128"));
-
-/// Boxes compared at a time by a block.
-const BLOCK: usize = crate::lanes::blocks::BLOCK;
 
 /// Which of a block of boxes meet the key after them (see [`sweep_with`]).
 #[cfg(any(test, not(all(target_arch = "wasm32", target_feature = "simd128"))))]

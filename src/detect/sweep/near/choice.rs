@@ -1,49 +1,10 @@
 //! Whether the sweep keeps its pairs for the steps after it
 //! ([`super`]): chosen as the run goes, from the work each way meets.
 
+use crate::detect::sweep::tuning::{
+    FEWER, FIRST_WAIT, JUDGE_EVERY, KEEP_MOST, LINE_WEIGHT, LONGEST_WAIT, SOONEST_SWEEP, TRY_BELOW,
+};
 use crate::detect::KeepPairs;
-
-/// Steps swept before pairs are first tried, and again after a good
-/// stretch of keeping them.
-const FIRST_WAIT: u64 = 16;
-
-/// The most steps swept between two tries (the wait grows fourfold after
-/// each try that failed).
-const LONGEST_WAIT: u64 = 4096;
-
-/// The part of a sweep's work a step (in candidates, [`LINE_WEIGHT`])
-/// that the pairs kept must stay below: a kept pair is read at random
-/// where a sweep reads its boxes in order, and on large scenes it waits on
-/// memory for it.
-const FEWER: f64 = 0.6;
-
-/// A sweep's work on a line's box (gathered, laid out, swept), as many
-/// candidates' worth: on `koch`, about 107 instructions a box and 62 a
-/// candidate met, the work a kept pair takes about 16. So `koch`'s
-/// 3,900 lines keep about 4,200 pairs a step against 2,900 candidates
-/// and run 0.80x of the instructions sweeping; `box`'s 400 lines keep 4,700
-/// against 3,500 and run 1.33x, `sin_wave`'s 1,180 lines 4,200 against
-/// 380 and 1.35x (sweeps of widened boxes included).
-const LINE_WEIGHT: f64 = 3.0;
-
-/// The fewest steps between two sweeps of widened boxes: a scene whose
-/// boxes leave sooner sweeps more than it keeps.
-const SOONEST_SWEEP: u64 = 3;
-
-/// Lines from which pairs are not tried where it pays: generated scenes
-/// of 6,000 lines kept them (0.84x of the instructions on one thread) but
-/// ran 0.98x of sweeping every step on one thread and 0.90x on two, where
-/// the sweep shares its work better than a kept step; larger scenes lose
-/// more (10,000 lines 0.99x and 0.86x, 30,000 0.93x and 0.72x), and each
-/// try costs a few steps' worth.
-const TRY_BELOW: usize = 4096;
-
-/// Steps pairs are kept between two judgements of whether they pay.
-const JUDGE_EVERY: u64 = 32;
-
-/// Steps pairs are kept at most before the sweep runs every step again
-/// for a while, to measure it anew.
-const KEEP_MOST: u64 = 2048;
 
 /// Whether pairs are kept, chosen by what each way meets: keeping pays
 /// where the pairs kept, compared every step, are well under a sweep's

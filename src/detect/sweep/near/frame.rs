@@ -3,6 +3,7 @@
 
 use super::{travel, ROUNDING};
 use crate::detect::sweep::hull::Packed;
+use crate::detect::sweep::tuning::{FRAME_FLOOR, FRAME_PAYS, FRAME_SAMPLE};
 use crate::detect::swept::{DIAGONAL_X, DIAGONAL_Y};
 use crate::detect::Stored;
 use crate::geometry::Vec2;
@@ -19,24 +20,6 @@ pub(super) struct Frame {
     /// Steps since the widened boxes were made.
     pub(super) steps: u64,
 }
-
-/// The most lines whose velocities choose a frame.
-const FRAME_SAMPLE: usize = 64;
-
-/// Sweeps of widened boxes between two choices of the frame (and of the
-/// least travel): the lines' velocities change slowly as a whole, and
-/// the choice costs a tiny scene a few per cent.
-pub(super) const FRAME_EVERY: u64 = 8;
-
-/// The part of the lines' mean travel at rest that their mean travel in a
-/// moving frame must be below for the frame to be taken.
-const FRAME_PAYS: f64 = 0.8;
-
-/// The part of the lines' mean travel in a moving frame that a line at
-/// rest in it is widened by: most such lines stay at rest (they move with
-/// the shape), so a little, against rounding and nudges, where a frame at
-/// rest gives its slow lines the whole mean.
-const FRAME_FLOOR: f64 = 0.1;
 
 impl Frame {
     /// Chooses the frame for boxes widened now: the median velocity of

@@ -37,31 +37,10 @@ mod choice;
 mod frame;
 mod settle;
 
+use crate::detect::sweep::tuning::{FRAME_EVERY, MARGIN_STEPS, MEND_MOST, SHARED_PAIRS_FROM};
 pub(crate) use choice::Choice;
-use frame::{Frame, Shift, FRAME_EVERY};
+use frame::{Frame, Shift};
 use settle::settle;
-
-/// Steps of its line's travel a box is widened by: the steps it stays
-/// inside its widened box if nothing turns its line. Wider keeps the pairs
-/// longer but keeps more of them (docs/DESIGN.md, "Sweep and prune", near pairs).
-const MARGIN_STEPS: f64 = 8.0;
-
-/// The most a diagonal's value moves for a unit of travel along `x` or
-/// `y`.
-const DIAGONAL: f64 = if DIAGONAL_X > DIAGONAL_Y {
-    DIAGONAL_X
-} else {
-    DIAGONAL_Y
-};
-
-/// The most leavers mended one at a time rather than by a sweep.
-const MEND_MOST: usize = 16;
-
-/// Pairs kept from which their comparison is shared among the team, a
-/// group a thread (fewer are compared on the stepping thread): `koch`'s
-/// 4,000 or so take about 5 us a step on one thread, well over a
-/// hand-off.
-const SHARED_PAIRS_FROM: usize = 1024;
 
 /// The widened box of a line that had no box at the sweep: no box lies
 /// inside it, so a line that has a box again calls for a sweep.
@@ -580,7 +559,9 @@ fn travel(v: Vec2, frame: [f64; 2]) -> f64 {
 fn widened(b: &Packed, line: &Line, dt: f64, (velocity, least): ([f64; 2], f64)) -> Packed {
     let margin = MARGIN_STEPS * dt * max(travel(line.v, velocity), least);
     // The diagonals' values are as many times larger.
-    let (s, d) = (margin as f32, (margin * DIAGONAL) as f32);
+    // The most a diagonal's value moves for a unit of travel along x or y.
+    let diagonal = DIAGONAL_X.max(DIAGONAL_Y);
+    let (s, d) = (margin as f32, (margin * diagonal) as f32);
     let by = [s, s, d, d, s, s, d, d];
     let rounding = match velocity == [0.0; 2] {
         true => 0.0,
