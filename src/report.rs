@@ -3,7 +3,7 @@
 //! way (a header naming the frames and the input, and the results block),
 //! and the statistics `--stats` adds, as text and as JSON.
 
-use crate::detect::{DetectorConfig, DetectorKind, DetectorStats};
+use crate::detect::{DetectorConfig, DetectorKind, DetectorStats, SweepReport};
 use crate::generate::{SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use crate::team::HandOffs;
 use crate::world::PhaseTimes;
@@ -65,6 +65,34 @@ impl DrawStats {
     }
 }
 
+/// The sweep's plan in a few words, for `--stats`: the direction it
+/// sweeps along, its bands, and how it kept its pairs.
+pub(crate) fn plan_words(plan: &SweepReport) -> String {
+    // `u` and `w` are the diagonals.
+    let name = ["x", "y", "the diagonal x+y", "the diagonal x-y"];
+    let along = name[plan.along];
+    let swept = match plan.bands {
+        1 => format!("along {along}, one band"),
+        count => format!("along {along}, {count} bands across {}", name[plan.across]),
+    };
+    let (keeping, sweeps) = (plan.keeping, plan.sweeps);
+    match (sweeps, keeping - sweeps) {
+        (0, _) => swept,
+        (tries, 0) => format!("{swept}; pairs tried {tries} times, not kept"),
+        (_, kept) => format!(
+            "{swept}; pairs kept on {kept} of {} steps, a sweep every {:.1} and {:.1} \
+             boxes mended a step while kept, {}",
+            plan.steps,
+            keeping as f64 / sweeps as f64,
+            plan.mended as f64 / keeping as f64,
+            match plan.moving {
+                0 => "no sweep in a moving frame".to_string(),
+                moving => format!("{moving} of its {sweeps} sweeps in a moving frame"),
+            }
+        ),
+    }
+}
+
 /// A run's statistics (`--stats`): the detector's work, the time of each
 /// phase, the thread team's hand-offs and the pictures drawn.
 #[derive(Clone, Debug)]
@@ -95,13 +123,15 @@ impl Stats {
         Stats {
             kind,
             config: *config,
-            plan: world.detector().describe(),
+            plan: (world.detector().report().plan)
+                .map(|plan| plan_words(&plan))
+                .unwrap_or_default(),
             lines: world.lines().len(),
             steps: world.steps(),
             threads: world.threads_run(),
             work: world.detector_stats(),
             times: world.phase_times().unwrap_or_default(),
-            detector_phases: world.detector().phase_times(),
+            detector_phases: world.detector().report().phases,
             hand_offs: world.hand_offs(),
             drawn,
         }

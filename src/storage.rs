@@ -4,7 +4,7 @@
 //! in last step's layout, and each exact test reads two neighbours in that
 //! layout. Stored by id, every one of those reads lands anywhere among the
 //! lines; on two threads, half of them land on lines the other thread
-//! wrote last. So when the detector asks ([`Detector::reorder`]),
+//! wrote last. So when the detector asks ([`Detector::hand_over`]),
 //! the world stores the lines in its order as it moves them: each line is
 //! copied to its place in that order and moved there, in one pass split
 //! into contiguous shares, one per thread, and next step each thread makes
@@ -24,7 +24,7 @@
 //! The world always holds its lines this way: until the detector first
 //! asks, each slot holds the line of that id.
 //!
-//! [`Detector::reorder`]: crate::detect::Detector::reorder
+//! [`Detector::hand_over`]: crate::detect::Detector::hand_over
 
 use crate::detect::Stored;
 use crate::index::{Index, LineId, Slot};

@@ -4,7 +4,8 @@
 use crate::checkpoint::{self, Checkpoint};
 pub use crate::counters::Counters;
 use crate::detect::{
-    Detector, DetectorConfig, DetectorKind, DetectorStats, Findings, PairCounts, DEFAULT_GRAIN,
+    Detector, DetectorConfig, DetectorKind, DetectorStats, Findings, PairCounts, Setup,
+    DEFAULT_GRAIN,
 };
 use crate::line::{window_to_box_point, window_to_box_velocity, Color, Line, DT};
 use crate::narrow::{Event, Slot};
@@ -169,8 +170,8 @@ impl World {
         if let Some(team) = &team {
             team.set_timing(self.timing.is_some());
         }
-        self.detector.set_threads(team.clone());
         self.team = team;
+        self.detector.configure(&self.setup());
         Ok(())
     }
 
@@ -274,7 +275,7 @@ impl World {
             candidate_pairs: self.pairs.candidates,
             exact_tests: self.pairs.exact,
             events: self.events_found,
-            ..self.detector.stats()
+            ..self.detector.report().stats
         }
     }
 
@@ -300,7 +301,7 @@ impl World {
         } else {
             None
         };
-        self.detector.set_timing(on);
+        self.detector.configure(&self.setup());
         if let Some(team) = &self.team {
             team.set_timing(on);
         }
@@ -318,27 +319,53 @@ impl World {
         self.team.as_deref().map(Team::hand_offs)
     }
 
-    /// Runs one step: detect, resolve in `(first, second)` order, move, walls.
+    /// Runs one step, in the contract's stages: find the pairs that meet,
+    /// name their events in the contract's order, resolve them, then
+    /// integrate (move, walls, and the lines stored in the detector's
+    /// order where it asks).
     pub fn step(&mut self) {
         let t0 = self.timing.map(|_| Instant::now());
+        if !self.find_pairs() {
+            // Given up on a signal: the world is as it was before the step.
+            return;
+        }
+        let t1 = self.lap(t0, |t, d| t.detect += d);
+        self.name_events();
+        // The team (a handle of its own: `self` is borrowed mutably below),
+        // and whether the schedule shares the world's phases among it.
+        let handover = self.detector.hand_over();
+        let team = self.team.clone();
+        let shares = self.shares_step(handover.shares_step);
+        let shared = team.as_deref().filter(|_| shares);
+        self.resolve(shared, team.as_deref());
+        let t2 = self.lap(t1, |t, d| t.resolve += d);
+        let hits = self.integrate(handover.order, shared);
+        self.counters.wall += hits;
+        self.lap(t2, |t, d| t.advance += d);
+        self.steps += 1;
+    }
 
-        // While the lines are in id order, slots are ids: the events are
-        // sorted to be resolved in order; once the lines are in the
-        // detector's order, its events by slot are named by id and
-        // resolved as found, without a sort (see `crate::storage`).
-        let reordered = self.storage.reordered();
+    /// Finds the pairs that meet, their events by slot in `found`; false
+    /// where the detector gave the step up on a signal (only the all-pairs
+    /// detector, whose steps of many lines take minutes, does).
+    fn find_pairs(&mut self) -> bool {
         self.found.clear();
         let stored = self.storage.stored(&self.lines);
         self.detector.detect(stored, DT, &mut self.found);
-        // A detector that gave the step up on a signal leaves the world as
-        // it was before the step.
         self.gave_up = self.found.abandoned;
         if self.gave_up {
             self.found.clear();
             self.events.clear();
-            return;
         }
-        let t1 = self.lap(t0, |t, d| t.detect += d);
+        !self.gave_up
+    }
+
+    /// Puts the events in the contract's order of resolution. While the
+    /// lines are in id order, slots are ids: the events are sorted; once
+    /// the lines are in the detector's order, its events by slot are named
+    /// by id and resolved as found, without a sort (see `crate::storage`).
+    fn name_events(&mut self) {
+        let reordered = self.storage.reordered();
         let found = &mut self.found;
         self.events.clear();
         self.named = reordered;
@@ -351,39 +378,51 @@ impl World {
         self.pairs.add(&found.counts);
         self.events_found += found.events.len() as u64;
         self.counters.line += found.events.len() as u64;
-        // The team (a handle of its own: `self` is borrowed mutably below),
-        // for the world's phases where the schedule shares them.
-        let n = self.lines.len();
-        let team = self.team.clone();
-        let shares = Schedule::world_shares(n, reordered) && self.detector.shares_step();
-        let shared = team.as_deref().filter(|_| shares);
-        let (lines, found) = (&mut self.lines, &self.found.events);
-        match reordered {
-            true => (self.resolver).resolve_found(lines, found, &self.events, self.grain, shared),
-            false => (self.resolver).resolve_all(lines, found, self.grain, team.as_deref()),
+    }
+
+    /// Whether the world's own phases of this step (resolving and moving)
+    /// are shared among the team: where the schedule says so for its size
+    /// and order, and the detector did not run the step on one thread
+    /// (`detector_shares`).
+    fn shares_step(&self, detector_shares: bool) -> bool {
+        let reordered = self.storage.reordered();
+        Schedule::world_shares(self.lines.len(), reordered) && detector_shares
+    }
+
+    /// The settings the detector is handed.
+    fn setup(&self) -> Setup {
+        Setup {
+            timing: self.timing.is_some(),
+            team: self.team.clone(),
         }
-        let t2 = self.lap(t1, |t, d| t.resolve += d);
+    }
 
-        // Moving and the wall check in one pass over the lines: each line
-        // is moved, then checked, as the contract orders (the wall check
-        // reads only the line's own new position).
-        // The wall counter is a sum, the same in any order.
-        let hits = if let Some(order) = self.detector.reorder() {
-            // The lines stored in the detector's order as they move (see
-            // `crate::storage`), a share per member of the team.
-            (self.storage).advance_in_order(&mut self.lines, &order, shared)
-        } else {
-            // The lines (by slot) in as many pieces as the schedule says,
-            // moved by the detector, which may make its next boxes as
-            // they go.
-            let pieces = |team: &Team| Schedule::world_pieces(n, self.grain, team.threads());
-            let shared = shared.map(|team| (team, pieces(team)));
-            self.detector.advance(&mut self.lines, shared)
-        };
-        self.counters.wall += hits;
-        self.lap(t2, |t, d| t.advance += d);
+    /// Resolves the events: as found, a share a thread where `shared`, on
+    /// lines in the detector's order; else in waves of events on `team`.
+    fn resolve(&mut self, shared: Option<&Team>, team: Option<&Team>) {
+        let (lines, found) = (&mut self.lines, &self.found.events);
+        match self.named {
+            true => (self.resolver).resolve_found(lines, found, &self.events, self.grain, shared),
+            false => (self.resolver).resolve_all(lines, found, self.grain, team),
+        }
+    }
 
-        self.steps += 1;
+    /// Moves every line and bounces it off the walls in one pass (each
+    /// line moved, then checked, as the contract orders: the wall check
+    /// reads only the line's own new position); returns the lines that hit
+    /// a wall, a sum the same in any order. Where the detector asks, the
+    /// lines are stored in its order as they move (see `crate::storage`),
+    /// a share per member of the team; else they move in their slots, in as
+    /// many pieces as the schedule says, by the detector, which may make
+    /// its next boxes as they go.
+    fn integrate(&mut self, order: Option<Vec<Slot>>, shared: Option<&Team>) -> u64 {
+        if let Some(order) = order {
+            return (self.storage).advance_in_order(&mut self.lines, &order, shared);
+        }
+        let n = self.lines.len();
+        let pieces = |team: &Team| Schedule::world_pieces(n, self.grain, team.threads());
+        let shared = shared.map(|team| (team, pieces(team)));
+        self.detector.advance(&mut self.lines, shared)
     }
 
     /// The whole state in the reference's state format: one row per line,

@@ -57,7 +57,7 @@ pub(crate) trait Detector: Send {
     /// candidate pairs it compared ([`Findings::met`]). Must not change any
     /// line, and must let through every pair the all-pairs detector finds
     /// an event for. A detector that never gives a
-    /// [`Detector::reorder`] is only handed lines stored by id.
+    /// [`Handover::order`] is only handed lines stored by id.
     fn detect(&mut self, stored: Stored<'_>, dt: f64, found: &mut Findings);
 
     /// The world's last phase of a step: moves every line by its velocity
@@ -65,64 +65,98 @@ pub(crate) trait Detector: Send {
     /// ([`advance_and_bounce`](crate::motion::advance_and_bounce)), on
     /// `shared`'s team in as many pieces where the world shares the
     /// phase; returns the lines that hit a wall. The world calls it where
-    /// it leaves the lines in their slots ([`Detector::reorder`] gave no
+    /// it leaves the lines in their slots ([`Detector::hand_over`] gave no
     /// order), so a detector may make its next step's boxes in the same
     /// pass, while each line is at hand.
     fn advance(&mut self, lines: &mut [Line], shared: Option<(&Team, usize)>) -> u64 {
         crate::motion::advance(lines, shared)
     }
 
-    /// Asked once after each step's detection: the order to store the
-    /// lines in from the next step on, when it pays for the world to store
-    /// them in the order this detector reads them (`order[k]` is the slot
-    /// of the line to store at slot `k`), or `None` (the default) to leave
-    /// them where they are. The world stores them so before the next
-    /// detection; a detector that gives an order has renumbered the slots
-    /// it keeps to match (the line at slot `order[k]` is at slot `k`).
-    fn reorder(&mut self) -> Option<Vec<Slot>> {
-        None
+    /// Asked once after each step's detection: what the world does with
+    /// the lines this step ([`Handover`]). By default it leaves them where
+    /// they are, and shares its own phases where the schedule says so.
+    fn hand_over(&mut self) -> Handover {
+        Handover {
+            order: None,
+            shares_step: true,
+        }
     }
 
+    /// What the detector says of its work so far, as data ([`Report`]).
+    fn report(&self) -> Report {
+        Report::default()
+    }
+
+    /// Hands the detector the world's settings: whether its own phases
+    /// are timed, and the team the world steps with (`None`: one thread),
+    /// to split its large phases among. Detectors without phases, or that
+    /// do not split their work, ignore them.
+    fn configure(&mut self, _setup: &Setup) {}
+}
+
+/// What the world does with the lines after a step's detection, as the
+/// detector asks.
+#[derive(Debug, Default)]
+pub(crate) struct Handover {
+    /// The order to store the lines in from the next step on, when it pays
+    /// for the world to store them in the order the detector reads them
+    /// (`order[k]` is the slot of the line to store at slot `k`), or
+    /// `None` to leave them where they are. The world stores them so as
+    /// they move; a detector that gives an order has renumbered the slots
+    /// it keeps to match (the line at slot `order[k]` is at slot `k`).
+    pub order: Option<Vec<Slot>>,
     /// Whether the world shares its own phases of the step just detected
     /// (resolving and moving) among the team where the schedule says so:
-    /// true (the default) unless the detector ran the step on one thread,
-    /// its work too small to hand out, when handing out the world's phases
-    /// would not pay either.
-    fn shares_step(&self) -> bool {
-        true
-    }
+    /// false where the detector ran the step on one thread, its work too
+    /// small to hand out, when handing out the world's phases would not
+    /// pay either.
+    pub shares_step: bool,
+}
 
-    /// The detector's own counters so far (a tree's nodes and depth); the
-    /// pair counts are the world's. Zero for detectors without a tree.
-    fn stats(&self) -> DetectorStats {
-        DetectorStats::default()
-    }
+/// What a detector says of its work so far, as data that `--stats` words.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Report {
+    /// Its own counters (a tree's nodes and depth); the pair counts are
+    /// the world's.
+    pub stats: DetectorStats,
+    /// The sweep's plan as it stands, and how it kept its pairs.
+    pub plan: Option<SweepReport>,
+    /// The time spent in each of its own phases since timing was turned
+    /// on, by name, in the order they run; together they make up nearly
+    /// all of its time. Empty while timing is off.
+    pub phases: Vec<(&'static str, Duration)>,
+}
 
-    /// How the detector is working now, in a few words for `--stats` (for
-    /// example the direction a sweep runs along); empty if there is nothing
-    /// to say.
-    fn describe(&self) -> String {
-        String::new()
-    }
+/// The sweep's plan as it stands, and how it kept its pairs so far.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct SweepReport {
+    /// The direction swept along: 0 `x`, 1 `y`, 2 the diagonal `x+y`, 3
+    /// the diagonal `x-y`.
+    pub along: usize,
+    /// Bands the boxes are cut into (1: none).
+    pub bands: usize,
+    /// The direction the bands are cut across (as `along`).
+    pub across: usize,
+    /// Steps detected.
+    pub steps: u64,
+    /// Steps on which pairs were kept or tried.
+    pub keeping: u64,
+    /// Sweeps among them.
+    pub sweeps: u64,
+    /// Boxes mended while pairs were kept.
+    pub mended: u64,
+    /// Sweeps made in a frame moving with the lines.
+    pub moving: u64,
+}
 
-    /// Turns timing of the detector's own phases on or off (see
-    /// [`Detector::phase_times`]); off by default, and ignored by detectors
-    /// without phases.
-    fn set_timing(&mut self, _on: bool) {}
-
-    /// Hands the detector the team the world steps with
-    /// ([`World::set_threads`](crate::World::set_threads) calls it; `None`:
-    /// one thread), to split its large phases among. Detectors that do not
-    /// split their work ignore it.
-    fn set_threads(&mut self, _team: Option<std::sync::Arc<crate::team::Team>>) {}
-
-    /// The time spent in each of the detector's own phases since timing was
-    /// turned on, by name, in the order they run; together they make up
-    /// nearly all of its time. Empty while timing is off, and for detectors
-    /// without phases.
-    fn phase_times(&self) -> Vec<(&'static str, Duration)> {
-        Vec::new()
-    }
+/// The world's settings a detector is handed ([`Detector::configure`]).
+#[derive(Clone, Default)]
+pub(crate) struct Setup {
+    /// Whether the detector's own phases are timed (off by default: a few
+    /// clock reads a step).
+    pub timing: bool,
+    /// The team the world steps with; `None` for one thread.
+    pub team: Option<std::sync::Arc<Team>>,
 }
 
 /// The detectors the command line can choose between.

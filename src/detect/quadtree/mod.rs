@@ -19,14 +19,14 @@ mod walk;
 
 use super::clock::PhaseClock;
 use super::swept::{swept_box, SweptBox};
-use super::{Detector, DetectorStats, Findings, Stored};
+use super::{Detector, DetectorStats, Findings, Report, Setup, Stored};
 use crate::index::{Index, Slot};
 use crate::line::{Line, BOX_MAX, BOX_MIN};
 use crate::team::{Parts, Team, MAX_PIECES};
 use entries::{Entry, Refill};
 use grid::{Cells, Grid};
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 use tree::Tree;
 
 /// Default for the largest number of lines a leaf holds before it splits.
@@ -34,7 +34,7 @@ pub const DEFAULT_LEAF_SIZE: usize = 16;
 /// Default for the deepest level a node may split at.
 pub const DEFAULT_MAX_DEPTH: u32 = 12;
 
-/// The quadtree's phases, as [`Detector::phase_times`] names them.
+/// The quadtree's phases, as [`Report::phases`](crate::detect::Report) names them.
 #[derive(Clone, Copy, Debug)]
 enum Phase {
     /// Copying the lines into slots with their tree entries; testing wild
@@ -265,7 +265,7 @@ impl Quadtree {
     /// A quadtree tuned by `config`: its leaves hold at most
     /// `config.leaf_size` lines (at least 1) unless `config.max_depth` (at
     /// most 15, the grid's finest level) stops the splitting. Given a team
-    /// ([`Detector::set_threads`]), it splits its work among it, in pieces
+    /// ([`Detector::configure`]), it splits its work among it, in pieces
     /// of at least `config.grain` lines.
     pub fn new(config: &super::DetectorConfig) -> Self {
         Self {
@@ -449,19 +449,18 @@ impl Detector for Quadtree {
         self.stats.max_depth = self.stats.max_depth.max(walk.deepest);
     }
 
-    fn stats(&self) -> DetectorStats {
-        self.stats
+    fn report(&self) -> Report {
+        Report {
+            stats: self.stats,
+            phases: Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name)),
+            ..Report::default()
+        }
     }
 
-    fn set_timing(&mut self, on: bool) {
-        self.clock = on.then(Clock::new);
-    }
-
-    fn set_threads(&mut self, team: Option<Arc<Team>>) {
-        self.team = team;
-    }
-
-    fn phase_times(&self) -> Vec<(&'static str, Duration)> {
-        Clock::report_of(self.clock.as_ref(), Phase::ALL.map(Phase::name))
+    fn configure(&mut self, setup: &Setup) {
+        if self.clock.is_some() != setup.timing {
+            self.clock = setup.timing.then(Clock::new);
+        }
+        self.team = setup.team.clone();
     }
 }

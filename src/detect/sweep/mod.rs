@@ -70,7 +70,7 @@ pub(crate) mod scan;
 pub(crate) mod tuning;
 
 use super::clock::PhaseClock;
-use super::{Detector, DetectorConfig, Findings, Stored};
+use super::{Detector, DetectorConfig, Findings, Handover, Report, Setup, Stored, SweepReport};
 use crate::detect::sweep::tuning::{
     DENSE, LAYOUT_COST, NOTE_BLOCK, PLAN_EVERY, PLAN_EVERY_MOST, TEAM_SWEEP_CHUNK,
 };
@@ -85,9 +85,9 @@ use near::{Choice, Near, ToMake};
 use plan::Plan;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
-/// The sweep's phases, as [`Detector::phase_times`] names them: making
+/// The sweep's phases, as [`Report::phases`](crate::detect::Report) names them: making
 /// the boxes and noting the movers (and now and then the plan); with one
 /// band, sorting them; with several, laying them out band by band (until
 /// the stepping thread's own part of it ended: each thread sweeps its
@@ -138,7 +138,7 @@ pub struct Sweep {
     /// Whether last step met many candidates a box ([`DENSE`]).
     dense: bool,
     /// Steps until the world next stores the lines in the boxes' order
-    /// ([`Detector::reorder`], [`Schedule::STORE_EVERY`]).
+    /// ([`Detector::hand_over`], [`Schedule::STORE_EVERY`]).
     until_store: u64,
     /// The pairs the last sweep found, kept for the steps after it while
     /// they hold ([`near`]), and whether they are used.
@@ -158,7 +158,7 @@ pub struct Sweep {
 
 impl Sweep {
     /// A sweep detector on the calling thread alone, until
-    /// [`Detector::set_threads`] gives it a team, keeping pairs as
+    /// [`Detector::configure`] gives it a team, keeping pairs as
     /// `config.keep_pairs` says.
     pub fn new(config: &DetectorConfig) -> Self {
         Self {
@@ -546,11 +546,51 @@ impl Detector for Sweep {
     /// The boxes' order, band by band, where the lines are read by more
     /// than one thread or do not fit the cache
     /// ([`Schedule::stores_in_order`]), every [`Schedule::STORE_EVERY`]
-    /// steps; the boxes then name their lines by their new
-    /// slots, which are their places.
-    fn reorder(&mut self) -> Option<Vec<Slot>> {
+    /// steps (the boxes then name their lines by their new slots, which
+    /// are their places); and the world's phases not shared while the
+    /// pairs are kept on a scene too small to share
+    /// ([`Schedule::kept_shares`]): those steps run on this thread, and
+    /// need the lines in no other order.
+    fn hand_over(&mut self) -> Handover {
+        let shares_step = !self.keep || Schedule::kept_shares(self.sorted.len());
+        Handover {
+            order: self.store_order(shares_step),
+            shares_step,
+        }
+    }
+
+    fn report(&self) -> Report {
+        let plan = SweepReport {
+            along: self.plan.along,
+            bands: self.plan.bands.count,
+            across: self.plan.bands.across,
+            steps: self.steps,
+            keeping: self.near.steps,
+            sweeps: self.near.sweeps,
+            mended: self.near.mended,
+            moving: self.near.moving,
+        };
+        Report {
+            plan: Some(plan),
+            phases: Clock::report_of(self.clock.as_ref(), PHASES),
+            ..Report::default()
+        }
+    }
+
+    fn configure(&mut self, setup: &Setup) {
+        if self.clock.is_some() != setup.timing {
+            self.clock = setup.timing.then(Clock::new);
+        }
+        self.team = setup.team.clone().unwrap_or_default();
+    }
+}
+
+impl Sweep {
+    /// The order to store the lines in ([`Handover::order`]), if this step
+    /// is one to store them on.
+    fn store_order(&mut self, shares_step: bool) -> Option<Vec<Slot>> {
         let n = self.sorted.len();
-        if !Schedule::stores_in_order(n, self.team.threads()) || !self.shares_step() {
+        if !Schedule::stores_in_order(n, self.team.threads()) || !shares_step {
             return None;
         }
         if self.until_store > 0 {
@@ -565,53 +605,6 @@ impl Detector for Sweep {
         }
         self.near.reorder(&order);
         Some(order)
-    }
-
-    /// The direction swept along (`x`, `y`, `u` or `w`) and the number of
-    /// bands, as they stand.
-    /// False while the pairs are kept on a scene too small to share
-    /// ([`Schedule::kept_shares`]): those steps run on this thread, and
-    /// need the lines in no other order.
-    fn shares_step(&self) -> bool {
-        !self.keep || Schedule::kept_shares(self.sorted.len())
-    }
-
-    fn describe(&self) -> String {
-        // `u` and `w` are the diagonals.
-        let name = ["x", "y", "the diagonal x+y", "the diagonal x-y"];
-        let (along, bands) = (name[self.plan.along], self.plan.bands);
-        let swept = match bands.count {
-            1 => format!("along {along}, one band"),
-            count => format!("along {along}, {count} bands across {}", name[bands.across]),
-        };
-        let (keeping, sweeps) = (self.near.steps, self.near.sweeps);
-        match (sweeps, keeping - sweeps) {
-            (0, _) => swept,
-            (tries, 0) => format!("{swept}; pairs tried {tries} times, not kept"),
-            (_, kept) => format!(
-                "{swept}; pairs kept on {kept} of {} steps, a sweep every {:.1} and {:.1} \
-                 boxes mended a step while kept, {}",
-                self.steps,
-                keeping as f64 / sweeps as f64,
-                self.near.mended as f64 / keeping as f64,
-                match self.near.moving {
-                    0 => "no sweep in a moving frame".to_string(),
-                    moving => format!("{moving} of its {sweeps} sweeps in a moving frame"),
-                }
-            ),
-        }
-    }
-
-    fn set_timing(&mut self, on: bool) {
-        self.clock = on.then(Clock::new);
-    }
-
-    fn set_threads(&mut self, team: Option<Arc<Team>>) {
-        self.team = team.unwrap_or_default();
-    }
-
-    fn phase_times(&self) -> Vec<(&'static str, Duration)> {
-        Clock::report_of(self.clock.as_ref(), PHASES)
     }
 }
 
@@ -633,14 +626,19 @@ mod tests {
             .collect();
         let mut found = Findings::default();
         let mut sweep = Sweep::default();
-        sweep.set_threads(Some(Arc::new(Team::new(2).expect("a team"))));
+        sweep.configure(&Setup {
+            timing: false,
+            team: Some(Arc::new(Team::new(2).expect("a team"))),
+        });
         sweep.detect(Stored::by_id(&lines), 0.5, &mut found);
-        let steps: Vec<u64> = (0..40u64).filter(|_| sweep.reorder().is_some()).collect();
+        let steps: Vec<u64> = (0..40u64)
+            .filter(|_| sweep.hand_over().order.is_some())
+            .collect();
         let every = Schedule::STORE_EVERY;
         assert_eq!(steps, [0, every, 2 * every]);
         let mut alone = Sweep::default();
         alone.detect(Stored::by_id(&lines), 0.5, &mut found);
-        assert!((0..40).all(|_| alone.reorder().is_none()));
+        assert!((0..40).all(|_| alone.hand_over().order.is_none()));
     }
 
     /// Where pairs are kept, the move checks the boxes it makes against
@@ -666,7 +664,8 @@ mod tests {
             };
             let mut world = World::with_config(&scene, DetectorKind::Sweep, &config).unwrap();
             (0..150).for_each(|_| world.step());
-            let described = world.detector().describe();
+            let report = world.detector().report().plan.expect("a sweep's plan");
+            let described = crate::report::plan_words(&report);
             assert!(described.contains("boxes mended"), "{described}");
             assert!(!described.contains(" 0.0 boxes mended"), "{described}");
             let moving = !described.contains("no sweep in a moving frame");
