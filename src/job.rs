@@ -5,7 +5,7 @@
 //! screen with the window or a window another program owns, writes the
 //! files asked for and prints the original program's text (or JSON).
 
-use crate::checkpoint::Checkpoint;
+use crate::checkpoint::{self, Checkpoint};
 use crate::generate::{generate, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
 use crate::output;
 use crate::render::embedded;
@@ -688,7 +688,7 @@ impl Job {
                 let name = path.display().to_string();
                 let digest = digest.unwrap_or_else(|| scene.digest());
                 saved.continues(&name, &scene, digest, steps)?;
-                World::resume(saved, self.detector, &self.config)
+                saved.resume(self.detector, &self.config)
             }
             None => World::with_config(&scene, self.detector, &self.config),
         };
@@ -905,7 +905,7 @@ impl Job {
                 of: steps,
             }),
             Some(path) => {
-                let written = output::write_with(path, |out| world.write_state(out));
+                let written = output::write_with(path, |out| checkpoint::write_state(world, out));
                 errors.extend(written.err().map(JobError::from));
             }
             None => {}

@@ -34,8 +34,10 @@ impl Checkpoints<'_> {
 
     /// Writes the world's checkpoint, whole or not at all.
     pub fn save(&self, world: &World) -> Result<(), RunError> {
-        output::write_with(self.path, |out| world.write_checkpoint(out, self.digest))
-            .map_err(RunError::Checkpoint)
+        output::write_with(self.path, |out| {
+            crate::checkpoint::write(world, self.digest, out)
+        })
+        .map_err(RunError::Checkpoint)
     }
 }
 

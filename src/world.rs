@@ -1,7 +1,6 @@
 //! The world: every line, the two collision counters, and one step of the
 //! simulation (detect, resolve, move, walls).
 
-use crate::checkpoint::{self, Checkpoint};
 pub use crate::counters::Counters;
 use crate::detect::{
     Detector, DetectorConfig, DetectorKind, DetectorStats, Findings, PairCounts, Setup,
@@ -209,18 +208,18 @@ impl World {
         Self::new(lines, colors, detector)
     }
 
-    /// A world continuing the run that `checkpoint` recorded (its lines,
-    /// colours, step count and counters), with a detector chosen by kind
-    /// and tuned by `config`. Detectors keep nothing from step to step that
-    /// changes results, so the run goes on exactly as it would have.
-    pub fn resume(
-        checkpoint: Checkpoint,
+    /// A world continuing a run at `steps` steps with `counters` (as a
+    /// checkpoint recorded it: [`crate::checkpoint::Checkpoint::resume`]).
+    pub(crate) fn continuing(
+        lines: Vec<Line>,
+        colors: Vec<Color>,
+        (steps, counters): (u64, Counters),
         kind: DetectorKind,
         config: &DetectorConfig,
     ) -> Result<Self, ThreadsError> {
-        let mut world = Self::from_lines(checkpoint.lines, checkpoint.colors, kind, config)?;
-        world.steps = checkpoint.steps;
-        world.counters = checkpoint.counters;
+        let mut world = Self::from_lines(lines, colors, kind, config)?;
+        world.steps = steps;
+        world.counters = counters;
         Ok(world)
     }
 
@@ -423,41 +422,6 @@ impl World {
         let pieces = |team: &Team| Schedule::world_pieces(n, self.grain, team.threads());
         let shared = shared.map(|team| (team, pieces(team)));
         self.detector.advance(&mut self.lines, shared)
-    }
-
-    /// The whole state in the reference's state format: one row per line,
-    /// `id p1.x p1.y p2.x p2.y v.x v.y`, each value the shortest decimal
-    /// that reads back to the same `f64` (see [`crate::checkpoint`]).
-    pub fn state_text(&self) -> String {
-        let mut out = String::with_capacity(self.lines.len() * 120);
-        for (id, l) in self.lines().iter().enumerate() {
-            crate::rows::push_row(&mut out, id, l);
-            out.push('\n');
-        }
-        out
-    }
-
-    /// Writes the state (as [`World::state_text`]) to `out`, a block at a
-    /// time, formatted on the world's threads.
-    pub fn write_state(&self, out: &mut dyn std::io::Write) -> std::io::Result<()> {
-        checkpoint::write_state(out, &self.lines(), self.threads())
-    }
-
-    /// Writes a checkpoint of the run so far to `out`; `scene_digest` is
-    /// the [`Scene::digest`] of the scene the run started from.
-    pub fn write_checkpoint(
-        &self,
-        out: &mut dyn std::io::Write,
-        scene_digest: u64,
-    ) -> std::io::Result<()> {
-        checkpoint::write_checkpoint(
-            out,
-            scene_digest,
-            self.steps,
-            self.counters,
-            (&self.lines(), &self.colors),
-            self.threads(),
-        )
     }
 
     /// Runs `n` steps.

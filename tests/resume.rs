@@ -5,7 +5,7 @@
 mod common;
 
 use proptest::prelude::*;
-use screensaver::checkpoint::Checkpoint;
+use screensaver::checkpoint::{self, Checkpoint};
 use screensaver::generate::{generate, SceneKind};
 use screensaver::{DetectorConfig, DetectorKind, World};
 
@@ -20,7 +20,7 @@ fn config(threads: usize) -> DetectorConfig {
 
 fn checkpoint_text(world: &World, digest: u64) -> Vec<u8> {
     let mut out = Vec::new();
-    world.write_checkpoint(&mut out, digest).unwrap();
+    checkpoint::write(world, digest, &mut out).unwrap();
     out
 }
 
@@ -49,7 +49,7 @@ proptest! {
         let text = checkpoint_text(&part, digest);
         let saved = Checkpoint::parse(&text, "checkpoint").unwrap();
         prop_assert_eq!(saved.steps, stop);
-        let mut resumed = World::resume(saved, second, &config(1 + threads % 3)).unwrap();
+        let mut resumed = saved.resume(second, &config(1 + threads % 3)).unwrap();
         resumed.run(total - stop);
 
         prop_assert_eq!(resumed.steps(), whole.steps());
@@ -74,12 +74,12 @@ fn states_match_the_reference_files_byte_for_byte() {
             let expected =
                 std::fs::read(dir.join(format!("expected/{scene}.{step}.state"))).unwrap();
             let mut written = Vec::new();
-            world.write_state(&mut written).unwrap();
+            checkpoint::write_state(&world, &mut written).unwrap();
             assert!(
                 written == expected,
                 "{scene} step {step}: state differs from the reference file"
             );
-            assert_eq!(world.state_text().into_bytes(), expected);
+            assert_eq!(checkpoint::state_text(&world).into_bytes(), expected);
         }
     }
 }

@@ -176,7 +176,7 @@ pub extern "C" fn ss_line() -> f64 {
 /// Makes the text the whole state in the reference's state format.
 #[no_mangle]
 pub extern "C" fn ss_state() {
-    let state = with_world(|w| w.state_text()).unwrap_or_default();
+    let state = with_world(|w| screensaver::checkpoint::state_text(w)).unwrap_or_default();
     set_text(state);
 }
 

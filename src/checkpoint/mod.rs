@@ -37,6 +37,7 @@ use crate::scene::Scene;
 use crate::schedule::Schedule;
 use crate::scoped::Run;
 use crate::Vec2;
+use crate::World;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -111,14 +112,43 @@ impl std::io::Write for Hashing<'_> {
     }
 }
 
-/// Writes the state of `lines` (the reference's state format) to `out`,
-/// a block of rows at a time, formatted on up to `threads` threads.
-pub(crate) fn write_state(
+/// The whole state of `world` in the reference's state format: one row per
+/// line, `id p1.x p1.y p2.x p2.y v.x v.y`, each value the shortest decimal
+/// that reads back to the same `f64`.
+pub fn state_text(world: &World) -> String {
+    let lines = world.lines();
+    let mut out = String::with_capacity(lines.len() * 120);
+    for (id, l) in lines.iter().enumerate() {
+        push_row(&mut out, id, l);
+        out.push('\n');
+    }
+    out
+}
+
+/// Writes the state of `world` (as [`state_text`]) to `out`, a block of
+/// rows at a time, formatted on the world's threads.
+pub fn write_state(world: &World, out: &mut dyn std::io::Write) -> std::io::Result<()> {
+    write_rows(out, &world.lines(), None, world.threads())
+}
+
+/// Writes a checkpoint of `world`'s run so far to `out`; `scene_digest` is
+/// the [`Scene::digest`] of the scene the run started from.
+pub fn write(
+    world: &World,
+    scene_digest: u64,
     out: &mut dyn std::io::Write,
-    lines: &[Line],
-    threads: usize,
 ) -> std::io::Result<()> {
-    write_rows(out, lines, None, threads)
+    let lines = world.lines();
+    let counters = world.counters();
+    let rows = (&lines[..], world.colors());
+    write_checkpoint(
+        out,
+        scene_digest,
+        world.steps(),
+        counters,
+        rows,
+        world.threads(),
+    )
 }
 
 /// Writes the checkpoint of a run of the scene with digest `scene_digest`
@@ -264,6 +294,19 @@ impl Checkpoint {
             }
         }
         Ok(())
+    }
+
+    /// A world continuing the run this checkpoint recorded (its lines,
+    /// colours, step count and counters), with a detector chosen by kind
+    /// and tuned by `config`. Detectors keep nothing from step to step that
+    /// changes results, so the run goes on exactly as it would have.
+    pub fn resume(
+        self,
+        kind: crate::DetectorKind,
+        config: &crate::DetectorConfig,
+    ) -> Result<World, crate::ThreadsError> {
+        let (lines, colors, at) = (self.lines, self.colors, (self.steps, self.counters));
+        World::continuing(lines, colors, at, kind, config)
     }
 
     /// The checkpoint as text ([`Checkpoint::parse`] reads it back).
