@@ -16,29 +16,18 @@ pub const DEFAULT_GRAIN: usize = 16 * 1024;
 pub(crate) struct Schedule;
 
 impl Schedule {
-    /// Boxes from which the sweep shares its phases among the team: below
-    /// this the hand-offs and the lines' travel between the cores' caches
-    /// cost more than the shared work saves (from 384 boxes, two threads
-    /// against one: `sin_wave`, 1,180 lines, 0.64x; `box` 0.71x;
-    /// generated scenes of 2,000 lines 1.03x, of 4,000 1.08x).
-    pub const SWEEP_FROM: usize = 2048;
-
-    /// Lines from which a step that keeps the sweep's pairs (makes the
-    /// boxes in slot order and compares the pairs kept) shares them among
-    /// the team: that step does a hundred or two instructions a line, so
-    /// a scene much smaller is quicker on one thread than handed out
-    /// (`mit`, 809 lines, 4000 frames on two threads: 0.060 s shared
-    /// against 0.046 on one), and one of a few thousand lines a little
-    /// quicker shared (`koch`, 3,900 lines, on two threads 0.043 s shared
-    /// against 0.044 on one; medians of 9 rounds).
-    pub const KEPT_FROM: usize = 2048;
-
-    /// Lines from which the world's move is shared among the team while
-    /// they are in id order: a member's share of the move costs less than
-    /// its hand-off only above this. Lines stored in the detector's order
-    /// move on the team from [`Schedule::SWEEP_FROM`], each member moving
-    /// the lines it reads next.
-    pub const MOVE_FROM: usize = 2048;
+    /// Lines (or boxes) from which a step's phases go to the team: the
+    /// sweep's phases, a step that keeps the sweep's pairs, and the
+    /// world's move and resolution, in whatever order the lines are
+    /// stored. Below it the hand-offs and the lines' travel between the
+    /// cores' caches cost more than the shared work saves: from 384 boxes,
+    /// two threads against one, `sin_wave` (1,180 lines) 0.64x and `box`
+    /// 0.71x, generated scenes of 2,000 lines 1.03x and of 4,000 1.08x; a
+    /// kept step does a hundred or two instructions a line, `mit` (809
+    /// lines, 4000 frames, two threads) 0.060 s shared against 0.046 on
+    /// one, `koch` (3,900 lines) 0.043 s against 0.044 (medians of 9
+    /// rounds).
+    pub const SHARE_FROM: usize = 2048;
 
     /// Grains of work (in lines) up to which the world moves the lines in
     /// one share per thread: 4,194,304 lines at the default grain. Past it
@@ -88,26 +77,10 @@ impl Schedule {
     #[cfg(any(test, feature = "window"))]
     pub const LIVE_ALL_CORES_FROM: usize = 200_000;
 
-    /// Whether the sweep shares a phase of `boxes` boxes among its team.
-    pub fn sweep_shares(boxes: usize) -> bool {
-        boxes >= Self::SWEEP_FROM
-    }
-
-    /// Whether a step that keeps the sweep's pairs shares them, and the
-    /// boxes of its `lines` lines, among the team.
-    pub fn kept_shares(lines: usize) -> bool {
-        lines >= Self::KEPT_FROM
-    }
-
-    /// Whether the world's phases over `lines` lines go to the team: from
-    /// [`Schedule::MOVE_FROM`], or [`Schedule::SWEEP_FROM`] once they are
-    /// in the detector's order.
-    pub fn world_shares(lines: usize, in_detector_order: bool) -> bool {
-        let least = match in_detector_order {
-            true => Self::SWEEP_FROM,
-            false => Self::MOVE_FROM,
-        };
-        lines >= least
+    /// Whether a phase over `lines` lines (or boxes) goes to the team
+    /// ([`Schedule::SHARE_FROM`]).
+    pub fn shares(lines: usize) -> bool {
+        lines >= Self::SHARE_FROM
     }
 
     /// The pieces the world moves `lines` lines in on a team of `threads`
@@ -127,7 +100,7 @@ impl Schedule {
     /// Whether the sweep has the world store `lines` lines in its order,
     /// on `threads` threads.
     pub fn stores_in_order(lines: usize, threads: usize) -> bool {
-        (threads > 1 && Self::sweep_shares(lines)) || lines >= Self::STORE_FROM
+        (threads > 1 && Self::shares(lines)) || lines >= Self::STORE_FROM
     }
 
     /// Whether the sweep's kept layout of `boxes` boxes, on one thread, is
@@ -157,11 +130,8 @@ mod tests {
 
     #[test]
     fn the_thresholds_split_where_they_say() {
-        assert!(!Schedule::sweep_shares(2047) && Schedule::sweep_shares(2048));
+        assert!(!Schedule::shares(2047) && Schedule::shares(2048));
         let grain = 16_384;
-        assert!(!Schedule::world_shares(2047, false));
-        assert!(Schedule::world_shares(2048, false) && Schedule::world_shares(2048, true));
-        assert!(!Schedule::world_shares(2047, true));
         assert_eq!(Schedule::world_pieces(256 * grain - 1, grain, 2), 2);
         assert_eq!(Schedule::world_pieces(256 * grain, grain, 2), 256);
         assert_eq!(

@@ -380,12 +380,11 @@ impl World {
     }
 
     /// Whether the world's own phases of this step (resolving and moving)
-    /// are shared among the team: where the schedule says so for its size
-    /// and order, and the detector did not run the step on one thread
+    /// are shared among the team: where the schedule says so for its size,
+    /// and the detector did not run the step on one thread
     /// (`detector_shares`).
     fn shares_step(&self, detector_shares: bool) -> bool {
-        let reordered = self.storage.reordered();
-        Schedule::world_shares(self.lines.len(), reordered) && detector_shares
+        Schedule::shares(self.lines.len()) && detector_shares
     }
 
     /// The settings the detector is handed.
@@ -577,7 +576,7 @@ mod tests {
                     }
                 });
             }
-            // Scenes the team shares (from `Schedule::SWEEP_FROM` lines).
+            // Scenes the team shares (from `Schedule::SHARE_FROM` lines).
             for (kind, n, steps) in [
                 (SceneKind::Uniform, 2_500, 80),
                 (SceneKind::Clustered, 3_000, 60),

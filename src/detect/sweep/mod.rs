@@ -128,7 +128,7 @@ pub struct Sweep {
     /// Slots of this step's wild lines.
     wild: Vec<Slot>,
     clock: Option<Clock>,
-    /// The team that shares the phases ([`Schedule::sweep_shares`]):
+    /// The team that shares the phases ([`Schedule::shares`]):
     /// the world's, or a team of one.
     team: Arc<Team>,
     /// A team of one: this thread alone, for scenes too small to share.
@@ -174,19 +174,19 @@ impl Sweep {
     }
 
     /// The team to share `work` boxes' worth of a phase among: the team
-    /// where [`Schedule::sweep_shares`], else this thread alone. (A handle
+    /// where [`Schedule::shares`], else this thread alone. (A handle
     /// of its own, as the phases borrow the boxes mutably.)
     fn team_for(&self, work: usize) -> Arc<Team> {
-        match Schedule::sweep_shares(work) {
+        match Schedule::shares(work) {
             true => Arc::clone(&self.team),
             false => Arc::clone(&self.solo),
         }
     }
 
     /// The team for a step of `lines` lines that keeps pairs: the team
-    /// where [`Schedule::kept_shares`], else this thread alone.
+    /// where [`Schedule::shares`], else this thread alone.
     fn team_for_kept(&self, lines: usize) -> Arc<Team> {
-        match Schedule::kept_shares(lines) {
+        match Schedule::shares(lines) {
             true => Arc::clone(&self.team),
             false => Arc::clone(&self.solo),
         }
@@ -549,10 +549,10 @@ impl Detector for Sweep {
     /// steps (the boxes then name their lines by their new slots, which
     /// are their places); and the world's phases not shared while the
     /// pairs are kept on a scene too small to share
-    /// ([`Schedule::kept_shares`]): those steps run on this thread, and
+    /// ([`Schedule::shares`]): those steps run on this thread, and
     /// need the lines in no other order.
     fn hand_over(&mut self) -> Handover {
-        let shares_step = !self.keep || Schedule::kept_shares(self.sorted.len());
+        let shares_step = !self.keep || Schedule::shares(self.sorted.len());
         Handover {
             order: self.store_order(shares_step),
             shares_step,
