@@ -300,6 +300,12 @@ impl World {
         } else {
             None
         };
+        // The detector's clock starts anew too, as the world's does.
+        let stopped = Setup {
+            timing: false,
+            ..self.setup()
+        };
+        self.detector.configure(&stopped);
         self.detector.configure(&self.setup());
         if let Some(team) = &self.team {
             team.set_timing(on);
@@ -330,9 +336,13 @@ impl World {
         }
         let t1 = self.lap(t0, |t, d| t.detect += d);
         self.name_events();
+        let t1 = self.lap(t1, |t, d| t.resolve += d);
+        // What the detector asks of the rest of the step (its storage
+        // order is the move's work, and timed with it).
+        let handover = self.detector.hand_over();
+        let t1 = self.lap(t1, |t, d| t.advance += d);
         // The team (a handle of its own: `self` is borrowed mutably below),
         // and whether the schedule shares the world's phases among it.
-        let handover = self.detector.hand_over();
         let team = self.team.clone();
         let shares = self.shares_step(handover.shares_step);
         let shared = team.as_deref().filter(|_| shares);

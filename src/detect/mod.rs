@@ -96,7 +96,7 @@ pub(crate) trait Detector: Send {
 
 /// What the world does with the lines after a step's detection, as the
 /// detector asks.
-#[derive(Debug, Default)]
+#[derive(Debug)]
 pub(crate) struct Handover {
     /// The order to store the lines in from the next step on, when it pays
     /// for the world to store them in the order the detector reads them

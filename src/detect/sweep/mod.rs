@@ -543,6 +543,7 @@ impl Detector for Sweep {
             false => crate::motion::advance(lines, shared),
         }
     }
+
     /// The boxes' order, band by band, where the lines are read by more
     /// than one thread or do not fit the cache
     /// ([`Schedule::stores_in_order`]), every [`Schedule::STORE_EVERY`]

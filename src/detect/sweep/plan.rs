@@ -130,7 +130,8 @@ pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
 /// Chooses a plan for `total` boxes from `sample`, drawn evenly from them,
 /// sweeping along one of the first `directions` directions (2: the axes
 /// only, for boxes without diagonals; 4: the diagonals too), for a sweep
-/// that lays boxes out in bands at `layout` ([`LAYOUT_COST`](crate::detect::sweep::tuning::LAYOUT_COST)).
+/// that lays boxes out in bands at `layout`
+/// ([`LAYOUT_COST`](crate::detect::sweep::tuning::LAYOUT_COST)).
 pub(crate) fn choose(
     layout: LayoutCost,
     sample: &[Packed],
