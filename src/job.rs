@@ -482,9 +482,11 @@ impl Job {
         // The results are printed whatever the files did: a file that could
         // not be written is reported after them, and the counts are kept.
         let failure = finished.failure.take();
-        let failed = failure.is_some();
-        let short = failed && finished.world.steps() < started.steps;
-        let written = self.write_files(&finished.world, started.steps, started.digest, failure);
+        // Ended before its last step (a picture that failed after it, the
+        // run's end all the same, is no reason to call it short).
+        let short = failure.is_some() && finished.world.steps() < started.steps;
+        let ended_early = short.then_some(started.steps);
+        let written = self.write_files(&finished.world, started.digest, failure, ended_early);
         if let Some(signal) = stopped {
             progress.note(Note::Stopped {
                 signal,
@@ -610,7 +612,7 @@ impl Job {
             let entries = std::fs::read_dir(dir.unwrap_or(std::path::Path::new("."))).ok()?;
             let path = entries.flatten().map(|e| e.path()).find(|path| {
                 frame_name(render, path).is_some()
-                    && output::identity(path) == Some(identity.clone())
+                    && output::identity(path).as_ref() == Some(&identity)
             })?;
             Some((path, identity))
         });
@@ -876,17 +878,15 @@ impl Job {
 
     /// Writes the last checkpoint and the final state, if asked: each one
     /// whatever became of the other. The errors, one a line, after
-    /// `failure` (what ended the run early, if anything did).
+    /// `failure` (what went wrong, if anything did); `ended_early` is the
+    /// steps the run was to take, where the failure ended it before them.
     fn write_files(
         &self,
         world: &World,
-        steps: u64,
         digest: Option<u64>,
         failure: Option<RunError>,
+        ended_early: Option<u64>,
     ) -> Result<(), JobError> {
-        // Ended before its last step (a picture that failed after it, the
-        // run's end all the same, is no reason to hold the state back).
-        let short = failure.is_some() && world.steps() < steps;
         let mut errors: Vec<JobError> = failure.into_iter().map(JobError::from).collect();
         if let (Some(path), Some(digest)) = (&self.checkpoint, digest) {
             let checkpoints = Checkpoints {
@@ -898,17 +898,17 @@ impl Job {
         }
         // A checkpoint says its step; a state does not, so the state of a
         // run that an error ended early is not written.
-        match &self.state_out {
-            Some(path) if short => errors.push(JobError::StateNotWritten {
+        match (&self.state_out, ended_early) {
+            (Some(path), Some(of)) => errors.push(JobError::StateNotWritten {
                 path: path.clone(),
                 step: world.steps(),
-                of: steps,
+                of,
             }),
-            Some(path) => {
+            (Some(path), None) => {
                 let written = output::write_with(path, |out| checkpoint::write_state(world, out));
                 errors.extend(written.err().map(JobError::from));
             }
-            None => {}
+            (None, _) => {}
         }
         match errors.is_empty() {
             true => Ok(()),

@@ -314,9 +314,6 @@ fn adopt(temp: &std::fs::File, old: &std::fs::Metadata) -> std::io::Result<()> {
     temp.set_permissions(old.permissions())
 }
 
-/// The folders already cleared of stale temporary files by this process.
-static SWEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
-
 /// The id of this process (0 where there are none: WebAssembly).
 fn process_id() -> u32 {
     match cfg!(all(target_arch = "wasm32", target_os = "unknown")) {
@@ -336,43 +333,46 @@ const STALE_AFTER: std::time::Duration = std::time::Duration::from_secs(600);
 /// `dir`: those of this user whose process no longer runs and that have
 /// not changed for [`STALE_AFTER`]. Where the system cannot say which
 /// processes run (no `/proc`), nothing is removed.
+#[cfg(target_os = "linux")]
 fn remove_stale_temporaries(dir: &Path) {
-    #[cfg(target_os = "linux")]
-    {
-        use std::os::unix::fs::MetadataExt;
-        if !Path::new("/proc/self").exists() {
-            return;
-        }
-        let mut swept = SWEPT.lock().unwrap_or_else(|e| e.into_inner());
-        let key = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
-        if swept.contains(&key) {
-            return;
-        }
-        swept.push(key);
-        let Ok(entries) = std::fs::read_dir(dir) else {
-            return;
+    use std::os::unix::fs::MetadataExt;
+    /// The folders already cleared of stale temporary files.
+    static SWEPT: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+    if !Path::new("/proc/self").exists() {
+        return;
+    }
+    let mut swept = SWEPT.lock().unwrap_or_else(|e| e.into_inner());
+    let key = std::fs::canonicalize(dir).unwrap_or_else(|_| dir.to_path_buf());
+    if swept.contains(&key) {
+        return;
+    }
+    swept.push(key);
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    let user = rustix::process::geteuid().as_raw();
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name.to_str().and_then(temporary_pid) else {
+            continue;
         };
-        let user = rustix::process::geteuid().as_raw();
-        for entry in entries.flatten() {
-            let name = entry.file_name();
-            let Some(pid) = name.to_str().and_then(temporary_pid) else {
-                continue;
-            };
-            let old = |m: &std::fs::Metadata| {
-                let age = m.modified().ok().and_then(|t| t.elapsed().ok());
-                age.is_some_and(|age| age >= STALE_AFTER)
-            };
-            let ours = entry
-                .metadata()
-                .is_ok_and(|m| m.is_file() && m.uid() == user && old(&m));
-            if ours && !Path::new("/proc").join(pid.to_string()).exists() {
-                let _ = std::fs::remove_file(entry.path());
-            }
+        let old = |m: &std::fs::Metadata| {
+            let age = m.modified().ok().and_then(|t| t.elapsed().ok());
+            age.is_some_and(|age| age >= STALE_AFTER)
+        };
+        let ours = entry
+            .metadata()
+            .is_ok_and(|m| m.is_file() && m.uid() == user && old(&m));
+        if ours && !Path::new("/proc").join(pid.to_string()).exists() {
+            let _ = std::fs::remove_file(entry.path());
         }
     }
-    #[cfg(not(target_os = "linux"))]
-    let _ = (dir, &SWEPT);
 }
+
+/// Elsewhere the system cannot say which processes run: nothing is
+/// removed.
+#[cfg(not(target_os = "linux"))]
+fn remove_stale_temporaries(_: &Path) {}
 
 /// The id of the process that made the temporary file named `name`, if it
 /// is one of this program's.

@@ -148,53 +148,51 @@ impl Run<'_> {
         let given_up = verifier.as_mut().is_some_and(|v| !v.before_step(world));
         let mut mismatch = None;
         let mut ran = 0;
-        let stopped = if given_up {
-            Some(true)
-        } else {
-            world.run_with(steps, |world| {
-                ran += 1;
-                if let Some(verifier) = &mut verifier {
-                    if let Err(m) = verifier.after_step(world) {
-                        mismatch = Some(m);
-                        return ControlFlow::Break(false);
-                    }
+        let to_run = if given_up { 0 } else { steps };
+        let stopped = world.run_with(to_run, |world| {
+            ran += 1;
+            if let Some(verifier) = &mut verifier {
+                if let Err(m) = verifier.after_step(world) {
+                    mismatch = Some(m);
+                    return ControlFlow::Break(false);
                 }
-                #[cfg(feature = "render")]
-                if let Some(recorder) = &mut recorder {
-                    let started = Instant::now();
-                    let written = recorder.after_step(world);
-                    drawing += started.elapsed();
-                    if let Err(e) = written {
-                        failed = Some(RunError::Picture(e));
-                        return ControlFlow::Break(false);
-                    }
+            }
+            #[cfg(feature = "render")]
+            if let Some(recorder) = &mut recorder {
+                let started = Instant::now();
+                let written = recorder.after_step(world);
+                drawing += started.elapsed();
+                if let Err(e) = written {
+                    failed = Some(RunError::Picture(e));
+                    return ControlFlow::Break(false);
                 }
-                if let Some(checkpoints) = checkpoints.filter(|c| c.due(world)) {
-                    let started = Instant::now();
-                    let saved = checkpoints.save(world);
-                    saving += started.elapsed();
-                    if let Err(e) = saved {
-                        failed = Some(e);
-                        return ControlFlow::Break(false);
-                    }
+            }
+            if let Some(checkpoints) = checkpoints.filter(|c| c.due(world)) {
+                let started = Instant::now();
+                let saved = checkpoints.save(world);
+                saving += started.elapsed();
+                if let Err(e) = saved {
+                    failed = Some(e);
+                    return ControlFlow::Break(false);
                 }
-                if let Some(progress) = &mut progress {
-                    progress(world, since_start());
-                }
-                if stop.is_some_and(|stop| stop(world)) || signalled() {
+            }
+            if let Some(progress) = &mut progress {
+                progress(world, since_start());
+            }
+            if stop.is_some_and(|stop| stop(world)) || signalled() {
+                return ControlFlow::Break(true);
+            }
+            // The oracle's events for the next step, if there is one.
+            if let Some(verifier) = verifier.as_mut().filter(|_| ran < steps) {
+                if !verifier.before_step(world) {
                     return ControlFlow::Break(true);
                 }
-                // The oracle's events for the next step, if there is one.
-                if let Some(verifier) = verifier.as_mut().filter(|_| ran < steps) {
-                    if !verifier.before_step(world) {
-                        return ControlFlow::Break(true);
-                    }
-                }
-                ControlFlow::Continue(())
-            })
-        };
-        // A step given up part way, on a signal, ended the run there.
-        let stopped = stopped.or(world.gave_up_step().then_some(true));
+            }
+            ControlFlow::Continue(())
+        });
+        // A step given up part way on a signal, the oracle's or the
+        // world's, ended the run there.
+        let stopped = stopped.or((given_up || world.gave_up_step()).then_some(true));
         // The simulation alone: not the pictures, the checkpoints, nor the
         // all-pairs check of --verify.
         let verifying = verifier.as_ref().map_or(Duration::ZERO, |v| v.time);

@@ -266,11 +266,20 @@ fn numbered_pictures_never_overwrite_another_file() {
 #[cfg(unix)]
 #[test]
 fn standard_output_into_an_output_file_is_refused() {
-    let dir = folder("stdout");
-    let results = dir.join("o.txt");
+    let args = ["5", "two.in", "--state-out", "o.txt"];
+    assert_stdout_refused("stdout", "o.txt", &args, "--state-out");
+}
+
+/// Runs `args` in a folder of the test's own with standard output sent to
+/// its file `name`: refused with status 2, naming `flag` and standard
+/// output, the file as it was.
+#[cfg(unix)]
+fn assert_stdout_refused(test: &str, name: &str, args: &[&str], flag: &str) {
+    let dir = folder(test);
+    let results = dir.join(name);
     std::fs::write(&results, b"kept").unwrap();
     let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
-        .args(["5", "two.in", "--state-out", "o.txt"])
+        .args(args)
         .current_dir(&dir)
         .stdout(
             std::fs::OpenOptions::new()
@@ -282,10 +291,8 @@ fn standard_output_into_an_output_file_is_refused() {
         .unwrap();
     let stderr = text(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.contains("--state-out and standard output (`>`) name the same file"),
-        "{stderr}"
-    );
+    let named = format!("{flag} and standard output (`>`) name the same file");
+    assert!(stderr.contains(&named), "{stderr}");
     assert_eq!(std::fs::read(&results).unwrap(), b"kept");
 }
 
@@ -490,25 +497,6 @@ fn a_picture_failing_after_the_last_step_keeps_the_state() {
 #[cfg(unix)]
 #[test]
 fn standard_output_into_a_numbered_picture_is_refused() {
-    let dir = folder("stdout-frame");
-    let results = dir.join("seq-000005.png");
-    std::fs::write(&results, b"kept").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_screensaver"))
-        .args(["10", "two.in", "--render", "seq.png", "--render-every", "5"])
-        .current_dir(&dir)
-        .stdout(
-            std::fs::OpenOptions::new()
-                .append(true)
-                .open(&results)
-                .unwrap(),
-        )
-        .output()
-        .unwrap();
-    let stderr = text(&out.stderr);
-    assert_eq!(out.status.code(), Some(2), "{stderr}");
-    assert!(
-        stderr.contains("--render and standard output (`>`) name the same file"),
-        "{stderr}"
-    );
-    assert_eq!(std::fs::read(&results).unwrap(), b"kept");
+    let args = ["10", "two.in", "--render", "seq.png", "--render-every", "5"];
+    assert_stdout_refused("stdout-frame", "seq-000005.png", &args, "--render");
 }
