@@ -25,9 +25,8 @@
 //! - [`run::Run`] runs steps with what may go around them: the check of
 //!   every step against all pairs, pictures ([`render::Recorder`]),
 //!   [`checkpoint`]s every so many steps, a progress callback and a way to
-//!   stop. [`job::Job`] is the whole run the command line makes of its
-//!   arguments, on screen or off; [`report`] prints the original
-//!   program's text and the statistics.
+//!   stop; [`report`] words the original program's text and the
+//!   statistics.
 //! - [`render`] draws pictures of a world (PNG, GIF, SVG, or pixels of your
 //!   own with [`render::Canvas`]).
 //! - [`broad_phase`] is the sweep's broad phase on boxes of your own, with
@@ -48,8 +47,6 @@ pub mod fuzz_checks;
 pub mod generate;
 pub(crate) mod geometry;
 pub(crate) mod index;
-#[cfg(feature = "window")]
-pub mod job;
 pub(crate) mod lanes;
 pub(crate) mod line;
 pub mod maths;
@@ -99,23 +96,6 @@ pub mod internals {
 #[cfg(test)]
 mod test_util;
 
-/// Finds the value of `all` whose `name` is `s`, for the command line's
-/// named choices; the error lists the names there are.
-pub(crate) fn parse_named<T: Copy>(
-    all: &[T],
-    name: fn(T) -> &'static str,
-    what: &str,
-    s: &str,
-) -> Result<T, String> {
-    all.iter().copied().find(|&v| name(v) == s).ok_or_else(|| {
-        let names: Vec<_> = all.iter().map(|&v| name(v)).collect();
-        format!(
-            "unknown {what} `{s}`; expected one of: {}",
-            names.join(", ")
-        )
-    })
-}
-
 /// `n` things, in the singular for one.
 pub(crate) fn plural(n: u64, thing: &str) -> String {
     if n == 1 {
@@ -127,10 +107,10 @@ pub(crate) fn plural(n: u64, thing: &str) -> String {
 
 pub use detect::{DetectorConfig, DetectorKind, DetectorStats, KeepPairs};
 pub use geometry::Vec2;
-pub use index::{LineId, Slot};
+pub use index::LineId;
 pub use line::{Color, Line};
 pub use narrow::{intersect, Event, IntersectionKind};
-pub use output::OutputError;
+pub use output::{check_writable, FileIdentity, OutputError};
 pub use scene::{Scene, SceneLine};
 #[cfg(feature = "signals")]
 pub use stop::Signal;

@@ -208,10 +208,23 @@ fn kind(path: &Path) -> std::io::Result<Kind> {
 }
 
 /// Which file a path names, so that two names of one file (`./a` and
-/// `a`, a link and its target, two hard links) compare equal.
-#[cfg(any(test, feature = "window"))]
+/// `a`, a link and its target, two hard links) compare equal: for a
+/// program that must not write one of its outputs over another file it
+/// reads or writes.
+///
+/// ```
+/// use screensaver::FileIdentity;
+///
+/// let a = FileIdentity::of("Cargo.toml".as_ref());
+/// assert!(a.is_some());
+/// assert_eq!(a, FileIdentity::of("./Cargo.toml".as_ref()));
+/// assert_ne!(a, FileIdentity::of("README.md".as_ref()));
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) enum FileIdentity {
+pub struct FileIdentity(Identity);
+
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Identity {
     /// A file that exists: its device and inode.
     #[cfg(unix)]
     Inode(u64, u64),
@@ -220,44 +233,45 @@ pub(crate) enum FileIdentity {
     Path(PathBuf),
 }
 
-/// The file `path` names as a regular file, if it does: `None` for
-/// standard output, devices, FIFOs and sockets, which any number of
-/// outputs may share.
-#[cfg(any(test, feature = "window"))]
-pub(crate) fn identity(path: &Path) -> Option<FileIdentity> {
-    let Ok(Kind::Whole(target)) = kind(path) else {
-        return None;
-    };
-    #[cfg(unix)]
-    if let Ok(m) = std::fs::metadata(&target) {
-        use std::os::unix::fs::MetadataExt;
-        return Some(FileIdentity::Inode(m.dev(), m.ino()));
+impl FileIdentity {
+    /// The file `path` names as a regular file, if it does: `None` for
+    /// standard output, devices, FIFOs and sockets, which any number of
+    /// outputs may share.
+    pub fn of(path: &Path) -> Option<FileIdentity> {
+        let Ok(Kind::Whole(target)) = kind(path) else {
+            return None;
+        };
+        #[cfg(unix)]
+        if let Ok(m) = std::fs::metadata(&target) {
+            use std::os::unix::fs::MetadataExt;
+            return Some(FileIdentity(Identity::Inode(m.dev(), m.ino())));
+        }
+        #[cfg(not(unix))]
+        if let Ok(path) = std::fs::canonicalize(&target) {
+            return Some(FileIdentity(Identity::Path(path)));
+        }
+        let folder = folder(&target);
+        let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
+        let path = folder.join(target.file_name()?);
+        Some(FileIdentity(Identity::Path(path)))
     }
-    #[cfg(not(unix))]
-    if let Ok(path) = std::fs::canonicalize(&target) {
-        return Some(FileIdentity::Path(path));
+
+    /// The regular file standard output is written to, if it is one (`>
+    /// file`): a run must not replace it with one of its outputs, which
+    /// would lose what it prints.
+    pub fn of_stdout() -> Option<FileIdentity> {
+        #[cfg(unix)]
+        {
+            use std::os::fd::AsFd;
+            use std::os::unix::fs::MetadataExt;
+            let stdout = std::io::stdout();
+            let file = std::fs::File::from(stdout.as_fd().try_clone_to_owned().ok()?);
+            let m = file.metadata().ok().filter(std::fs::Metadata::is_file)?;
+            Some(FileIdentity(Identity::Inode(m.dev(), m.ino())))
+        }
+        #[cfg(not(unix))]
+        None
     }
-    let folder = folder(&target);
-    let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
-    Some(FileIdentity::Path(folder.join(target.file_name()?)))
-}
-
-/// The regular file standard output is written to, if it is one (`>
-/// file`): a run must not replace it with one of its outputs, which would
-/// lose what it prints.
-#[cfg(all(unix, any(test, feature = "window")))]
-pub(crate) fn stdout_identity() -> Option<FileIdentity> {
-    use std::os::fd::AsFd;
-    use std::os::unix::fs::MetadataExt;
-    let stdout = std::io::stdout();
-    let file = std::fs::File::from(stdout.as_fd().try_clone_to_owned().ok()?);
-    let m = file.metadata().ok().filter(std::fs::Metadata::is_file)?;
-    Some(FileIdentity::Inode(m.dev(), m.ino()))
-}
-
-#[cfg(all(not(unix), any(test, feature = "window")))]
-pub(crate) fn stdout_identity() -> Option<FileIdentity> {
-    None
 }
 
 /// The temporary files that exist now, removed by [`remove_temporaries`].
@@ -543,7 +557,6 @@ pub fn write_with(
     file.commit()
 }
 
-#[cfg(any(test, feature = "window"))]
 /// Checks, before a long run, that `path` can be written: a regular file's
 /// folder exists and takes new files; anything else opens for writing (a
 /// FIFO is not opened: that would wait for a reader). Nothing is left
@@ -555,14 +568,12 @@ pub fn check_writable(path: &Path) -> Result<(), OutputError> {
     OutputFile::create(path).map(drop)
 }
 
-#[cfg(any(test, feature = "window"))]
 #[cfg(unix)]
 fn is_fifo(path: &Path) -> bool {
     use std::os::unix::fs::FileTypeExt;
     std::fs::metadata(path).is_ok_and(|m| m.file_type().is_fifo())
 }
 
-#[cfg(any(test, feature = "window"))]
 #[cfg(not(unix))]
 fn is_fifo(_: &Path) -> bool {
     false
@@ -584,7 +595,7 @@ mod tests {
         std::os::unix::fs::symlink(&a, dir.path().join("link")).unwrap();
         std::fs::hard_link(&a, dir.path().join("hard")).unwrap();
         std::fs::create_dir(dir.path().join("sub")).unwrap();
-        let id = |name: &str| identity(&dir.path().join(name));
+        let id = |name: &str| FileIdentity::of(&dir.path().join(name));
         assert!(id("a").is_some());
         for other in ["./a", "link", "hard", "sub/../a"] {
             assert_eq!(id(other), id("a"), "{other}");
@@ -592,8 +603,8 @@ mod tests {
         assert_eq!(id("new"), id("sub/../new"));
         assert_ne!(id("new"), id("a"));
         assert_ne!(id("new"), id("other"));
-        assert_eq!(identity(Path::new("/dev/null")), None);
-        assert_eq!(identity(Path::new("-")), None);
+        assert_eq!(FileIdentity::of(Path::new("/dev/null")), None);
+        assert_eq!(FileIdentity::of(Path::new("-")), None);
     }
 
     /// A folder that refuses new files is named, never the temporary file

@@ -17,18 +17,31 @@ pub fn header(frames: Option<u64>, input: &str) -> String {
     format!("Number of frames = {frames}\nInput file path is: {input}\n")
 }
 
-/// The input's name for a generated scene.
-pub fn generated_input(kind: SceneKind, lines: usize, seed: u64) -> String {
-    let lines = crate::plural(lines as u64, "line");
-    format!("(none: generated {kind} scene, {lines}, seed {seed})")
-}
-
-/// The input's name for the built-in scene.
-pub fn built_in_input() -> String {
-    format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})")
+/// The input's name in the header for a generated scene (its kind, lines
+/// and seed), or for the built-in scene (`None`).
+pub fn input_name(generated: Option<(SceneKind, usize, u64)>) -> String {
+    match generated {
+        Some((kind, lines, seed)) => {
+            let lines = crate::plural(lines as u64, "line");
+            format!("(none: generated {kind} scene, {lines}, seed {seed})")
+        }
+        None => format!("(none: built-in scene, {DEFAULT_LINES} lines, seed {DEFAULT_SEED})"),
+    }
 }
 
 /// The results block: the simulation's time in seconds and both counters.
+///
+/// ```
+/// use screensaver::report::{header, input_name, results};
+/// use screensaver::{generate::default_scene, DetectorKind, World};
+///
+/// // What `screensaver 10` prints.
+/// let mut world = World::with_detector(&default_scene(), DetectorKind::Sweep);
+/// world.run(11);
+/// let text = header(Some(10), &input_name(None)) + &results(0.0123, world.counters());
+/// assert!(text.starts_with("Number of frames = 10\nInput file path is: (none: built-in"));
+/// assert!(text.contains("Elapsed execution time: 0.012300s\n"));
+/// ```
 pub fn results(seconds: f64, counters: Counters) -> String {
     format!(
         "---- RESULTS ----\nElapsed execution time: {seconds:.6}s\n{} Line-Wall Collisions\n{} Line-Line Collisions\n---- END RESULTS ----\n",
@@ -93,8 +106,21 @@ pub(crate) fn plan_words(plan: &SweepReport) -> String {
     }
 }
 
-/// A run's statistics (`--stats`): the detector's work, the time of each
-/// phase, the thread team's hand-offs and the pictures drawn.
+/// A run's statistics: the detector's work, the time of each phase, the
+/// thread team's hand-offs and the pictures drawn.
+///
+/// ```
+/// use screensaver::report::Stats;
+/// use screensaver::{generate::default_scene, DetectorConfig, DetectorKind, World};
+///
+/// let config = DetectorConfig::default();
+/// let mut world = World::with_config(&default_scene(), DetectorKind::Sweep, &config).unwrap();
+/// world.set_timing(true);
+/// world.run(20);
+/// let stats = Stats::of(&world, DetectorKind::Sweep, &config, None);
+/// assert!(stats.text().contains("lines: 1000, steps: 20"));
+/// assert!(stats.json().starts_with("{"));
+/// ```
 #[derive(Clone, Debug)]
 pub struct Stats {
     kind: DetectorKind,
@@ -315,11 +341,11 @@ mod tests {
             "Number of frames = 300\nInput file path is: mit.in\n"
         );
         assert_eq!(
-            generated_input(SceneKind::Uniform, 2000, 7),
+            input_name(Some((SceneKind::Uniform, 2000, 7))),
             "(none: generated uniform scene, 2000 lines, seed 7)"
         );
         assert_eq!(
-            built_in_input(),
+            input_name(None),
             "(none: built-in scene, 1000 lines, seed 6172)"
         );
         assert_eq!(

@@ -35,7 +35,7 @@ impl Checkpoints<'_> {
     /// Writes the world's checkpoint, whole or not at all.
     pub fn save(&self, world: &World) -> Result<(), RunError> {
         output::write_with(self.path, |out| {
-            crate::checkpoint::write(world, self.digest, out)
+            crate::checkpoint::Checkpoint::write(world, self.digest, out)
         })
         .map_err(RunError::Checkpoint)
     }
@@ -103,9 +103,17 @@ pub enum RunError {
     /// A checkpoint could not be written.
     #[error(transparent)]
     Checkpoint(crate::output::OutputError),
-    /// A step's events differed from the all-pairs detector's.
-    #[error("--verify: {0}")]
-    Mismatch(String),
+    /// A step's events differed from the all-pairs detector's (by more
+    /// than sliver events).
+    #[error("{}", crate::verify::Mismatch::words(*step, expected, found))]
+    Mismatch {
+        /// The step (counting from 1) whose events differed.
+        step: u64,
+        /// The all-pairs detector's events, sorted.
+        expected: Vec<crate::Event>,
+        /// The detector's, sorted.
+        found: Vec<crate::Event>,
+    },
 }
 
 /// Whether a signal asked the program to stop.
@@ -201,7 +209,16 @@ impl Run<'_> {
             return Err(e);
         }
         if let Some(mismatch) = mismatch {
-            return Err(RunError::Mismatch(mismatch.to_string()));
+            let crate::verify::Mismatch {
+                step,
+                expected,
+                found,
+            } = mismatch;
+            return Err(RunError::Mismatch {
+                step,
+                expected,
+                found,
+            });
         }
         #[cfg(feature = "render")]
         let pictures = match recorder {

@@ -74,7 +74,6 @@ impl Schedule {
     /// Lines from which a scene shown live runs on every core all the
     /// same: its pictures come seldom enough that the team gains more than
     /// the drawing takes from it.
-    #[cfg(any(test, feature = "window"))]
     pub const LIVE_ALL_CORES_FROM: usize = 200_000;
 
     /// Whether a phase over `lines` lines (or boxes) goes to the team
@@ -115,7 +114,6 @@ impl Schedule {
     /// than [`Schedule::LIVE_ALL_CORES_FROM`] (the drawing takes a core a
     /// good part of the time, and a member of the team switched out for it
     /// mid-piece holds up the step).
-    #[cfg(any(test, feature = "window"))]
     pub fn default_threads(cores: usize, live: bool, lines: usize) -> usize {
         match live && lines < Self::LIVE_ALL_CORES_FROM {
             true => (cores - 1).max(1),

@@ -23,24 +23,24 @@ pub(crate) struct Mismatch {
     pub found: Vec<Event>,
 }
 
-impl std::fmt::Display for Mismatch {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+impl Mismatch {
+    /// The mismatch at `step` in words: the events missing and extra, then
+    /// both lists whole.
+    pub fn words(step: u64, expected: &[Event], found: &[Event]) -> String {
         let show = |e: &Event| format!("({}, {}, {:?})", e.first, e.second, e.kind);
         let list = |events: &mut dyn Iterator<Item = &Event>| {
             events.map(show).collect::<Vec<_>>().join(" ")
         };
-        let missing = list(&mut self.expected.iter().filter(|e| !self.found.contains(e)));
-        let extra = list(&mut self.found.iter().filter(|e| !self.expected.contains(e)));
-        writeln!(f, "events differ at step {}", self.step)?;
-        writeln!(f, "  missing (found by the oracle only): {missing}")?;
-        writeln!(f, "  extra (found by the detector only): {extra}")?;
-        let (expected, found) = (self.expected.len(), self.found.len());
-        writeln!(
-            f,
-            "  oracle ({expected}): {}",
-            list(&mut self.expected.iter())
-        )?;
-        write!(f, "  detector ({found}): {}", list(&mut self.found.iter()))
+        let missing = list(&mut expected.iter().filter(|e| !found.contains(e)));
+        let extra = list(&mut found.iter().filter(|e| !expected.contains(e)));
+        format!(
+            "events differ at step {step}\n  missing (found by the oracle only): {missing}\n  \
+             extra (found by the detector only): {extra}\n  oracle ({}): {}\n  detector ({}): {}",
+            expected.len(),
+            list(&mut expected.iter()),
+            found.len(),
+            list(&mut found.iter())
+        )
     }
 }
 
@@ -189,7 +189,7 @@ mod tests {
         assert_eq!(mismatch.step, 1);
         assert_eq!(mismatch.expected.len(), 1);
         assert!(mismatch.found.is_empty());
-        let text = mismatch.to_string();
+        let text = Mismatch::words(mismatch.step, &mismatch.expected, &mismatch.found);
         assert!(
             text.contains("events differ at step 1")
                 && text.contains("missing (found by the oracle only): (0, 1, L2WithL1)"),

@@ -30,6 +30,24 @@ pub(crate) struct PhaseTimes {
 }
 
 /// The simulated world. Line ids are indices into [`World::lines`].
+///
+/// ```
+/// use screensaver::{Color, DetectorConfig, DetectorKind, Line, Vec2, World};
+///
+/// // Two lines of your own, the second moving left onto the first.
+/// let line = |x: f64, vx: f64| Line {
+///     p1: Vec2::new(x, 0.70),
+///     p2: Vec2::new(x, 0.80),
+///     v: Vec2::new(vx, 0.0),
+/// };
+/// let lines = vec![line(0.60, 0.0), line(0.62, -0.4)];
+/// let config = DetectorConfig::default();
+/// let mut world =
+///     World::from_lines(lines, vec![Color::Red; 2], DetectorKind::Sweep, &config).unwrap();
+/// world.run(100);
+/// assert_eq!(world.steps(), 100);
+/// assert!(world.counters().line >= 1, "they met");
+/// ```
 pub struct World {
     lines: Vec<Line>,
     colors: Vec<Color>,
@@ -232,6 +250,12 @@ impl World {
     /// copy in id order once the detector has had them stored in its own.
     pub fn lines(&self) -> Cow<'_, [Line]> {
         self.storage.by_id(&self.lines)
+    }
+
+    /// True when nothing more can happen in the world: every line is NaN,
+    /// or none of them moves (a screensaver then starts another scene).
+    pub fn died_out(&self) -> bool {
+        died_out(&self.lines)
     }
 
     /// Each line with its colour, in the order the world stores them: the
@@ -471,6 +495,14 @@ impl World {
         add(times, now - since);
         Some(now)
     }
+}
+
+/// True when nothing more can happen to `lines`: every line is NaN, or
+/// none of them moves.
+pub(crate) fn died_out<'a>(lines: impl IntoIterator<Item = &'a Line>) -> bool {
+    lines
+        .into_iter()
+        .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
 }
 
 #[cfg(test)]

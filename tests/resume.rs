@@ -20,7 +20,7 @@ fn config(threads: usize) -> DetectorConfig {
 
 fn checkpoint_text(world: &World, digest: u64) -> Vec<u8> {
     let mut out = Vec::new();
-    checkpoint::write(world, digest, &mut out).unwrap();
+    checkpoint::Checkpoint::write(world, digest, &mut out).unwrap();
     out
 }
 
@@ -79,7 +79,6 @@ fn states_match_the_reference_files_byte_for_byte() {
                 written == expected,
                 "{scene} step {step}: state differs from the reference file"
             );
-            assert_eq!(checkpoint::state_text(&world).into_bytes(), expected);
         }
     }
 }

@@ -205,7 +205,7 @@ fn xscreensaver_window_is_drawn_into_not_replaced() {
 /// Resizes another client's window, as a window manager or the user would.
 fn resize(display: &str, id: &str, width: u16, height: u16) {
     use x11rb::protocol::xproto::{ConfigureWindowAux, ConnectionExt};
-    let window = screensaver::job::Screen::parse_window_id(id).expect("a window id");
+    let window = screensaver::render::Screen::parse_window_id(id).expect("a window id");
     let (conn, _) = x11rb::connect(Some(display)).expect("connecting to the X server");
     conn.configure_window(
         window,

@@ -11,7 +11,7 @@
 //! them: the page steps in one instance (a worker) and draws in another.
 
 use screensaver::generate::{default_scene, generate, SceneKind};
-use screensaver::render::{died_out, draw_segment, Canvas, Size, View};
+use screensaver::render::{Canvas, Size, View};
 use screensaver::run::Run;
 use screensaver::{report, Color, DetectorConfig, DetectorKind, Scene, World};
 use std::cell::RefCell;
@@ -115,14 +115,14 @@ pub extern "C" fn ss_generate(kind: u32, lines: u32, seed_lo: u32, seed_hi: u32,
     let kind = SceneKind::ALL[kind as usize % SceneKind::ALL.len()];
     let seed = u64::from(seed_hi) << 32 | u64::from(seed_lo);
     let lines = lines as usize;
-    let name = report::generated_input(kind, lines, seed);
+    let name = report::input_name(Some((kind, lines, seed)));
     start(&generate(kind, lines, seed), code, name)
 }
 
 /// Starts a world from the built-in scene.
 #[no_mangle]
 pub extern "C" fn ss_built_in(code: u32) -> i32 {
-    start(&default_scene(), code, report::built_in_input())
+    start(&default_scene(), code, report::input_name(None))
 }
 
 /// Makes the text the names of the generated scenes' kinds, in
@@ -176,8 +176,12 @@ pub extern "C" fn ss_line() -> f64 {
 /// Makes the text the whole state in the reference's state format.
 #[no_mangle]
 pub extern "C" fn ss_state() {
-    let state = with_world(|w| screensaver::checkpoint::state_text(w)).unwrap_or_default();
-    set_text(state);
+    let state = with_world(|w| {
+        let mut out = Vec::new();
+        screensaver::checkpoint::write_state(w, &mut out).expect("writes to memory");
+        String::from_utf8(out).expect("the state is text")
+    });
+    set_text(state.unwrap_or_default());
 }
 
 /// Where the text is.
@@ -201,7 +205,7 @@ pub extern "C" fn ss_lines() -> u32 {
 /// 1 when nothing more can happen: every line is NaN or none moves.
 #[no_mangle]
 pub extern "C" fn ss_died_out() -> u32 {
-    with_world(|w| u32::from(died_out(w.lines_as_stored().map(|(line, _)| line)))).unwrap_or(1)
+    with_world(|w| u32::from(w.died_out())).unwrap_or(1)
 }
 
 /// Makes the text what the command line prints for the run: its header
@@ -244,7 +248,7 @@ pub unsafe extern "C" fn ss_draw(
                 (line[0].into(), line[1].into()),
                 (line[2].into(), line[3].into()),
             );
-            draw_segment(&mut canvas, a, b, if line[4] == 0.0 { red } else { gray });
+            canvas.draw_segment(a, b, if line[4] == 0.0 { red } else { gray });
         }
         // 0x00RRGGBB to the bytes R, G, B, 255 (a little-endian word).
         for p in pixels.iter_mut() {

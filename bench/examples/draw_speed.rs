@@ -17,14 +17,17 @@ fn median(mut times: Vec<f64>) -> f64 {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let size: Size = args
-        .get(1)
-        .map_or(Ok(Size::WINDOW), |s| s.parse())
-        .expect("a size like 1180x800");
-    let kind: SceneKind = args
-        .get(2)
-        .map_or(Ok(SceneKind::Uniform), |s| s.parse())
-        .expect("a scene kind");
+    let size = args.get(1).map_or(Size::WINDOW, |s| {
+        let (w, h) = s.split_once('x').expect("a size like 1180x800");
+        let side = |t: &str| t.parse().expect("a size like 1180x800");
+        Size {
+            width: side(w),
+            height: side(h),
+        }
+    });
+    let kind = args.get(2).map_or(SceneKind::Uniform, |s| {
+        SceneKind::from_name(s).expect("a scene kind: uniform, clustered, ring or grid")
+    });
     let view = View::new(size);
     let (w, h) = (size.width as usize, size.height as usize);
     println!("{}x{} {}: milliseconds a frame (median)", w, h, kind.name());

@@ -21,7 +21,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
     let lines: usize = args.next().map_or(Ok(100_000), |a| a.parse())?;
     let rounds: usize = args.next().map_or(Ok(15), |a| a.parse())?;
-    let kind: SceneKind = args.next().map_or(Ok(SceneKind::Uniform), |a| a.parse())?;
+    let kind = match args.next() {
+        Some(name) => {
+            SceneKind::from_name(&name).ok_or("a scene kind: uniform, clustered, ring or grid")?
+        }
+        None => SceneKind::Uniform,
+    };
     let rounds = rounds.max(1);
 
     let scene = generate(kind, lines, 7);

@@ -70,6 +70,16 @@ impl Aabb {
 /// Every pair of `boxes` that overlap ([`Aabb::overlaps`]), once each, the
 /// lower index first, in no particular order.
 ///
+/// ```
+/// use screensaver::broad_phase::{overlapping_pairs, Aabb};
+///
+/// let square = |x: f64, y: f64| Aabb { min: [x, y], max: [x + 1.0, y + 1.0] };
+/// let boxes = [square(0.0, 0.0), square(0.5, 0.5), square(3.0, 0.0), square(3.9, 0.9)];
+/// let mut pairs = overlapping_pairs(&boxes);
+/// pairs.sort();
+/// assert_eq!(pairs, [(0, 1), (2, 3)]);
+/// ```
+///
 /// # Panics
 /// If there are more boxes than `u32` indices.
 pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
@@ -80,6 +90,23 @@ pub fn overlapping_pairs(boxes: &[Aabb]) -> Vec<(u32, u32)> {
 
 /// Calls `found(a, b)` for every pair of `boxes` that overlap, once each,
 /// with `a < b`, in no particular order; allocates no list of pairs.
+///
+/// ```
+/// use screensaver::broad_phase::{for_each_overlapping_pair, Aabb};
+///
+/// let boxes: Vec<Aabb> = (0..100)
+///     .map(|k| {
+///         let x = f64::from(k);
+///         Aabb { min: [x, 0.0], max: [x + 1.5, 1.0] }
+///     })
+///     .collect();
+/// let mut count = 0;
+/// for_each_overlapping_pair(&boxes, |a, b| {
+///     assert!(a < b && b - a <= 1);
+///     count += 1;
+/// });
+/// assert_eq!(count, 99);
+/// ```
 ///
 /// # Panics
 /// If there are more boxes than `u32` indices.
@@ -130,7 +157,8 @@ const LAYOUT_COST: LayoutCost = LayoutCost {
 
 /// Every overlapping pair by testing all pairs: the oracle the sweep is
 /// checked against, and as fast as anything for a few dozen boxes.
-pub fn overlapping_pairs_brute(boxes: &[Aabb]) -> Vec<(u32, u32)> {
+#[cfg(test)]
+pub(crate) fn overlapping_pairs_brute(boxes: &[Aabb]) -> Vec<(u32, u32)> {
     let mut pairs = Vec::new();
     for (i, a) in boxes.iter().enumerate() {
         for (j, b) in boxes.iter().enumerate().skip(i + 1) {

@@ -52,6 +52,26 @@ const MAGIC_V1: &str = "# screensaver checkpoint v1";
 const CHECKSUM: &str = "# checksum: ";
 
 /// A run's whole state: enough to continue it bit for bit.
+///
+/// ```
+/// use screensaver::checkpoint::Checkpoint;
+/// use screensaver::{generate::default_scene, DetectorConfig, DetectorKind, World};
+///
+/// let scene = default_scene();
+/// let mut world = World::with_detector(&scene, DetectorKind::Sweep);
+/// world.run(40);
+/// let mut text = Vec::new();
+/// Checkpoint::write(&world, scene.digest(), &mut text).unwrap();
+///
+/// // Later: read it back, check it continues this scene, and go on.
+/// let saved = Checkpoint::parse(&text, "run.ckpt").unwrap();
+/// saved.continues("run.ckpt", &scene, scene.digest(), 101).unwrap();
+/// let mut resumed = saved.resume(DetectorKind::Sweep, &DetectorConfig::default()).unwrap();
+/// resumed.run(61);
+/// world.run(61);
+/// assert_eq!(resumed.counters(), world.counters());
+/// assert_eq!(resumed.lines(), world.lines());
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Checkpoint {
     /// The [`Scene::digest`] of the scene the run started from.
@@ -112,43 +132,17 @@ impl std::io::Write for Hashing<'_> {
     }
 }
 
-/// The whole state of `world` in the reference's state format: one row per
-/// line, `id p1.x p1.y p2.x p2.y v.x v.y`, each value the shortest decimal
-/// that reads back to the same `f64`.
-pub fn state_text(world: &World) -> String {
-    let lines = world.lines();
-    let mut out = String::with_capacity(lines.len() * 120);
-    for (id, l) in lines.iter().enumerate() {
-        push_row(&mut out, id, l);
-        out.push('\n');
-    }
-    out
-}
-
-/// Writes the state of `world` (as [`state_text`]) to `out`, a block of
-/// rows at a time, formatted on the world's threads.
+/// Writes the whole state of `world` to `out` in the reference's state
+/// format: one row per line, `id p1.x p1.y p2.x p2.y v.x v.y`, each value
+/// the shortest decimal that reads back to the same `f64`; a block of rows
+/// at a time, formatted on the world's threads.
 pub fn write_state(world: &World, out: &mut dyn std::io::Write) -> std::io::Result<()> {
     write_rows(out, &world.lines(), None, world.threads())
 }
 
-/// Writes a checkpoint of `world`'s run so far to `out`; `scene_digest` is
-/// the [`Scene::digest`] of the scene the run started from.
-pub fn write(
-    world: &World,
-    scene_digest: u64,
-    out: &mut dyn std::io::Write,
-) -> std::io::Result<()> {
-    let lines = world.lines();
-    let counters = world.counters();
-    let rows = (&lines[..], world.colors());
-    write_checkpoint(
-        out,
-        scene_digest,
-        world.steps(),
-        counters,
-        rows,
-        world.threads(),
-    )
+/// Writes the state of `world` to the file `path`, whole or not at all.
+pub fn save_state(world: &World, path: &Path) -> Result<(), crate::OutputError> {
+    crate::output::write_with(path, |out| write_state(world, out))
 }
 
 /// Writes the checkpoint of a run of the scene with digest `scene_digest`
@@ -239,6 +233,27 @@ pub enum ResumeError {
 }
 
 impl Checkpoint {
+    /// Writes a checkpoint of `world`'s run so far to `out`;
+    /// `scene_digest` is the [`Scene::digest`] of the scene the run started
+    /// from.
+    pub fn write(
+        world: &World,
+        scene_digest: u64,
+        out: &mut dyn std::io::Write,
+    ) -> std::io::Result<()> {
+        let lines = world.lines();
+        let counters = world.counters();
+        let rows = (&lines[..], world.colors());
+        write_checkpoint(
+            out,
+            scene_digest,
+            world.steps(),
+            counters,
+            rows,
+            world.threads(),
+        )
+    }
+
     /// Checks that this checkpoint (named `name` in errors) continues a run
     /// of `scene` (whose digest, [`Scene::digest`], is `digest`) that is to
     /// take `steps` steps in all.

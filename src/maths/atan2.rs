@@ -43,6 +43,15 @@ const ERROR: f64 = f64::from_bits(0x3a00_0000_0000_0000); // 2^-95
 /// The angle of the point `(x, y)` from the positive x axis, in
 /// `[-pi, pi]`, correctly rounded: `y`'s sign goes with the result, zeros
 /// and infinities give the values C's `atan2` gives, NaN gives NaN.
+///
+/// ```
+/// use screensaver::maths::atan2;
+/// use std::f64::consts::{FRAC_PI_4, PI};
+///
+/// assert_eq!(atan2(1.0, 1.0), FRAC_PI_4);
+/// assert_eq!(atan2(0.0, -1.0), PI);
+/// assert_eq!(atan2(-0.0, -1.0), -PI);
+/// ```
 pub fn atan2(y: f64, x: f64) -> f64 {
     if x.is_nan() || y.is_nan() {
         return x + y;

@@ -33,6 +33,14 @@ const NEGLIGIBLE: f64 = f64::from_bits(0x3c90_0000_0000_0000); // 2^-54
 /// `sqrt(x^2 + y^2)` without undue overflow or underflow, exactly as the
 /// reference's libm computed it: `+inf` if either argument is infinite
 /// (even with a NaN beside it), NaN for a NaN otherwise.
+///
+/// ```
+/// use screensaver::maths::hypot;
+///
+/// assert_eq!(hypot(3.0, 4.0), 5.0);
+/// assert_eq!(hypot(1e300, 1e300), 1.4142135623730952e300); // no overflow
+/// assert_eq!(hypot(f64::NAN, f64::INFINITY), f64::INFINITY);
+/// ```
 #[inline]
 pub fn hypot(x: f64, y: f64) -> f64 {
     if !x.is_finite() || !y.is_finite() {

@@ -16,9 +16,9 @@ pub enum IntersectionKind {
 }
 
 /// A collision: the two lines, the one with the lower id first, and how
-/// they meet. The lines are named by id ([`LineId`], the default, as
-/// every result gives them) or, inside a step, by the slots the world
-/// stores them at ([`Slot`]).
+/// they meet. The lines are named by id ([`LineId`]), as every result
+/// gives them (inside a step, the library names them by where it stores
+/// them).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Event<I = LineId> {
     /// The line with the smaller id.
@@ -136,6 +136,16 @@ impl<I> Event<I> {
 /// The contract's `intersect(l1, l2, dt)`: whether and how `l1` and `l2`
 /// meet in the next `dt`, holding `l1` still and sweeping `l2` by the
 /// relative velocity. The caller passes the line with the smaller id as `l1`.
+///
+/// ```
+/// use screensaver::{intersect, IntersectionKind, Line, Vec2};
+///
+/// let still = Line { p1: Vec2::new(0.6, 0.6), p2: Vec2::new(0.6, 0.7), v: Vec2::new(0.0, 0.0) };
+/// let mut coming = Line { p1: Vec2::new(0.61, 0.62), p2: Vec2::new(0.63, 0.64), v: Vec2::new(-2.0, 0.0) };
+/// assert_eq!(intersect(&still, &coming, 0.5e-2), Some(IntersectionKind::L2WithL1));
+/// coming.v = Vec2::new(2.0, 0.0); // going away
+/// assert_eq!(intersect(&still, &coming, 0.5e-2), None);
+/// ```
 ///
 /// Always inlined: the exact test of every broad phase calls it once per
 /// pair that passes the prefilter, and as a call its arguments and the

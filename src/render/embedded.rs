@@ -8,10 +8,10 @@
 //! on SIGINT, SIGTERM or SIGHUP (the daemon ends hacks with SIGTERM), or after the
 //! frames asked for.
 
-use super::live::{FrameClock, Outcome, Pace, Scenes, Simulation};
+use super::live::{FrameClock, Outcome, Scenes, Simulation};
 use super::raster::{Canvas, Painter};
+use super::screen::{ScreenError, ShowOptions};
 use super::{hud, Size, View};
-use crate::report::DrawStats;
 use std::sync::atomic::Ordering;
 use std::time::{Duration, Instant};
 use x11rb::connection::Connection;
@@ -22,7 +22,7 @@ use x11rb::protocol::xproto::{
 use x11rb::protocol::Event;
 
 /// The variable through which XScreenSaver names the window to draw in.
-pub const SCREENSAVER_WINDOW: &str = "XSCREENSAVER_WINDOW";
+pub(crate) const SCREENSAVER_WINDOW: &str = "XSCREENSAVER_WINDOW";
 
 /// Which window to draw in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,35 +35,30 @@ pub enum Target {
 
 /// Reads a window id written as XScreenSaver and `xwininfo` write them:
 /// hexadecimal after `0x`, else decimal.
-pub fn parse_window_id(s: &str) -> Result<u32, String> {
+pub(super) fn parse_window_id(s: &str) -> Result<u32, ScreenError> {
     let t = s.trim();
     let parsed = match t.strip_prefix("0x").or_else(|| t.strip_prefix("0X")) {
         Some(hex) => u32::from_str_radix(hex, 16),
         None => t.parse::<u32>(),
     };
     match parsed {
-        Ok(0) | Err(_) => Err(format!(
-            "`{s}` is not a window id (write it as 0x1a00003 or as a decimal number)"
-        )),
+        Ok(0) | Err(_) => Err(ScreenError::BadWindowId {
+            text: s.to_string(),
+            variable: None,
+        }),
         Ok(id) => Ok(id),
     }
 }
 
 /// The window XScreenSaver names in the environment, if any.
-pub fn screensaver_window() -> Option<Result<u32, String>> {
+pub(super) fn screensaver_window() -> Option<Result<u32, ScreenError>> {
     let value = std::env::var(SCREENSAVER_WINDOW).ok()?;
-    Some(parse_window_id(&value).map_err(|e| format!("{SCREENSAVER_WINDOW}: {e}")))
-}
-
-/// How to draw.
-#[derive(Clone, Copy, Debug)]
-pub struct Options {
-    /// Most frames drawn per second.
-    pub fps: u32,
-    /// Show the heads-up display.
-    pub hud: bool,
-    /// How fast the run goes.
-    pub pace: Pace,
+    Some(
+        parse_window_id(&value).map_err(|_| ScreenError::BadWindowId {
+            text: value,
+            variable: Some(SCREENSAVER_WINDOW),
+        }),
+    )
 }
 
 /// A connection to the display and the window to draw in, checked.
@@ -75,21 +70,21 @@ struct Opened {
 
 /// Connects to the display and checks the window `target` names: that it
 /// exists and that its pixels are 24-bit true colour.
-fn open(target: Target) -> Result<Opened, String> {
+fn open(target: Target) -> Result<Opened, ScreenError> {
     super::window::display_named()?;
     let (conn, screen_number) =
-        x11rb::connect(None).map_err(|e| format!("cannot reach the X display: {e}"))?;
+        x11rb::connect(None).map_err(|e| failed(format!("cannot reach the X display: {e}")))?;
     let screen = &conn.setup().roots[screen_number];
     let window = match target {
         Target::Root => screen.root,
         Target::Id(id) => id,
     };
-    let failed = |e: &dyn std::fmt::Display| format!("window 0x{window:x}: {e}");
+    let failed = |e: &dyn std::fmt::Display| failed(format!("window 0x{window:x}: {e}"));
     let geometry = conn
         .get_geometry(window)
         .map_err(|e| failed(&e))?
         .reply()
-        .map_err(|_| format!("there is no window 0x{window:x} on this display"))?;
+        .map_err(|_| ScreenError::NoWindow(window))?;
     let attributes = conn
         .get_window_attributes(window)
         .map_err(|e| failed(&e))?
@@ -112,9 +107,7 @@ fn open(target: Target) -> Result<Opened, String> {
         .iter()
         .any(|f| f.depth == depth && f.bits_per_pixel == 32);
     if !(true_colour && four_bytes && (depth == 24 || depth == 32)) {
-        return Err(failed(&format!(
-            "cannot draw in a window of depth {depth} that is not 24-bit true colour"
-        )));
+        return Err(ScreenError::NotTrueColour { window, depth });
     }
     Ok(Opened {
         conn,
@@ -126,7 +119,7 @@ fn open(target: Target) -> Result<Opened, String> {
 /// Checks, before a run starts, that it can draw into the window `target`
 /// names: the display answers, the window exists and takes 24-bit true
 /// colour.
-pub fn check(target: Target) -> Result<(), String> {
+pub(super) fn check(target: Target) -> Result<(), ScreenError> {
     open(target).map(|opened| super::window::keep_open(opened.conn))
 }
 
@@ -134,17 +127,17 @@ pub fn check(target: Target) -> Result<(), String> {
 /// window goes away or a signal stops it. Fails with a message when there
 /// is no display, no such window, or a window whose pixels are not 24-bit
 /// true colour.
-pub fn run(
+pub(super) fn run(
     target: Target,
     scenes: Scenes,
-    options: Options,
-) -> Result<(Outcome, DrawStats), String> {
+    options: ShowOptions,
+) -> Result<Outcome, ScreenError> {
     let Opened {
         conn,
         window,
         geometry,
     } = open(target)?;
-    let failed = |e: &dyn std::fmt::Display| format!("window 0x{window:x}: {e}");
+    let failed = |e: &dyn std::fmt::Display| failed(format!("window 0x{window:x}: {e}"));
     let depth = geometry.depth;
     let msb_first = conn.setup().image_byte_order == ImageOrder::MSB_FIRST;
     conn.change_window_attributes(
@@ -240,8 +233,17 @@ pub fn run(
     let outcome = run.finish()?;
     match error {
         Some(e) => Err(e),
-        None => Ok((outcome, clock.stats())),
+        None => Ok(Outcome {
+            drawn: clock.stats(),
+            ..outcome
+        }),
     }
+}
+
+/// A failure of the display or the window, in the windowing system's
+/// words.
+fn failed(message: String) -> ScreenError {
+    ScreenError::Failed(message)
 }
 
 /// Puts a frame of `size` (its pixels as bytes, four a pixel) into
@@ -291,6 +293,7 @@ mod tests {
         assert_eq!(parse_window_id(" 27262979 "), Ok(27_262_979));
         assert!(parse_window_id("0").is_err());
         assert!(parse_window_id("0xzz").is_err());
-        assert!(parse_window_id("root").unwrap_err().contains("`root`"));
+        let message = parse_window_id("root").unwrap_err().to_string();
+        assert!(message.contains("`root`"), "{message}");
     }
 }

@@ -4,7 +4,6 @@
 //! pace. Endless runs go on until told to stop; runs of generated scenes
 //! start a new scene every so often, and whenever a scene has died out.
 
-use super::died_out;
 use crate::line::{Color, Line};
 use crate::report::DrawStats;
 use crate::run::Run;
@@ -14,6 +13,26 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 /// Where the scenes of a live run come from.
+///
+/// ```no_run
+/// use screensaver::generate::{generate, SceneKind};
+/// use screensaver::render::{Scenes, Screen, ShowOptions};
+/// use screensaver::{DetectorKind, World};
+/// use std::time::Duration;
+///
+/// // A screensaver: a new generated scene every thirty seconds, in a
+/// // window filling the screen, until it is closed.
+/// let world = |k: u64| World::with_detector(&generate(SceneKind::Ring, 2_000, k), DetectorKind::Sweep);
+/// let scenes = Scenes::Generated {
+///     first: Box::new(world(0)),
+///     next: Box::new(world),
+///     cycle: Duration::from_secs(30),
+/// };
+/// let screen = Screen::Window { fullscreen: true };
+/// screen.check().expect("a display");
+/// let outcome = screen.show(scenes, ShowOptions::default()).expect("shown");
+/// println!("{} scenes, {} frames", outcome.scenes, outcome.drawn.frames);
+/// ```
 pub enum Scenes {
     /// One world, run until its step count reaches `until`, or until
     /// stopped if `None`.
@@ -26,7 +45,7 @@ pub enum Scenes {
     },
     /// Generated scenes without end: `first`, then `next(k)` for the
     /// `k`-th (from 1); a new one starts after `cycle`, or as soon as the
-    /// scene on show has died out (see [`died_out`]).
+    /// scene on show has died out (see [`World::died_out`]).
     Generated {
         /// The first scene.
         first: Box<World>,
@@ -86,25 +105,6 @@ impl Pace {
             Pace::Max
         } else {
             Pace::Rate((rate as u64).max(1))
-        }
-    }
-}
-
-impl std::str::FromStr for Pace {
-    type Err = String;
-
-    /// `frame`, `max`, or a number of steps a second.
-    fn from_str(s: &str) -> Result<Pace, String> {
-        match s {
-            "frame" => Ok(Pace::PerFrame),
-            "max" => Ok(Pace::Max),
-            n => match n.parse::<u64>() {
-                Ok(n) if n > 0 => Ok(Pace::Rate(n)),
-                _ => Err(format!(
-                    "`{s}` is not a pace: give steps a second (a whole number from 1), \
-                     `frame` (one step a picture) or `max`"
-                )),
-            },
         }
     }
 }
@@ -214,6 +214,8 @@ pub struct Outcome {
     pub scene_elapsed: Duration,
     /// Scenes shown (1 unless generated scenes were cycled).
     pub scenes: u64,
+    /// The frames drawn, and the time they took.
+    pub drawn: DrawStats,
 }
 
 /// A live run under way: the simulation on its thread.
@@ -244,11 +246,9 @@ impl Simulation {
     }
 
     /// Tells the simulation to stop and waits for it.
-    pub fn finish(self) -> Result<Outcome, String> {
+    pub fn finish(self) -> Result<Outcome, super::ScreenError> {
         self.shared.quit.store(true, Ordering::Relaxed);
-        self.thread
-            .join()
-            .map_err(|_| "the simulation thread panicked".to_string())
+        (self.thread.join()).map_err(|_| super::ScreenError::Panicked)
     }
 }
 
@@ -310,7 +310,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
             let due = scene_start.elapsed() >= cycle;
             let dead = last_check.elapsed() >= DEATH_CHECK_EVERY && {
                 last_check = Instant::now();
-                died_out(world.lines_as_stored().map(|(line, _)| line))
+                world.died_out()
             };
             if due || dead {
                 scene += 1;
@@ -385,6 +385,7 @@ fn simulate(scenes: Scenes, shared: &Shared) -> Outcome {
         world,
         scene_elapsed: elapsed.min(scene_start.elapsed()),
         scenes: scene + 1,
+        drawn: DrawStats::default(),
     }
 }
 
@@ -431,6 +432,7 @@ mod tests {
     use super::*;
     use crate::detect::Brute;
     use crate::test_util::line;
+    use crate::world::died_out;
 
     fn world(lines: Vec<Line>) -> World {
         let colors = vec![Color::Red; lines.len()];
@@ -594,14 +596,7 @@ mod tests {
     }
 
     #[test]
-    fn paces_read_change_and_show() {
-        assert_eq!("frame".parse(), Ok(Pace::PerFrame));
-        assert_eq!("max".parse(), Ok(Pace::Max));
-        assert_eq!("240".parse(), Ok(Pace::Rate(240)));
-        for bad in ["0", "-3", "fast", "1.5", ""] {
-            let err = bad.parse::<Pace>().unwrap_err();
-            assert!(err.contains("is not a pace"), "{err}");
-        }
+    fn paces_change_and_show() {
         // + and - double and halve; from one step a frame or from no
         // limit they start at the measured rate.
         assert_eq!(Pace::Rate(100).changed(true, 5.0), Pace::Rate(200));

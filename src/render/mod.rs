@@ -8,18 +8,22 @@
 //! shape, centred, with black bars if the size has another shape.
 
 #[cfg(feature = "window")]
-pub(crate) mod embedded;
+mod embedded;
 #[cfg(feature = "window")]
 mod hud;
 #[cfg(feature = "window")]
-pub(crate) mod live;
+mod live;
 pub(crate) mod raster;
 #[cfg(feature = "window")]
-pub(crate) mod window;
+mod screen;
+#[cfg(feature = "window")]
+mod window;
 
 #[cfg(feature = "window")]
-pub use live::Pace;
-pub use raster::{draw_segment, Canvas};
+pub use live::{Outcome, Pace, Scenes};
+pub use raster::Canvas;
+#[cfg(feature = "window")]
+pub use screen::{Screen, ScreenError, ShowOptions};
 
 use crate::line::{Color, Line, BOX_MAX, BOX_MIN, WINDOW_HEIGHT, WINDOW_WIDTH};
 use crate::World;
@@ -29,15 +33,6 @@ use tiny_skia::{LineCap, Paint, PathBuilder, Pixmap, Stroke, Transform};
 
 /// How red lines are drawn (dark red, as in the original).
 pub(crate) const RED: [u8; 3] = [170, 20, 20];
-
-/// True when nothing more can happen in the world: every line is NaN, or
-/// none of them moves. The lines may come in any order (a world's
-/// [`World::lines_as_stored`] needs no copy).
-pub fn died_out<'a>(lines: impl IntoIterator<Item = &'a Line>) -> bool {
-    lines
-        .into_iter()
-        .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
-}
 
 /// How gray lines are drawn.
 pub(crate) const GRAY: [u8; 3] = [150, 150, 150];
@@ -68,23 +63,6 @@ impl Size {
         width: WINDOW_WIDTH as u32,
         height: WINDOW_HEIGHT as u32,
     };
-}
-
-impl std::str::FromStr for Size {
-    type Err = String;
-
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        let bad = || format!("expected a size like 1180x800, found `{s}`");
-        let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
-        let (width, height) = (
-            w.parse::<u32>().map_err(|_| bad())?,
-            h.parse::<u32>().map_err(|_| bad())?,
-        );
-        if !(1..=16384).contains(&width) || !(1..=16384).contains(&height) {
-            return Err(format!("sizes run from 1x1 to 16384x16384, found `{s}`"));
-        }
-        Ok(Size { width, height })
-    }
 }
 
 /// Maps box coordinates into a frame, `y` down: either the box filling the
@@ -210,6 +188,16 @@ pub(crate) fn draw_in_view(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap
 }
 
 /// A new frame of `size` showing the world.
+///
+/// ```
+/// use screensaver::render::{frame, Size};
+/// use screensaver::{generate::default_scene, DetectorKind, World};
+///
+/// let world = World::with_detector(&default_scene(), DetectorKind::Sweep);
+/// let picture = frame(&world, Size { width: 295, height: 200 });
+/// assert_eq!((picture.width(), picture.height()), (295, 200));
+/// assert!(picture.pixels().iter().any(|p| p.red() > 0), "red lines drawn");
+/// ```
 pub fn frame(world: &World, size: Size) -> Pixmap {
     let mut pixmap =
         Pixmap::new(size.width, size.height).expect("sizes are checked to be non-zero");
@@ -238,8 +226,8 @@ pub enum RenderError {
     UnknownType(PathBuf),
     /// A frame every K steps asked of a type that holds one picture.
     #[error(
-        "{0}: an SVG holds one picture, the last frame; leave out --render-every, \
-         or name a .png (a numbered sequence) or a .gif"
+        "{0}: an SVG holds one picture, the last frame, not a frame every so many steps; \
+         name a .png (a numbered sequence) or a .gif"
     )]
     OneFrameOnly(PathBuf),
     /// Writing failed.
@@ -288,7 +276,7 @@ fn write_error(path: &Path, e: impl std::fmt::Display) -> RenderError {
 }
 
 /// Writes a frame as a PNG.
-pub fn save_png(pixmap: &Pixmap, path: &Path) -> Result<(), RenderError> {
+pub(crate) fn save_png(pixmap: &Pixmap, path: &Path) -> Result<(), RenderError> {
     let bytes = pixmap.encode_png().map_err(|e| write_error(path, e))?;
     crate::output::write_file(path, &bytes).map_err(written)
 }
@@ -349,7 +337,7 @@ pub(crate) fn svg(world: &World, size: Size) -> String {
 }
 
 /// Writes the world as an SVG file.
-pub fn save_svg(world: &World, size: Size, path: &Path) -> Result<(), RenderError> {
+pub(crate) fn save_svg(world: &World, size: Size, path: &Path) -> Result<(), RenderError> {
     crate::output::write_file(path, svg(world, size).as_bytes()).map_err(written)
 }
 
@@ -496,6 +484,29 @@ impl Recorder {
         })
     }
 
+    /// Checks, before a run, that `path` names pictures a recorder can
+    /// write: a known type, and one that holds a frame every so many steps
+    /// where `every` asks for that.
+    ///
+    /// ```
+    /// use screensaver::render::Recorder;
+    ///
+    /// assert!(Recorder::check_name("run.gif".as_ref(), true).is_ok());
+    /// assert!(Recorder::check_name("run.svg".as_ref(), true).is_err());
+    /// assert!(Recorder::check_name("run.jpg".as_ref(), false).is_err());
+    /// ```
+    pub fn check_name(path: &Path, every: bool) -> Result<(), RenderError> {
+        let frames = if every { Frames::Every } else { Frames::Last };
+        Target::for_path(path, frames).map(drop)
+    }
+
+    /// The file of the picture after `step` in the numbered sequence a
+    /// `.png` with a frame every so many steps is written as:
+    /// `NAME-000005.png`.
+    pub fn sequence_name(path: &Path, step: u64) -> PathBuf {
+        sequence_name(path, step)
+    }
+
     /// Writes the first frame, for sequences and GIFs.
     pub fn start(&mut self, world: &World) -> Result<(), RenderError> {
         self.write_frame(world)
@@ -568,20 +579,6 @@ fn nearest(palette: &[[u8; 3]], c: [u8; 3]) -> u8 {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn sizes_parse() {
-        assert_eq!(
-            "590x400".parse::<Size>(),
-            Ok(Size {
-                width: 590,
-                height: 400
-            })
-        );
-        assert!("590".parse::<Size>().is_err());
-        assert!("0x10".parse::<Size>().unwrap_err().contains("1x1"));
-        assert!("axb".parse::<Size>().unwrap_err().contains("`axb`"));
-    }
 
     #[test]
     fn the_box_fills_the_window_with_y_down() {

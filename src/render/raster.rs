@@ -28,6 +28,17 @@ pub const SMOOTH_UP_TO: usize = 5_000;
 pub const PICTURE_SMOOTH_UP_TO: usize = 100_000;
 
 /// A frame buffer: `height` rows of `width` pixels, each `0x00RRGGBB`.
+///
+/// ```
+/// use screensaver::render::{Canvas, Size, View};
+///
+/// let mut pixels = vec![0u32; 118 * 80];
+/// let mut canvas = Canvas::new(&mut pixels, 118, 80);
+/// let view = View::new(Size { width: 118, height: 80 });
+/// // A line across the box's middle, in box units.
+/// canvas.draw_segment(view.point(0.6, 0.75), view.point(0.9, 0.75), 0xaa1414);
+/// assert!(pixels.iter().filter(|&&p| p != 0).count() > 20);
+/// ```
 pub struct Canvas<'a> {
     pixels: &'a mut [u32],
     width: usize,
@@ -167,12 +178,14 @@ pub fn draw_thin_each<'a>(
     }
 }
 
-/// Draws one line as the window draws large scenes, from `a` to `b` in the frame's
-/// pixels as [`View::point`] gives them, in colour `rgb`, over what the
-/// canvas holds: for hosts that map the lines themselves (the web page
-/// draws lines another thread stepped).
-pub fn draw_segment(canvas: &mut Canvas, a: (f64, f64), b: (f64, f64), rgb: u32) {
-    segment(canvas, (a.0 - 0.5, a.1 - 0.5), (b.0 - 0.5, b.1 - 0.5), rgb);
+impl Canvas<'_> {
+    /// Draws one line as the window draws large scenes, from `a` to `b` in
+    /// the frame's pixels as [`View::point`] gives them, in colour `rgb`,
+    /// over what the canvas holds: for hosts that map the lines themselves
+    /// (the web page draws lines another thread stepped).
+    pub fn draw_segment(&mut self, a: (f64, f64), b: (f64, f64), rgb: u32) {
+        segment(self, (a.0 - 0.5, a.1 - 0.5), (b.0 - 0.5, b.1 - 0.5), rgb);
+    }
 }
 
 /// One line from `a` to `b`, pixel centres at whole numbers: a dot if it is
@@ -333,12 +346,7 @@ mod tests {
         let mut canvas = Canvas::new(&mut segments, 200, 90);
         for (l, c) in lines.iter().zip(colors) {
             let rgb = pixel(if c == Color::Red { RED } else { GRAY });
-            draw_segment(
-                &mut canvas,
-                view.point(l.p1.x, l.p1.y),
-                view.point(l.p2.x, l.p2.y),
-                rgb,
-            );
+            canvas.draw_segment(view.point(l.p1.x, l.p1.y), view.point(l.p2.x, l.p2.y), rgb);
         }
         assert!(thin.iter().filter(|&&p| p != 0).count() > 100);
         // The view's affine map and `View::point` may round apart by an

@@ -10,8 +10,8 @@
 
 use super::live::{FrameClock, Outcome, Pace, Scenes, Simulation, Snapshot};
 use super::raster::{Canvas, Painter};
+use super::screen::{ScreenError, ShowOptions};
 use super::{hud, Size, View};
-use crate::report::DrawStats;
 use std::num::NonZeroU32;
 use std::sync::atomic::Ordering;
 use std::sync::Arc;
@@ -61,17 +61,17 @@ pub fn action_for(key: &Key) -> Option<Action> {
 
 /// How the window was asked to behave.
 #[derive(Clone, Copy, Debug)]
-pub struct Options {
+struct Options {
     /// Most frames drawn per second.
-    pub fps: u32,
+    fps: u32,
     /// Keep the window open after the last step, until it is closed.
-    pub hold: bool,
+    hold: bool,
     /// Fill the screen, the box stretched over it.
-    pub fullscreen: bool,
+    fullscreen: bool,
     /// Show the heads-up display from the start.
-    pub hud: bool,
+    hud: bool,
     /// How fast the run goes (`+` and `-` change it).
-    pub pace: Pace,
+    pace: Pace,
 }
 
 /// The window's title for a state of the run: the step, both counters and
@@ -91,7 +91,7 @@ fn title(s: &Snapshot) -> String {
 /// to open a window on or it does not answer: a connection is made, so
 /// that a run reports it before it prints anything, and kept
 /// ([`keep_open`]).
-pub fn check_display() -> Result<(), String> {
+pub(super) fn check_display() -> Result<(), ScreenError> {
     display_named()?;
     match std::env::var_os("DISPLAY").is_some_and(|v| !v.is_empty()) {
         true => x11rb::connect(None)
@@ -116,32 +116,44 @@ pub(super) fn keep_open(conn: x11rb::rust_connection::RustConnection) {
 /// Fails, with a message that says what to do, when no display is named
 /// at all; the caller connects next and reports a display that does not
 /// answer.
-pub(super) fn display_named() -> Result<(), String> {
+pub(super) fn display_named() -> Result<(), ScreenError> {
     let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
     if set("DISPLAY") || set("WAYLAND_DISPLAY") || set("WAYLAND_SOCKET") {
         Ok(())
     } else {
-        Err("cannot open a window: no display (DISPLAY is not set); \
-             run under xvfb-run for a virtual one, or use --render"
-            .into())
+        Err(ScreenError::NoDisplay)
     }
 }
 
 /// The message for a display that cannot be reached: the display's name
 /// and what to check, not the windowing library's own words.
-fn unreachable_display() -> String {
-    let name = std::env::var("DISPLAY").unwrap_or_default();
-    format!(
-        "cannot open a window: cannot connect to the X display `{name}` \
-         (is an X server running there, and may this user connect to it?)"
-    )
+fn unreachable_display() -> ScreenError {
+    let display = std::env::var("DISPLAY").unwrap_or_default();
+    ScreenError::Unreachable { display }
 }
 
 /// Opens the window and runs the scenes in it until the run ends, the
 /// window is closed or a signal stops it. Fails with a message when no
 /// window can be opened.
-pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), String> {
+pub(super) fn run(
+    scenes: Scenes,
+    options: ShowOptions,
+    fullscreen: bool,
+) -> Result<Outcome, ScreenError> {
     display_named()?;
+    let ShowOptions {
+        fps,
+        hold,
+        hud,
+        pace,
+    } = options;
+    let options = Options {
+        fps,
+        hold,
+        fullscreen,
+        hud,
+        pace,
+    };
     let event_loop = EventLoop::new().map_err(|_| unreachable_display())?;
     let run = Simulation::start(scenes, options.pace);
     let mut app = App {
@@ -162,10 +174,13 @@ pub fn run(scenes: Scenes, options: Options) -> Result<(Outcome, DrawStats), Str
     let looped = event_loop.run_app(&mut app);
     let (error, stats) = (app.error.take(), app.clock.stats());
     let outcome = run.finish()?;
-    looped.map_err(|e| format!("the window failed: {e}"))?;
+    looped.map_err(|e| ScreenError::Failed(format!("the window failed: {e}")))?;
     match error {
-        Some(e) => Err(e),
-        None => Ok((outcome, stats)),
+        Some(e) => Err(ScreenError::Failed(e)),
+        None => Ok(Outcome {
+            drawn: stats,
+            ..outcome
+        }),
     }
 }
 

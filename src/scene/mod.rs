@@ -35,6 +35,23 @@ pub struct SceneLine {
 }
 
 /// A whole scene: its lines in id order.
+///
+/// ```
+/// use screensaver::{DetectorKind, Scene, World};
+///
+/// // The `.in` format: the count, then a row a line, in window units.
+/// let text = "2\n\
+///     (300.0, 400.0), (320.0, 420.0), 0.5, 0.0, 0\n\
+///     (900.0, 400.0), (920.0, 430.0), -0.5, 0.0, 1\n";
+/// let scene = Scene::parse(text.as_bytes(), "two.in").expect("a scene");
+/// assert_eq!(scene.lines.len(), 2);
+/// let mut world = World::with_detector(&scene, DetectorKind::Sweep);
+/// world.run(10);
+///
+/// // Errors name the text, the line and the problem.
+/// let error = Scene::parse(b"3\n", "short.in").unwrap_err();
+/// assert!(error.to_string().starts_with("short.in:"), "{error}");
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
     /// The lines; a line's id is its position here.

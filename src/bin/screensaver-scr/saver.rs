@@ -4,7 +4,7 @@
 
 use crate::args::Mode;
 use screensaver::generate::{generate, SceneKind, DEFAULT_LINES};
-use screensaver::render::{died_out, draw_segment, Canvas, Size, View};
+use screensaver::render::{Canvas, Size, View};
 use screensaver::{DetectorConfig, DetectorKind, World};
 use std::num::{NonZeroIsize, NonZeroU32};
 use std::rc::Rc;
@@ -154,7 +154,7 @@ fn show<D: HasDisplayHandle, W: HasWindowHandle>(
     for (line, color) in world.lines_as_stored() {
         let a = view.point(line.p1.x, line.p1.y);
         let b = view.point(line.p2.x, line.p2.y);
-        draw_segment(&mut canvas, a, b, color.rgb());
+        canvas.draw_segment(a, b, color.rgb());
     }
     let mut buffer = surface
         .buffer_mut()
@@ -259,8 +259,7 @@ impl Scenes {
     /// One step, or the next scene when this one has had its time or has
     /// died out.
     fn advance(&mut self) {
-        let dead = self.world.steps() % 60 == 0
-            && died_out(self.world.lines_as_stored().map(|(line, _)| line));
+        let dead = self.world.steps() % 60 == 0 && self.world.died_out();
         if dead || self.started.elapsed() >= CYCLE {
             self.shown += 1;
             self.world = Self::scene(self.shown, self.seed);

@@ -2,8 +2,7 @@
 
 use clap::{Args, Parser, Subcommand};
 use screensaver::generate::{SceneKind, DEFAULT_SEED};
-use screensaver::job::Screen;
-use screensaver::render::{Pace, Size};
+use screensaver::render::{Pace, Screen, Size};
 use screensaver::{DetectorConfig, DetectorKind, KeepPairs};
 use std::path::PathBuf;
 
@@ -56,7 +55,7 @@ pub(crate) struct Cli {
     /// Without INPUT: the generated scene's arrangement (uniform,
     /// clustered, ring or grid); endless runs take turns through all four
     /// unless one is given.
-    #[arg(long, value_parser = parse::<SceneKind>)]
+    #[arg(long, value_parser = scene_kind)]
     pub(crate) kind: Option<SceneKind>,
 
     /// Without INPUT: the seed of the generated scene (endless runs: of the
@@ -72,7 +71,7 @@ pub(crate) struct Cli {
     /// Collision detector: `quadtree` (the design write-up's tree), `sweep`
     /// (sort and sweep; fastest on the course scenes) or `brute` (all
     /// pairs, the original algorithm).
-    #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = parse::<DetectorKind>)]
+    #[arg(long, default_value = DetectorKind::DEFAULT.name(), value_parser = detector)]
     pub(crate) detector: DetectorKind,
 
     /// Quadtree: most lines a leaf holds before it splits.
@@ -86,7 +85,7 @@ pub(crate) struct Cli {
     /// Sweep: keep the pairs a sweep finds for the steps after it, sweeping
     /// again only when a line leaves the room it was given: `auto` (where
     /// that pays, judged as the run goes), `always` or `never`.
-    #[arg(long, value_name = "WHEN", default_value = KeepPairs::default().name(), value_parser = parse::<KeepPairs>)]
+    #[arg(long, value_name = "WHEN", default_value = KeepPairs::default().name(), value_parser = keep_pairs)]
     pub(crate) keep_pairs: KeepPairs,
 
     /// Threads to run on (default: all cores). Results are the same for any
@@ -144,7 +143,7 @@ pub(crate) struct Cli {
     /// Window and screen modes: how fast the run goes: N steps a second at
     /// most, `frame` for one step a picture drawn (the original -g's pace;
     /// the default), or `max` for as fast as it can; + and - change it.
-    #[arg(long, value_name = "N|frame|max", conflicts_with_all = ["render", "verify"])]
+    #[arg(long, value_name = "N|frame|max", value_parser = pace, conflicts_with_all = ["render", "verify"])]
     pub(crate) speed: Option<Pace>,
 
     /// Window: keep the last picture until the window is closed.
@@ -162,7 +161,7 @@ pub(crate) struct Cli {
     pub(crate) render_every: Option<u64>,
 
     /// With --render: picture size.
-    #[arg(long, value_name = "WxH", default_value = "1180x800", requires = "render", value_parser = parse::<Size>)]
+    #[arg(long, value_name = "WxH", default_value = "1180x800", requires = "render", value_parser = size)]
     pub(crate) size: Size,
 
     /// Write the final state to FILE, in the reference's state format.
@@ -207,7 +206,7 @@ pub(crate) struct GenArgs {
     pub(crate) seed: u64,
 
     /// Arrangement: uniform, clustered, ring or grid.
-    #[arg(long, default_value = "uniform", value_parser = parse::<SceneKind>)]
+    #[arg(long, default_value = "uniform", value_parser = scene_kind)]
     pub(crate) kind: SceneKind,
 
     /// Write to FILE instead of standard output.
@@ -215,9 +214,67 @@ pub(crate) struct GenArgs {
     pub(crate) output: Option<PathBuf>,
 }
 
-/// Parses a named choice or a size for clap, keeping its own message.
-fn parse<T: std::str::FromStr<Err = String>>(s: &str) -> Result<T, String> {
-    s.parse()
+/// The value of `all` whose `name` is `s`; the error names `what` and
+/// lists the names there are.
+fn named<T: Copy>(
+    all: &[T],
+    name: fn(T) -> &'static str,
+    what: &str,
+    s: &str,
+) -> Result<T, String> {
+    all.iter().copied().find(|&v| name(v) == s).ok_or_else(|| {
+        let names: Vec<_> = all.iter().map(|&v| name(v)).collect();
+        format!(
+            "unknown {what} `{s}`; expected one of: {}",
+            names.join(", ")
+        )
+    })
+}
+
+fn detector(s: &str) -> Result<DetectorKind, String> {
+    named(DetectorKind::ALL, DetectorKind::name, "detector", s)
+}
+
+fn keep_pairs(s: &str) -> Result<KeepPairs, String> {
+    named(KeepPairs::ALL, KeepPairs::name, "choice", s)
+}
+
+fn scene_kind(s: &str) -> Result<SceneKind, String> {
+    named(SceneKind::ALL, SceneKind::name, "scene kind", s)
+}
+
+/// Largest side of a picture, in pixels.
+const MOST_PIXELS: u32 = 16384;
+
+/// A picture's size, `WxH`, each side from 1 to [`MOST_PIXELS`].
+fn size(s: &str) -> Result<Size, String> {
+    let bad = || format!("expected a size like 1180x800, found `{s}`");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (width, height) = (
+        w.parse::<u32>().map_err(|_| bad())?,
+        h.parse::<u32>().map_err(|_| bad())?,
+    );
+    if !(1..=MOST_PIXELS).contains(&width) || !(1..=MOST_PIXELS).contains(&height) {
+        return Err(format!(
+            "sizes run from 1x1 to {MOST_PIXELS}x{MOST_PIXELS}, found `{s}`"
+        ));
+    }
+    Ok(Size { width, height })
+}
+
+/// A pace: `frame`, `max`, or a number of steps a second.
+fn pace(s: &str) -> Result<Pace, String> {
+    match s {
+        "frame" => Ok(Pace::PerFrame),
+        "max" => Ok(Pace::Max),
+        n => match n.parse::<u64>() {
+            Ok(n) if n > 0 => Ok(Pace::Rate(n)),
+            _ => Err(format!(
+                "`{s}` is not a pace: give steps a second (a whole number from 1), \
+                 `frame` (one step a picture) or `max`"
+            )),
+        },
+    }
 }
 
 /// Most frames a run may ask for: FRAMES + 1 steps must be counted.
@@ -309,5 +366,34 @@ fn thread_count(s: &str) -> Result<usize, String> {
     match at_least_one(s)? {
         n if n > 1024 => Err(format!("{n} is more than 1024 threads")),
         n => Ok(n),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_sizes_and_paces_read() {
+        for &kind in DetectorKind::ALL {
+            assert_eq!(detector(kind.name()), Ok(kind));
+        }
+        assert!(detector("nope").unwrap_err().contains("brute"));
+        assert!(scene_kind("spiral").unwrap_err().contains("uniform"));
+        assert_eq!(keep_pairs("never"), Ok(KeepPairs::Never));
+        let expected = Size {
+            width: 590,
+            height: 400,
+        };
+        assert_eq!(size("590x400"), Ok(expected));
+        assert!(size("590").is_err());
+        assert!(size("0x10").unwrap_err().contains("1x1"));
+        assert!(size("axb").unwrap_err().contains("`axb`"));
+        assert_eq!(pace("frame"), Ok(Pace::PerFrame));
+        assert_eq!(pace("max"), Ok(Pace::Max));
+        assert_eq!(pace("240"), Ok(Pace::Rate(240)));
+        for bad in ["0", "-3", "fast", "1.5", ""] {
+            assert!(pace(bad).unwrap_err().contains("is not a pace"), "{bad}");
+        }
     }
 }

@@ -1,7 +1,8 @@
 //! The `screensaver` command: runs a scene for a number of frames and prints
 //! the collision counts, compatible with the original program's output.
-//! It reads its arguments into a [`Job`], which the library runs; what is
-//! here is the command line, its exit codes and the progress bar.
+//! It reads its arguments into a [`Job`] and runs it over the library's
+//! calls; what is here is the command line, its conflicts and words, its
+//! exit codes and the progress bar.
 
 /// `eprintln!` that never panics: after a hangup the terminal is gone,
 /// and a message that cannot be shown must not change how the run ends.
@@ -13,6 +14,7 @@ macro_rules! say {
 }
 
 mod args;
+mod job;
 mod progress;
 mod words;
 
@@ -20,8 +22,9 @@ use args::{parse_frames, Cli, Command, GenArgs};
 use clap::error::ErrorKind;
 use clap::parser::ValueSource;
 use clap::{ArgMatches, CommandFactory, FromArgMatches};
-use screensaver::job::{Job, JobError, Screen};
-use screensaver::render::RenderError;
+use job::{Job, JobError};
+use screensaver::render::{RenderError, Screen, ScreenError};
+use screensaver::run::RunError;
 use screensaver::{DetectorConfig, DetectorKind, Signal};
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -50,9 +53,23 @@ impl From<JobError> for Failure {
             JobError::Results(e) => stdout_failure(e, "the results"),
             // A picture's name the program cannot write is a bad argument,
             // like any other.
-            JobError::Pictures(
-                e @ (RenderError::UnknownType(_) | RenderError::OneFrameOnly(_)),
-            ) => Failure::Usage(ErrorKind::InvalidValue, format!("--render: {e}")),
+            JobError::Pictures(RenderError::OneFrameOnly(path)) => Failure::Usage(
+                ErrorKind::InvalidValue,
+                format!(
+                    "--render: {}: an SVG holds one picture, the last frame; leave out \
+                     --render-every, or name a .png (a numbered sequence) or a .gif",
+                    path.display()
+                ),
+            ),
+            JobError::Pictures(e @ RenderError::UnknownType(_)) => {
+                Failure::Usage(ErrorKind::InvalidValue, format!("--render: {e}"))
+            }
+            JobError::Screen(e @ ScreenError::NoDisplay) => {
+                Failure::Error(format!("{e}, or use --render"))
+            }
+            JobError::Run(e @ RunError::Mismatch { .. }) => {
+                Failure::Error(format!("--verify: {e}"))
+            }
             JobError::Files(errors) => {
                 Failure::Errors(errors.iter().map(ToString::to_string).collect())
             }
@@ -161,7 +178,7 @@ fn screen(cli: &Cli) -> Result<Option<Screen>, Failure> {
                         .into(),
                 ));
             }
-            return Ok(Some(screen.map_err(Failure::Error)?));
+            return Ok(Some(screen.map_err(|e| Failure::Error(e.to_string()))?));
         }
     }
     Ok((cli.graphics || cli.fullscreen).then_some(Screen::Window {

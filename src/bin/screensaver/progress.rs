@@ -2,8 +2,8 @@
 //! run has taken a second, cleared when it finishes; and what a run says
 //! beside its results, on stderr.
 
+use crate::job::{Note, Progress};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use screensaver::job::{Note, Progress};
 use std::time::{Duration, Instant};
 
 /// A progress bar on stderr, if stderr is a terminal.

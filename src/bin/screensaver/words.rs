@@ -1,10 +1,10 @@
 //! What the command says in its own words: the job's conflicts named by
 //! the flags that made them, and what a run has to say beside its results.
 
-use screensaver::job::{Conflict, FileRole, Note};
+use crate::job::{Conflict, FileRole, Note};
 
 /// `n` things, in the singular for one.
-fn plural(n: u64, thing: &str) -> String {
+pub(crate) fn plural(n: u64, thing: &str) -> String {
     match n {
         1 => format!("1 {thing}"),
         n => format!("{n} {thing}s"),
@@ -107,7 +107,5 @@ pub(crate) fn note(note: &Note) -> String {
                 plural(*slivers, "sliver event")
             )
         }
-        // A note of a later version.
-        other => format!("{other:?}"),
     }
 }

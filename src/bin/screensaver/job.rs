@@ -5,64 +5,21 @@
 //! screen with the window or a window another program owns, writes the
 //! files asked for and prints the original program's text (or JSON).
 
-use crate::checkpoint::{self, Checkpoint};
-use crate::generate::{generate, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
-use crate::output;
-use crate::render::embedded;
-use crate::render::live::{Outcome, Pace, Scenes};
-use crate::render::{window, Frames, Recorder, Size, Target};
-use crate::report::{self, DrawStats, Stats};
-use crate::run::{Checkpoints, Run, RunError};
-use crate::schedule::Schedule;
-use crate::stop::Signal;
-use crate::{DetectorConfig, DetectorKind, Scene, World};
+use crate::words::plural;
+use screensaver::checkpoint::{self, Checkpoint};
+use screensaver::generate::{generate, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
+use screensaver::render::{Pace, Recorder, Scenes, Screen, ScreenError, ShowOptions, Size};
+use screensaver::report::{self, DrawStats, Stats};
+use screensaver::run::{Checkpoints, Run, RunError};
+use screensaver::{check_writable, FileIdentity};
+use screensaver::{DetectorConfig, DetectorKind, Scene, Signal, World};
 use std::io::Write;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-/// Where a run is shown.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Screen {
-    /// Our own window (`-g`), filling the screen if asked.
-    Window {
-        /// Fill the screen, the box stretched over it.
-        fullscreen: bool,
-    },
-    /// The root window (the desktop), as `--root` draws.
-    Root,
-    /// A window another program owns, by its X id (`--window-id`,
-    /// XScreenSaver's `XSCREENSAVER_WINDOW`).
-    WindowId(u32),
-}
-
-impl Screen {
-    /// The window XScreenSaver names in `XSCREENSAVER_WINDOW`, if it is
-    /// set.
-    pub fn from_environment() -> Option<Result<Screen, String>> {
-        embedded::screensaver_window().map(|id| id.map(Screen::WindowId))
-    }
-
-    /// Reads a window id written as XScreenSaver and `xwininfo` write them:
-    /// hexadecimal after `0x`, else decimal.
-    pub fn parse_window_id(s: &str) -> Result<u32, String> {
-        embedded::parse_window_id(s)
-    }
-}
-
 /// One run of the command: the scene, how long it runs, where it is shown
 /// and which files it writes. [`Job::default`] is the built-in scene run
 /// off screen, which needs `frames`.
-///
-/// ```
-/// use screensaver::job::Job;
-///
-/// // What `screensaver --lines 200 --json 10` prints.
-/// let job = Job { frames: Some(10), lines: Some(200), json: true, ..Job::default() };
-/// let mut out = Vec::new();
-/// job.run(&mut out, None).expect("the run");
-/// let text = String::from_utf8(out).unwrap();
-/// assert!(text.starts_with("{") && text.contains("\"steps_run\":11"));
-/// ```
 #[derive(Clone, Debug)]
 pub struct Job {
     /// Frames to run (FRAMES + 1 steps); `None` runs until stopped, which
@@ -158,25 +115,25 @@ pub enum JobError {
     Conflict(#[from] Conflict),
     /// The scene file could not be loaded.
     #[error(transparent)]
-    Scene(#[from] crate::scene::LoadError),
+    Scene(#[from] screensaver::scene::LoadError),
     /// The checkpoint to resume from could not be loaded.
     #[error(transparent)]
-    Checkpoint(#[from] crate::checkpoint::LoadError),
+    Checkpoint(#[from] checkpoint::LoadError),
     /// The checkpoint does not continue this run.
     #[error(transparent)]
-    Resume(#[from] crate::checkpoint::ResumeError),
+    Resume(#[from] checkpoint::ResumeError),
     /// The threads asked for could not be started.
     #[error(transparent)]
-    Threads(#[from] crate::ThreadsError),
+    Threads(#[from] screensaver::ThreadsError),
     /// The run cannot be shown: no display, or no such window.
-    #[error("{0}")]
-    Screen(String),
+    #[error(transparent)]
+    Screen(#[from] ScreenError),
     /// The pictures asked for cannot be made.
     #[error(transparent)]
-    Pictures(#[from] crate::render::RenderError),
+    Pictures(#[from] screensaver::render::RenderError),
     /// An output file cannot be written.
     #[error(transparent)]
-    Output(#[from] crate::OutputError),
+    Output(#[from] screensaver::OutputError),
     /// The run could not go on (a check against all pairs that failed, a
     /// picture or a checkpoint that could not be written).
     #[error(transparent)]
@@ -189,7 +146,7 @@ pub enum JobError {
     #[error(
         "a scene of {} needs about {} MB of memory, more than this process can have \
          (the memory free, or a limit such as `ulimit -v`)",
-        crate::plural(*lines, "line"),
+        plural(*lines, "line"),
         bytes.div_ceil(1_000_000)
     )]
     Memory {
@@ -212,13 +169,6 @@ pub enum JobError {
         /// The steps it was to run.
         of: u64,
     },
-}
-
-impl From<String> for JobError {
-    /// What the display layer says when a run cannot be shown.
-    fn from(message: String) -> Self {
-        JobError::Screen(message)
-    }
 }
 
 /// Options of a job that do not go together.
@@ -290,7 +240,6 @@ impl std::fmt::Display for FileRole {
 /// What a job has to say beside its results, for the program running it to
 /// put in its own words.
 #[derive(Clone, Debug, PartialEq)]
-#[non_exhaustive]
 pub enum Note {
     /// A GIF of a long run gets a frame every `every` steps, about
     /// `frames` in all (said before the run).
@@ -334,7 +283,7 @@ pub enum Note {
         /// Sliver events met.
         slivers: u64,
         /// The step and event of the first.
-        first_sliver: Option<(u64, crate::Event)>,
+        first_sliver: Option<(u64, screensaver::Event)>,
     },
 }
 
@@ -383,12 +332,6 @@ fn check_memory(lines: u64, text: u64) -> Result<(), JobError> {
     }
 }
 
-/// Threads to run on unless the job says ([`Schedule::default_threads`]).
-fn default_threads(live: bool, lines: usize) -> usize {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    Schedule::default_threads(cores, live, lines)
-}
-
 /// The world a job runs and what it knows of it before the first step.
 struct Started {
     world: World,
@@ -428,7 +371,7 @@ struct Finished {
     /// ended the run early.
     failure: Option<RunError>,
     /// Checked against all pairs: the sliver events met, and the first.
-    slivers: Option<(u64, Option<(u64, crate::Event)>)>,
+    slivers: Option<(u64, Option<(u64, screensaver::Event)>)>,
 }
 
 impl Job {
@@ -445,11 +388,8 @@ impl Job {
         self.check()?;
         // The display and the window are checked before anything is
         // printed, so that a run that cannot be shown prints only why.
-        match self.screen {
-            Some(Screen::Window { .. }) => window::check_display()?,
-            Some(Screen::Root) => embedded::check(embedded::Target::Root)?,
-            Some(Screen::WindowId(id)) => embedded::check(embedded::Target::Id(id))?,
-            None => {}
+        if let Some(screen) = self.screen {
+            screen.check()?;
         }
         let mut started = self.start()?;
         let first_step = started.world.steps();
@@ -478,7 +418,7 @@ impl Job {
             (out.write_all(report::header(self.frames, name).as_bytes()))
                 .map_err(JobError::Results)?;
         }
-        let stopped = crate::stop::requested();
+        let stopped = Signal::requested();
         // The results are printed whatever the files did: a file that could
         // not be written is reported after them, and the counts are kept.
         let failure = finished.failure.take();
@@ -548,7 +488,7 @@ impl Job {
         // A picture's name the program cannot write, before anything is
         // read or made.
         if let Some(path) = &self.render {
-            Target::for_path(path, self.frames_pictured())?;
+            Recorder::check_name(path, self.render_every.is_some())?;
         }
         self.check_clashes()
     }
@@ -568,7 +508,7 @@ impl Job {
             (FileRole::Resume, &self.resume),
         ]);
         // Replacing standard output's file would lose the results.
-        if let Some(identity) = output::stdout_identity() {
+        if let Some(identity) = FileIdentity::of_stdout() {
             if let Some(output) = outputs.iter().find(|o| o.identity == identity) {
                 let path = output.path;
                 let role = FileRole::Results;
@@ -602,17 +542,19 @@ impl Job {
     /// seq.png`) that would be written over another file the job names.
     fn frame_clash(&self, outputs: &[NamedFile], inputs: &[NamedFile]) -> Option<JobError> {
         let render = self.render.as_deref()?;
-        let sequence = Target::for_path(render, self.frames_pictured());
-        if !matches!(sequence, Ok(Target::PngSequence(_))) {
+        let png = render
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("png"));
+        if !(png && self.render_every.is_some()) {
             return None;
         }
         // Standard output's file, when it has a frame's name.
-        let results = output::stdout_identity().and_then(|identity| {
+        let results = FileIdentity::of_stdout().and_then(|identity| {
             let dir = render.parent().filter(|p| !p.as_os_str().is_empty());
             let entries = std::fs::read_dir(dir.unwrap_or(std::path::Path::new("."))).ok()?;
             let path = entries.flatten().map(|e| e.path()).find(|path| {
                 frame_name(render, path).is_some()
-                    && output::identity(path).as_ref() == Some(&identity)
+                    && FileIdentity::of(path).as_ref() == Some(&identity)
             })?;
             Some((path, identity))
         });
@@ -625,7 +567,7 @@ impl Job {
         let others = others.filter(|o| o.role != FileRole::Pictures);
         others.into_iter().find_map(|other| {
             let frame = frame_name(render, other.path)?;
-            let identity = output::identity(&frame)?;
+            let identity = FileIdentity::of(&frame)?;
             (identity == other.identity).then(|| {
                 let frame = NamedFile {
                     role: FileRole::Pictures,
@@ -671,15 +613,16 @@ impl Job {
             None => {
                 check_memory(lines as u64, 0)?;
                 let name = if built_in && !endless {
-                    report::built_in_input()
+                    report::input_name(None)
                 } else {
-                    report::generated_input(self.kind_of(0), lines, seed)
+                    report::input_name(Some((self.kind_of(0), lines, seed)))
                 };
                 (generate(self.kind_of(0), lines, seed), name)
             }
         };
         if self.config.threads == 0 {
-            self.config.threads = default_threads(self.screen.is_some(), scene.lines.len());
+            let live = self.screen.is_some();
+            self.config.threads = DetectorConfig::threads_for(scene.lines.len(), live);
         }
         let digest = (self.checkpoint.is_some() || self.resume.is_some()).then(|| scene.digest());
         // An endless run has no last step.
@@ -704,24 +647,16 @@ impl Job {
         })
     }
 
-    /// The frames `render` pictures: every K-th with `render_every`.
-    fn frames_pictured(&self) -> Frames {
-        match self.render_every {
-            Some(_) => Frames::Every,
-            None => Frames::Last,
-        }
-    }
-
     /// Checks, before any step runs, that every file the run will write
     /// can be written, so that a long run never ends in an error it could
     /// have reported at once.
     fn check_outputs(&self) -> Result<(), JobError> {
         if let Some(path) = &self.render {
-            Target::for_path(path, self.frames_pictured())?;
+            Recorder::check_name(path, self.render_every.is_some())?;
         }
         let files = [&self.state_out, &self.checkpoint, &self.render];
         for path in files.into_iter().flatten() {
-            output::check_writable(path)?;
+            check_writable(path)?;
         }
         Ok(())
     }
@@ -735,7 +670,9 @@ impl Job {
         let Some(path) = &self.render else {
             return Ok(None);
         };
-        let gif = matches!(Target::for_path(path, Frames::Last), Ok(Target::Gif(_)));
+        let gif = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("gif"));
         let every = match self.render_every {
             // A GIF of every step of a long run is slow to write and huge
             // (2,000 frames at full size: 101 MB).
@@ -790,7 +727,7 @@ impl Job {
             Err(e @ (RunError::Picture(_) | RunError::Checkpoint(_))) => {
                 (started.elapsed(), None, Some(e), None)
             }
-            Err(e @ RunError::Mismatch(_)) => return Err(e.into()),
+            Err(e @ RunError::Mismatch { .. }) => return Err(e.into()),
         };
         Ok(Finished {
             scenes: 1,
@@ -835,26 +772,13 @@ impl Job {
                 until: self.frames.map(|f| f + 1),
             }
         };
-        let pace = self.pace.unwrap_or(Pace::PerFrame);
-        let (hud, fps) = (self.hud, self.fps);
-        let embedded_options = embedded::Options { fps, hud, pace };
-        let (outcome, drawn): (Outcome, DrawStats) = match screen {
-            Screen::Window { fullscreen } => {
-                let hold = self.hold;
-                let options = window::Options {
-                    fps,
-                    hold,
-                    fullscreen,
-                    hud,
-                    pace,
-                };
-                window::run(scenes, options)
-            }
-            Screen::Root => embedded::run(embedded::Target::Root, scenes, embedded_options),
-            Screen::WindowId(id) => {
-                embedded::run(embedded::Target::Id(id), scenes, embedded_options)
-            }
-        }?;
+        let options = ShowOptions {
+            fps: self.fps,
+            hold: self.hold,
+            hud: self.hud,
+            pace: self.pace.unwrap_or(Pace::PerFrame),
+        };
+        let outcome = screen.show(scenes, options)?;
         let last = outcome.scenes - 1;
         if outcome.scenes > 1 {
             progress.note(Note::Scenes {
@@ -864,12 +788,12 @@ impl Job {
             });
         }
         let lines = self.lines.unwrap_or(DEFAULT_LINES);
-        let name = report::generated_input(self.kind_of(last), lines, seed.wrapping_add(last));
+        let name = report::input_name(Some((self.kind_of(last), lines, seed.wrapping_add(last))));
         Ok(Finished {
             scenes: outcome.scenes,
             world: outcome.world,
             elapsed: outcome.scene_elapsed,
-            drawn: Some(drawn),
+            drawn: Some(outcome.drawn),
             input_name: self.cycles().then_some(name),
             failure: None,
             slivers: None,
@@ -905,7 +829,7 @@ impl Job {
                 of,
             }),
             (Some(path), None) => {
-                let written = output::write_with(path, |out| checkpoint::write_state(world, out));
+                let written = checkpoint::save_state(world, path);
                 errors.extend(written.err().map(JobError::from));
             }
             (None, _) => {}
@@ -969,7 +893,7 @@ impl Job {
             value["sliver_events"] = serde_json::json!(finished.slivers.map_or(0, |s| s.0));
         }
         if self.stats {
-            value["stats"] = stats().json_value();
+            value["stats"] = serde_json::from_str(&stats().json()).expect("statistics are JSON");
         }
         format!("{value}\n")
     }
@@ -979,7 +903,7 @@ impl Job {
 struct NamedFile<'a> {
     role: FileRole,
     path: &'a std::path::Path,
-    identity: output::FileIdentity,
+    identity: FileIdentity,
 }
 
 impl NamedFile<'_> {
@@ -999,7 +923,7 @@ fn named<'a>(files: &[(FileRole, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>> {
     (files.iter())
         .filter_map(|&(role, path)| {
             let path = path.as_deref()?;
-            let identity = output::identity(path)?;
+            let identity = FileIdentity::of(path)?;
             Some(NamedFile {
                 role,
                 path,
@@ -1025,7 +949,7 @@ fn frame_name(render: &std::path::Path, other: &std::path::Path) -> Option<PathB
     let digits = name.strip_prefix(stem)?.strip_prefix('-')?;
     let (digits, ext) = digits.split_once('.')?;
     let index = digits.parse::<u64>().ok()?;
-    let frame = crate::render::sequence_name(render, index);
+    let frame = Recorder::sequence_name(render, index);
     let same = frame.file_name()?.to_str()? == name && ext.eq_ignore_ascii_case("png");
     same.then_some(frame)
 }
@@ -1058,7 +982,7 @@ mod tests {
         let text = text_of(job).unwrap();
         assert!(text.starts_with("Number of frames = 10\nInput file path is: (none: built-in"));
         let mut world =
-            World::with_detector(&crate::generate::default_scene(), DetectorKind::Brute);
+            World::with_detector(&screensaver::generate::default_scene(), DetectorKind::Brute);
         world.run(11);
         let c = world.counters();
         let counts = format!(
