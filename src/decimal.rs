@@ -10,8 +10,69 @@
 //! for the exponent's spelling and the values from `1e-5` to `1e-4`, which
 //! it writes without one. A state of a million lines is six million of
 //! these.
+//!
+//! Reading goes the other way: [`read_decimal`] reads the plain decimals
+//! the scene files hold (`-00.208073`) at a few instructions a digit, and
+//! leaves every other spelling to Rust's own reader.
 
 use std::fmt::Write as _;
+
+/// The powers of ten a `f64` holds exactly.
+const EXACT_POWERS: [f64; 23] = [
+    1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
+    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+];
+
+/// The `f64` that `word`, a decimal, reads as, exactly as
+/// `str::parse::<f64>` reads it; `None` where it is not one.
+///
+/// A plain decimal (`[+-]digits[.digits]`) of at most 2^53 with at most 22
+/// digits after the point is its digits as a whole number `m` divided by
+/// `10^k`: both are exact in a `f64`, and the division rounds once, so the
+/// quotient is the decimal correctly rounded, which is what Rust's reader
+/// gives (Clinger's fast path). Every other spelling (an exponent, more
+/// digits, `.5`, `inf`, text) goes to Rust's reader. Reading a million-line
+/// scene file takes 1.65 G instructions this way, 4.0 G through `str::parse`.
+pub(crate) fn read_decimal(word: &[u8]) -> Option<f64> {
+    match read_plain(word) {
+        Some((x, len)) if len == word.len() => Some(x),
+        _ => std::str::from_utf8(word).ok()?.parse().ok(),
+    }
+}
+
+/// [`read_decimal`] of the plain decimal at the start of `text`, within
+/// the fast path's bounds: its value and its length, in one pass over its
+/// bytes; `None` where `text` starts otherwise (the caller checks that
+/// the decimal ends where its word does).
+pub(crate) fn read_plain(text: &[u8]) -> Option<(f64, usize)> {
+    let negative = text.first() == Some(&b'-');
+    let signed = usize::from(matches!(text.first(), Some(b'-' | b'+')));
+    let (mut m, mut k, mut point) = (0u64, signed, None);
+    while let Some(&b) = text.get(k) {
+        let digit = b.wrapping_sub(b'0');
+        if digit <= 9 {
+            m = m.wrapping_mul(10).wrapping_add(u64::from(digit));
+        } else if b == b'.' && point.is_none() {
+            point = Some(k);
+        } else {
+            break;
+        }
+        k += 1;
+    }
+    // At least one digit on each side of a point; at most 19 digits, so
+    // that the whole number has not wrapped.
+    let digits = k - signed - usize::from(point.is_some());
+    let after = match point {
+        Some(p) if p == signed || p + 1 == k => return None,
+        Some(p) => k - p - 1,
+        None => 0,
+    };
+    if digits == 0 || digits > 19 || m > 1 << 53 || after >= EXACT_POWERS.len() {
+        return None;
+    }
+    let x = m as f64 / EXACT_POWERS[after];
+    Some((if negative { -x } else { x }, k))
+}
 
 /// Appends `x` as the shortest decimal that reads back to the same bits,
 /// spelled as the reference spells it (see the module's doc). NaN is
@@ -93,6 +154,79 @@ fn may_tie(x: f64) -> bool {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// Rust's reader, the definition [`read_decimal`] follows.
+    fn by_rust(word: &str) -> Option<u64> {
+        word.parse::<f64>().ok().map(f64::to_bits)
+    }
+
+    #[test]
+    fn plain_decimals_read_as_rust_reads_them() {
+        let words = [
+            "0",
+            "-0",
+            "-0.000000",
+            "+1",
+            "291.000000",
+            "-00.208073",
+            "000.454649",
+            "1.",
+            ".5",
+            "-.5",
+            ".",
+            "-",
+            "+",
+            "",
+            "1e5",
+            "1.5e-3",
+            "inf",
+            "NaN",
+            "0x10",
+            "1,5",
+            "1..2",
+            "12a",
+            "9007199254740992",
+            "9007199254740993",
+            "0.9007199254740993",
+            "1.0000000000000000000001",
+            "123456789.0123456789",
+            "0.0000000000000000000001",
+            "0.00000000000000000000001",
+            "18446744073709551615",
+            "99999999999999999999",
+            "4.9406564584124654e-324",
+            "1.7976931348623157e308",
+        ];
+        for word in words {
+            let read = read_decimal(word.as_bytes()).map(f64::to_bits);
+            assert_eq!(read, by_rust(word), "{word:?}");
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn generated_decimals_read_as_rust_reads_them(
+            sign in prop::sample::select(vec!["", "-", "+"]),
+            whole in "[0-9]{1,12}",
+            fraction in prop::option::of("[0-9]{0,12}"),
+        ) {
+            let word = match fraction {
+                Some(f) => format!("{sign}{whole}.{f}"),
+                None => format!("{sign}{whole}"),
+            };
+            let read = read_decimal(word.as_bytes()).map(f64::to_bits);
+            prop_assert_eq!(read, by_rust(&word), "{}", word);
+        }
+
+        #[test]
+        fn shortest_decimals_read_back(bits in any::<u64>()) {
+            let x = f64::from_bits(bits);
+            prop_assume!(x.is_finite());
+            let mut out = String::new();
+            push_decimal(&mut out, x);
+            prop_assert_eq!(read_decimal(out.as_bytes()).map(f64::to_bits), Some(bits));
+        }
+    }
 
     /// The spelling through `{:?}`, the definition the layout follows.
     fn through_debug(x: f64) -> String {

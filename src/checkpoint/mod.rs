@@ -684,9 +684,8 @@ fn parse_row(row: &[u8], id: usize) -> Result<(Line, Color), String> {
     }
     let mut v = [0.0; 6];
     for (k, field) in fields[1..7].iter().enumerate() {
-        v[k] = field
-            .parse::<f64>()
-            .map_err(|_| format!("row {id}: `{}` is not a number", show(field)))?;
+        v[k] = crate::decimal::read_decimal(field.as_bytes())
+            .ok_or_else(|| format!("row {id}: `{}` is not a number", show(field)))?;
     }
     let color = fields[7]
         .parse::<i64>()

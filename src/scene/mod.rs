@@ -220,6 +220,11 @@ impl<'a> Lexer<'a> {
         (self.line - usize::from(trailing_newline)).max(1)
     }
 
+    /// Whether `b` ends a word: a blank or punctuation.
+    fn ends_word(b: u8) -> bool {
+        b.is_ascii_whitespace() || matches!(b, b'(' | b')' | b',')
+    }
+
     /// Passes the blanks (spaces, tabs, newlines) before the next token.
     fn skip_blanks(&mut self) {
         while let Some(&b) = self.text.get(self.pos) {
@@ -243,7 +248,7 @@ impl<'a> Lexer<'a> {
             _ => {
                 let len = self.text[start..]
                     .iter()
-                    .position(|&b| b.is_ascii_whitespace() || matches!(b, b'(' | b')' | b','))
+                    .position(|&b| Lexer::ends_word(b))
                     .unwrap_or(self.text.len() - start);
                 self.pos += len;
                 return Some((Token::Word(&self.text[start..start + len]), self.line));
@@ -282,22 +287,68 @@ impl<'a> Parser<'a> {
         self.error(line, kind)
     }
 
+    /// The punctuation `want` next, or the error saying `expected`. The
+    /// common case (the byte itself) is inlined and the rest is not, so
+    /// that reading a row costs no more than its bytes.
+    #[inline]
     fn punct(&mut self, want: Token<'static>, expected: &'static str) -> Result<(), ParseError> {
+        self.lexer.skip_blanks();
+        let byte = match want {
+            Token::Open => b'(',
+            Token::Close => b')',
+            _ => b',',
+        };
+        if self.lexer.text.get(self.lexer.pos) == Some(&byte) {
+            self.lexer.pos += 1;
+            return Ok(());
+        }
+        self.punct_otherwise(want, expected)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn punct_otherwise(
+        &mut self,
+        want: Token<'static>,
+        expected: &'static str,
+    ) -> Result<(), ParseError> {
         match self.lexer.next() {
             Some((token, _)) if token == want => Ok(()),
             other => Err(self.unexpected(expected, other)),
         }
     }
 
+    /// The number next, named `field`, or the error saying `expected`: a
+    /// plain decimal (nearly every number of a scene file) is read where
+    /// it stands, in one pass, if its word ends where it does
+    /// ([`crate::decimal::read_plain`]); any other spelling goes the
+    /// general way, not inlined.
+    #[inline]
     fn number(&mut self, field: &'static str, expected: &'static str) -> Result<f64, ParseError> {
+        self.lexer.skip_blanks();
+        let rest = &self.lexer.text[self.lexer.pos..];
+        if let Some((value, len)) = crate::decimal::read_plain(rest) {
+            if rest.get(len).is_none_or(|&b| Lexer::ends_word(b)) {
+                self.lexer.pos += len;
+                return Ok(value);
+            }
+        }
+        self.number_otherwise(field, expected)
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn number_otherwise(
+        &mut self,
+        field: &'static str,
+        expected: &'static str,
+    ) -> Result<f64, ParseError> {
         let got = self.lexer.next();
         let Some((Token::Word(word), line)) = got else {
             return Err(self.unexpected(expected, got));
         };
-        let value: f64 = std::str::from_utf8(word)
-            .ok()
-            .and_then(|s| s.parse().ok())
-            .ok_or_else(|| self.unexpected(expected, got))?;
+        let value =
+            crate::decimal::read_decimal(word).ok_or_else(|| self.unexpected(expected, got))?;
         if !value.is_finite() {
             let kind = ParseErrorKind::NotFinite {
                 row: self.row,
@@ -589,6 +640,46 @@ pub(crate) fn write_scene(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every spelling of a number reads as Rust's reader reads it: the
+    /// plain decimals by the fast path, the rest by Rust's.
+    #[test]
+    fn numbers_read_as_rust_reads_them_however_spelt() {
+        use proptest::prelude::*;
+        use proptest::test_runner::TestRunner;
+        let spellings = prop::sample::select(vec![0usize, 1, 2, 3, 4, 5, 6]);
+        let mut runner = TestRunner::default();
+        let strategy = (any::<u64>(), spellings, -40i32..40);
+        runner
+            .run(&strategy, |(bits, spelling, scale)| {
+                let x = f64::from_bits(bits);
+                prop_assume!(x.is_finite());
+                let x = x.abs().min(1e300) * 10f64.powi(scale) % 1e6;
+                let word = match spelling {
+                    0 => format!("{x:.6}"),
+                    1 => format!("{x}"),
+                    2 => format!("{x:e}"),
+                    3 => format!("+{x:.3}"),
+                    4 => format!("-{x:.20}"),
+                    5 => format!("{:.0}.", x.trunc()),
+                    _ => format!("-00{x:.9}"),
+                };
+                let text = format!("1\n({word}, 0.6), (0.7, 0.8), {word}, 0.0, 1\n");
+                let scene = Scene::parse(text.as_bytes(), "t.in");
+                let expected = word.parse::<f64>().ok().filter(|v| v.is_finite());
+                match (scene, expected) {
+                    (Ok(scene), Some(v)) => {
+                        let line = &scene.lines[0];
+                        prop_assert_eq!(line.p1.x.to_bits(), v.to_bits(), "{}", word);
+                        prop_assert_eq!(line.v.x.to_bits(), v.to_bits(), "{}", word);
+                    }
+                    (Err(_), None) => {}
+                    (got, expected) => prop_assert!(false, "{word}: {got:?} against {expected:?}"),
+                }
+                Ok(())
+            })
+            .unwrap();
+    }
 
     fn parse(text: &str) -> Result<Scene, ParseError> {
         Scene::parse(text.as_bytes(), "test.in")
