@@ -29,6 +29,7 @@ PHASES = [
                 r"radix_sort", r"BoxSliceMut::copy", r"BoxList::extend", r"sort_nearly_sorted",
                 r"sweep::plan::", r"Boxes::sort", r"layout::"]),
     ("sweep and exact tests", [r"scan::", r"lay_out_and_sweep", r"sweep_chunks", r"pairs::",
+                               r"lanes::intersect", r"lanes::blocks",
                                r"narrow::", r"geometry::", r"test_wild", r"near::"]),
     ("resolution", [r"response::", r"hypot", r"atan2", r"storage::Storage::name_by_id",
                     r"slice::sort"]),
