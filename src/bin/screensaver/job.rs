@@ -2,8 +2,10 @@
 //! printing its results. The command line parses its arguments into a
 //! [`Job`] and [`Job::run`] does the rest: it loads or generates the scene,
 //! builds (or resumes) the world, runs it off screen with a [`Run`] or on
-//! screen with the window or a window another program owns, writes the
-//! files asked for and prints the original program's text (or JSON).
+//! screen with [`Screen::show`] (our window, the desktop or a window
+//! another program owns), writes the files asked for and prints the
+//! original program's text (or JSON). Only the library's public calls are
+//! used: the job is what any program could make of them.
 
 use crate::words::plural;
 use screensaver::checkpoint::{self, Checkpoint};
