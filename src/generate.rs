@@ -19,11 +19,6 @@ use rand_chacha::ChaCha8Rng;
 use std::f64::consts::TAU;
 use std::fmt;
 
-/// Lines in the built-in default scene.
-pub const DEFAULT_LINES: usize = 1000;
-/// Seed of the built-in default scene.
-pub const DEFAULT_SEED: u64 = 6172;
-
 /// The arrangement of a generated scene.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SceneKind {
@@ -86,10 +81,22 @@ impl fmt::Display for SceneKind {
     }
 }
 
-/// The built-in scene the program runs when given no input file: a thousand
-/// lines in both colours, dense enough for a steady stream of collisions.
-pub fn default_scene() -> Scene {
-    generate(SceneKind::Uniform, DEFAULT_LINES, DEFAULT_SEED)
+impl Scene {
+    /// Lines in the built-in scene, and in a generated scene unless asked.
+    pub const BUILT_IN_LINES: usize = 1000;
+    /// Seed of the built-in scene, and of a generated scene unless asked.
+    pub const BUILT_IN_SEED: u64 = 6172;
+
+    /// The built-in scene the program runs when given no input file: a
+    /// thousand uniform lines in both colours, dense enough for a steady
+    /// stream of collisions.
+    pub fn built_in() -> Scene {
+        generate(
+            SceneKind::Uniform,
+            Self::BUILT_IN_LINES,
+            Self::BUILT_IN_SEED,
+        )
+    }
 }
 
 /// A scene of `lines` lines of the given kind; the same arguments always
@@ -286,8 +293,8 @@ mod tests {
 
     #[test]
     fn both_colours_appear() {
-        let s = default_scene();
-        assert_eq!(s.lines.len(), DEFAULT_LINES);
+        let s = Scene::built_in();
+        assert_eq!(s.lines.len(), Scene::BUILT_IN_LINES);
         assert!(s.lines.iter().any(|l| l.color == Color::Red));
         assert!(s.lines.iter().any(|l| l.color == Color::Gray));
     }

@@ -2,10 +2,10 @@
 //! "screensaver" program computed them, with fast collision detection.
 //!
 //! ```
-//! use screensaver::{generate::default_scene, DetectorConfig, DetectorKind, World};
+//! use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 //!
 //! let config = DetectorConfig { threads: 2, ..DetectorConfig::default() };
-//! let mut world = World::with_config(&default_scene(), DetectorKind::Sweep, &config)
+//! let mut world = World::with_config(&Scene::built_in(), DetectorKind::Sweep, &config)
 //!     .expect("two threads");
 //! world.run(1001); // 1000 frames, as `screensaver 1000` runs them
 //! assert_eq!(world.counters().wall, 1352);

@@ -45,9 +45,9 @@ impl Checkpoints<'_> {
 ///
 /// ```
 /// use screensaver::run::Run;
-/// use screensaver::{generate::default_scene, DetectorKind, World};
+/// use screensaver::{DetectorKind, Scene, World};
 ///
-/// let mut world = World::with_detector(&default_scene(), DetectorKind::Sweep);
+/// let mut world = World::with_detector(&Scene::built_in(), DetectorKind::Sweep);
 /// let mut seen = 0;
 /// let mut progress = |_: &World, _| seen += 1;
 /// let run = Run {

@@ -73,8 +73,8 @@ impl Word {
     }
 }
 
-/// What a team's hand-offs cost, summed over the jobs timed
-/// ([`Team::set_timing`]).
+/// What a thread team's hand-offs cost, summed over the jobs timed (while
+/// the world is timed: [`World::set_timing`](crate::World::set_timing)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct HandOffs {
     /// Jobs timed.

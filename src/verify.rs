@@ -232,7 +232,7 @@ mod tests {
 
     #[test]
     fn the_time_spent_verifying_is_kept() {
-        let scene = crate::generate::default_scene();
+        let scene = crate::Scene::built_in();
         let mut w = World::with_detector(&scene, DetectorKind::Sweep);
         let mut verifier = Verifier::new();
         run(&mut w, &mut verifier, 1).unwrap();

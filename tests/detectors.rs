@@ -261,8 +261,8 @@ fn the_sweep_in_bands_agrees_with_the_oracle_step_after_step() {
         };
         verified(&mut world, steps)
             .unwrap_or_else(|m| panic!("{threads} threads, grain {grain}, {keep_pairs:?}: {m}"));
-        let stats = Stats::of(&world, DetectorKind::Sweep, &config, None).text();
-        assert!(stats.contains("bands"), "{stats}");
+        let plan = Stats::of(&world, DetectorKind::Sweep, &config, None).plan;
+        assert!(plan.is_some_and(|p| p.bands > 1), "{plan:?}");
     }
 }
 
@@ -307,10 +307,10 @@ fn pairs_kept_from_step_to_step_agree_with_the_oracle() {
         let mut world =
             World::with_config(&scene, DetectorKind::Sweep, &config).expect("a pool of threads");
         verified(&mut world, 120).unwrap_or_else(|m| panic!("{kind} {n}, {threads} threads: {m}"));
-        let stats = Stats::of(&world, DetectorKind::Sweep, &config, None).text();
-        assert!(stats.contains("pairs kept"), "{stats}");
-        let moving = !stats.contains("no sweep in a moving frame");
-        assert_eq!(moving, as_one, "{stats}");
+        let plan = Stats::of(&world, DetectorKind::Sweep, &config, None).plan;
+        let plan = plan.expect("the sweep's plan");
+        assert!(plan.keeping > plan.sweeps, "pairs kept: {plan:?}");
+        assert_eq!(plan.moving > 0, as_one, "{plan:?}");
     }
 }
 

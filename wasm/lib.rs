@@ -10,7 +10,7 @@
 //! are drawn as RGBA bytes ([`ss_draw`]), as a canvas's `ImageData` holds
 //! them: the page steps in one instance (a worker) and draws in another.
 
-use screensaver::generate::{default_scene, generate, SceneKind};
+use screensaver::generate::{generate, SceneKind};
 use screensaver::render::{Canvas, Size, View};
 use screensaver::run::Run;
 use screensaver::{report, Color, DetectorConfig, DetectorKind, Scene, World};
@@ -122,7 +122,7 @@ pub extern "C" fn ss_generate(kind: u32, lines: u32, seed_lo: u32, seed_hi: u32,
 /// Starts a world from the built-in scene.
 #[no_mangle]
 pub extern "C" fn ss_built_in(code: u32) -> i32 {
-    start(&default_scene(), code, report::input_name(None))
+    start(&Scene::built_in(), code, report::input_name(None))
 }
 
 /// Makes the text the names of the generated scenes' kinds, in

@@ -6,7 +6,6 @@
 //! steps, so the state is a typical mid-run one.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use screensaver::generate::default_scene;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::path::PathBuf;
 
@@ -17,7 +16,7 @@ fn reference_dir() -> PathBuf {
 }
 
 fn scenes() -> Vec<(String, Scene)> {
-    let mut scenes = vec![("default".to_string(), default_scene())];
+    let mut scenes = vec![("default".to_string(), Scene::built_in())];
     for name in ["mit", "koch"] {
         let path = reference_dir().join("inputs").join(format!("{name}.in"));
         match Scene::load(&path) {

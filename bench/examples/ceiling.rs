@@ -15,7 +15,6 @@
 //! the medians are printed.
 //! Without SCENE it runs the built-in scene.
 
-use screensaver::generate::default_scene;
 use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 use std::time::Instant;
 
@@ -74,7 +73,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let (scene, name) = match &path {
         Some(p) => (Scene::load(p)?, p.display().to_string()),
-        None => (default_scene(), "the built-in scene".into()),
+        None => (Scene::built_in(), "the built-in scene".into()),
     };
     // Like the program, F frames run F + 1 steps.
     let steps = frames + 1;

@@ -55,9 +55,9 @@ const CHECKSUM: &str = "# checksum: ";
 ///
 /// ```
 /// use screensaver::checkpoint::Checkpoint;
-/// use screensaver::{generate::default_scene, DetectorConfig, DetectorKind, World};
+/// use screensaver::{DetectorConfig, DetectorKind, Scene, World};
 ///
-/// let scene = default_scene();
+/// let scene = Scene::built_in();
 /// let mut world = World::with_detector(&scene, DetectorKind::Sweep);
 /// world.run(40);
 /// let mut text = Vec::new();
@@ -905,7 +905,7 @@ mod tests {
 
     #[test]
     fn the_digest_tells_scenes_apart() {
-        let a = crate::generate::default_scene();
+        let a = crate::Scene::built_in();
         let mut b = a.clone();
         b.lines[5].v.x = f64::from_bits(b.lines[5].v.x.to_bits() ^ 1);
         assert_eq!(a.digest(), a.clone().digest());
@@ -926,7 +926,7 @@ mod tests {
             past.to_string(),
             "a.ckpt:3: the checkpoint is at step 1200, past this run's 1199 steps"
         );
-        let other = crate::generate::default_scene();
+        let other = crate::Scene::built_in();
         let wrong = saved
             .continues("a.ckpt", &other, other.digest(), 5000)
             .unwrap_err();

@@ -128,7 +128,7 @@ pub(crate) struct Report {
 
 /// The sweep's plan as it stands, and how it kept its pairs so far.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct SweepReport {
+pub struct SweepReport {
     /// The direction swept along: 0 `x`, 1 `y`, 2 the diagonal `x+y`, 3
     /// the diagonal `x-y`.
     pub along: usize,

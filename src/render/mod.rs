@@ -191,9 +191,9 @@ pub(crate) fn draw_in_view(lines: &[Line], colors: &[Color], pixmap: &mut Pixmap
 ///
 /// ```
 /// use screensaver::render::{frame, Size};
-/// use screensaver::{generate::default_scene, DetectorKind, World};
+/// use screensaver::{DetectorKind, Scene, World};
 ///
-/// let world = World::with_detector(&default_scene(), DetectorKind::Sweep);
+/// let world = World::with_detector(&Scene::built_in(), DetectorKind::Sweep);
 /// let picture = frame(&world, Size { width: 295, height: 200 });
 /// assert_eq!((picture.width(), picture.height()), (295, 200));
 /// assert!(picture.pixels().iter().any(|p| p.red() > 0), "red lines drawn");

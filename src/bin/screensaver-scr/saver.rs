@@ -3,8 +3,9 @@
 //! lines, drawn as the main program draws them on screen.
 
 use crate::args::Mode;
-use screensaver::generate::{generate, SceneKind, DEFAULT_LINES};
+use screensaver::generate::{generate, SceneKind};
 use screensaver::render::{Canvas, Size, View};
+use screensaver::Scene;
 use screensaver::{DetectorConfig, DetectorKind, World};
 use std::num::{NonZeroIsize, NonZeroU32};
 use std::rc::Rc;
@@ -246,7 +247,7 @@ impl Scenes {
     /// The `k`-th scene: each kind in turn, seeds counting up.
     fn scene(k: u64, seed: u64) -> World {
         let kind = SceneKind::ALL[(k % SceneKind::ALL.len() as u64) as usize];
-        let scene = generate(kind, DEFAULT_LINES, seed.wrapping_add(k));
+        let scene = generate(kind, Scene::BUILT_IN_LINES, seed.wrapping_add(k));
         // One thread: a thousand lines step in well under a frame.
         let config = DetectorConfig {
             threads: 1,

@@ -1,8 +1,9 @@
 //! The command line's arguments, as clap reads them.
 
 use clap::{Args, Parser, Subcommand};
-use screensaver::generate::{SceneKind, DEFAULT_SEED};
+use screensaver::generate::SceneKind;
 use screensaver::render::{Pace, Screen, Size};
+use screensaver::Scene;
 use screensaver::{DetectorConfig, DetectorKind, KeepPairs};
 use std::path::PathBuf;
 
@@ -202,7 +203,7 @@ pub(crate) struct GenArgs {
     /// Seed of the random generator (the runs' default, so that a scene
     /// written with the defaults is the one `screensaver` runs without
     /// INPUT).
-    #[arg(long, value_name = "S", default_value_t = DEFAULT_SEED, value_parser = parse_seed)]
+    #[arg(long, value_name = "S", default_value_t = Scene::BUILT_IN_SEED, value_parser = parse_seed)]
     pub(crate) seed: u64,
 
     /// Arrangement: uniform, clustered, ring or grid.

@@ -9,7 +9,7 @@
 
 use crate::words::plural;
 use screensaver::checkpoint::{self, Checkpoint};
-use screensaver::generate::{generate, SceneKind, DEFAULT_LINES, DEFAULT_SEED};
+use screensaver::generate::{generate, SceneKind};
 use screensaver::render::{Pace, Recorder, Scenes, Screen, ScreenError, ShowOptions, Size};
 use screensaver::report::{self, DrawStats, Stats};
 use screensaver::run::{Checkpoints, Run, RunError};
@@ -29,7 +29,7 @@ pub struct Job {
     pub frames: Option<u64>,
     /// The scene file; without it a generated scene.
     pub input: Option<PathBuf>,
-    /// Generated scenes: lines (default [`DEFAULT_LINES`]).
+    /// Generated scenes: lines (default [`Scene::BUILT_IN_LINES`]).
     pub lines: Option<usize>,
     /// Generated scenes: the arrangement (endless runs: each in turn).
     pub kind: Option<SceneKind>,
@@ -590,13 +590,13 @@ impl Job {
     /// checkpoint if asked.
     fn start(&mut self) -> Result<Started, JobError> {
         let endless = self.frames.is_none();
-        let lines = self.lines.unwrap_or(DEFAULT_LINES);
+        let lines = self.lines.unwrap_or(Scene::BUILT_IN_LINES);
         // An endless run takes its seed from the clock, so that each run
         // shows other scenes.
         let seed = match self.seed {
             Some(seed) => seed,
             None if endless => clock_seed(),
-            None => DEFAULT_SEED,
+            None => Scene::BUILT_IN_SEED,
         };
         let built_in = self.lines.is_none() && self.kind.is_none() && self.seed.is_none();
         let (scene, input_name) = match &self.input {
@@ -753,7 +753,7 @@ impl Job {
         let scenes = if self.cycles() {
             let (detector, kinds, timing, config) =
                 (self.detector, self.kind, self.stats, self.config);
-            let lines = self.lines.unwrap_or(DEFAULT_LINES);
+            let lines = self.lines.unwrap_or(Scene::BUILT_IN_LINES);
             let make = move |k: u64| {
                 let scene = generate(kind_of(kinds, k), lines, seed.wrapping_add(k));
                 let mut world = World::with_config(&scene, detector, &config)
@@ -789,7 +789,7 @@ impl Job {
                 last_seed: seed.wrapping_add(last),
             });
         }
-        let lines = self.lines.unwrap_or(DEFAULT_LINES);
+        let lines = self.lines.unwrap_or(Scene::BUILT_IN_LINES);
         let name = report::input_name(Some((self.kind_of(last), lines, seed.wrapping_add(last))));
         Ok(Finished {
             scenes: outcome.scenes,
@@ -852,7 +852,7 @@ impl Job {
         if !self.json {
             let mut text = report::results(finished.elapsed.as_secs_f64(), counts);
             if self.stats {
-                text.push_str(&stats().text());
+                text.push_str(&crate::stats::text(&stats()));
             }
             return text;
         }
@@ -878,7 +878,7 @@ impl Job {
                 let last = finished.scenes - 1;
                 serde_json::json!({
                     "kind": self.kind_of(last).name(),
-                    "lines": self.lines.unwrap_or(DEFAULT_LINES),
+                    "lines": self.lines.unwrap_or(Scene::BUILT_IN_LINES),
                     "seed": ran.seed.wrapping_add(last),
                 })
             }
@@ -895,7 +895,7 @@ impl Job {
             value["sliver_events"] = serde_json::json!(finished.slivers.map_or(0, |s| s.0));
         }
         if self.stats {
-            value["stats"] = serde_json::from_str(&stats().json()).expect("statistics are JSON");
+            value["stats"] = crate::stats::json(&stats());
         }
         format!("{value}\n")
     }
@@ -940,7 +940,7 @@ fn named<'a>(files: &[(FileRole, &'a Option<PathBuf>)]) -> Vec<NamedFile<'a>> {
 fn clock_seed() -> u64 {
     std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
-        .map_or(DEFAULT_SEED, |d| d.as_nanos() as u64)
+        .map_or(Scene::BUILT_IN_SEED, |d| d.as_nanos() as u64)
 }
 
 /// The name of the numbered picture of the sequence `render` that `other`'s
@@ -983,8 +983,7 @@ mod tests {
         };
         let text = text_of(job).unwrap();
         assert!(text.starts_with("Number of frames = 10\nInput file path is: (none: built-in"));
-        let mut world =
-            World::with_detector(&screensaver::generate::default_scene(), DetectorKind::Brute);
+        let mut world = World::with_detector(&screensaver::Scene::built_in(), DetectorKind::Brute);
         world.run(11);
         let c = world.counters();
         let counts = format!(

@@ -16,6 +16,7 @@ macro_rules! say {
 mod args;
 mod job;
 mod progress;
+mod stats;
 mod words;
 
 use args::{parse_frames, Cli, Command, GenArgs};
