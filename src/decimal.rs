@@ -17,27 +17,34 @@
 
 use std::fmt::Write as _;
 
-/// The powers of ten a `f64` holds exactly.
-const EXACT_POWERS: [f64; 23] = [
+/// The powers of ten a plain decimal of at most 19 digits, one of them
+/// before its point, divides by: each exact in a `f64`.
+const POWERS: [f64; 19] = [
     1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11, 1e12, 1e13, 1e14, 1e15, 1e16,
-    1e17, 1e18, 1e19, 1e20, 1e21, 1e22,
+    1e17, 1e18,
 ];
 
 /// The `f64` that `word`, a decimal, reads as, exactly as
 /// `str::parse::<f64>` reads it; `None` where it is not one.
 ///
-/// A plain decimal (`[+-]digits[.digits]`) of at most 2^53 with at most 22
-/// digits after the point is its digits as a whole number `m` divided by
+/// A plain decimal (`[+-]digits[.digits]`, at most 19 digits, at most
+/// 2^53 as a whole number) is its digits as a whole number `m` divided by
 /// `10^k`: both are exact in a `f64`, and the division rounds once, so the
 /// quotient is the decimal correctly rounded, which is what Rust's reader
 /// gives (Clinger's fast path). Every other spelling (an exponent, more
-/// digits, `.5`, `inf`, text) goes to Rust's reader. Reading a million-line
-/// scene file takes 1.65 G instructions this way, 4.0 G through `str::parse`.
+/// digits, `.5`, `inf`, text) goes to Rust's reader ([`read_any`]).
+/// Reading a million-line scene file takes 1.65 G instructions this way,
+/// 4.0 G through `str::parse`.
 pub(crate) fn read_decimal(word: &[u8]) -> Option<f64> {
     match read_plain(word) {
         Some((x, len)) if len == word.len() => Some(x),
-        _ => std::str::from_utf8(word).ok()?.parse().ok(),
+        _ => read_any(word),
     }
+}
+
+/// `word` read by Rust's own reader, whatever its spelling.
+pub(crate) fn read_any(word: &[u8]) -> Option<f64> {
+    std::str::from_utf8(word).ok()?.parse().ok()
 }
 
 /// [`read_decimal`] of the plain decimal at the start of `text`, within
@@ -45,8 +52,11 @@ pub(crate) fn read_decimal(word: &[u8]) -> Option<f64> {
 /// bytes; `None` where `text` starts otherwise (the caller checks that
 /// the decimal ends where its word does).
 pub(crate) fn read_plain(text: &[u8]) -> Option<(f64, usize)> {
-    let negative = text.first() == Some(&b'-');
-    let signed = usize::from(matches!(text.first(), Some(b'-' | b'+')));
+    let (negative, signed) = match text.first() {
+        Some(b'-') => (true, 1),
+        Some(b'+') => (false, 1),
+        _ => (false, 0),
+    };
     let (mut m, mut k, mut point) = (0u64, signed, None);
     while let Some(&b) = text.get(k) {
         let digit = b.wrapping_sub(b'0');
@@ -67,10 +77,11 @@ pub(crate) fn read_plain(text: &[u8]) -> Option<(f64, usize)> {
         Some(p) => k - p - 1,
         None => 0,
     };
-    if digits == 0 || digits > 19 || m > 1 << 53 || after >= EXACT_POWERS.len() {
+    // (So `after` is at most 18.)
+    if digits == 0 || digits > 19 || m > 1 << 53 {
         return None;
     }
-    let x = m as f64 / EXACT_POWERS[after];
+    let x = m as f64 / POWERS[after];
     Some((if negative { -x } else { x }, k))
 }
 

@@ -25,10 +25,11 @@
 //! - [`run::Run`] runs steps with what may go around them: the check of
 //!   every step against all pairs, pictures ([`render::Recorder`]),
 //!   [`checkpoint`]s every so many steps, a progress callback and a way to
-//!   stop; [`report`] words the original program's text and the
-//!   statistics.
+//!   stop; [`report`] words the original program's text and holds the
+//!   statistics as data.
 //! - [`render`] draws pictures of a world (PNG, GIF, SVG, or pixels of your
-//!   own with [`render::Canvas`]).
+//!   own with [`render::Canvas`]) and, with the `window` feature, shows a
+//!   run on screen ([`render::Screen`]).
 //! - [`broad_phase`] is the sweep's broad phase on boxes of your own, with
 //!   the all-pairs answer beside it.
 //! - [`maths`] holds the project's own `hypot` and `atan2`, the same on

@@ -1,7 +1,7 @@
 //! What a run reports: the text the original program printed around it,
 //! which every front end (the command line, the web page) prints the same
 //! way (a header naming the frames and the input, and the results block),
-//! and the statistics `--stats` adds, as text and as JSON.
+//! and the statistics as data ([`Stats`]), which the command line words.
 
 pub use crate::detect::SweepReport;
 use crate::detect::{DetectorConfig, DetectorKind, DetectorStats};

@@ -116,6 +116,21 @@ pub enum RunError {
     },
 }
 
+impl From<crate::verify::Mismatch> for RunError {
+    fn from(m: crate::verify::Mismatch) -> Self {
+        let crate::verify::Mismatch {
+            step,
+            expected,
+            found,
+        } = m;
+        RunError::Mismatch {
+            step,
+            expected,
+            found,
+        }
+    }
+}
+
 /// Whether a signal asked the program to stop.
 pub(crate) fn signalled() -> bool {
     #[cfg(feature = "signals")]
@@ -209,16 +224,7 @@ impl Run<'_> {
             return Err(e);
         }
         if let Some(mismatch) = mismatch {
-            let crate::verify::Mismatch {
-                step,
-                expected,
-                found,
-            } = mismatch;
-            return Err(RunError::Mismatch {
-                step,
-                expected,
-                found,
-            });
+            return Err(mismatch.into());
         }
         #[cfg(feature = "render")]
         let pictures = match recorder {

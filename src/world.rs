@@ -255,7 +255,7 @@ impl World {
     /// True when nothing more can happen in the world: every line is NaN,
     /// or none of them moves (a screensaver then starts another scene).
     pub fn died_out(&self) -> bool {
-        died_out(&self.lines)
+        (self.lines.iter()).all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
     }
 
     /// Each line with its colour, in the order the world stores them: the
@@ -497,14 +497,6 @@ impl World {
     }
 }
 
-/// True when nothing more can happen to `lines`: every line is NaN, or
-/// none of them moves.
-pub(crate) fn died_out<'a>(lines: impl IntoIterator<Item = &'a Line>) -> bool {
-    lines
-        .into_iter()
-        .all(|l| l.is_inert() || (l.v.x == 0.0 && l.v.y == 0.0))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -512,6 +504,25 @@ mod tests {
     use crate::geometry::Vec2;
     use crate::index::LineId;
     use crate::test_util::line;
+
+    #[test]
+    fn a_scene_dies_out_when_nothing_moves_or_all_is_nan() {
+        let moving = line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0));
+        let still = line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0));
+        let nan = line((f64::NAN, f64::NAN), (f64::NAN, f64::NAN), (0.01, 0.0));
+        let died_out = |lines: &[Line]| {
+            World::new(
+                lines.to_vec(),
+                vec![Color::Red; lines.len()],
+                Box::new(Brute),
+            )
+            .died_out()
+        };
+        assert!(!died_out(&[moving, still]));
+        assert!(died_out(&[still, still]));
+        assert!(died_out(&[nan, still]));
+        assert!(died_out(&[]));
+    }
 
     fn world(lines: Vec<Line>) -> World {
         let colors = vec![Color::Red; lines.len()];

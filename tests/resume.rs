@@ -20,7 +20,7 @@ fn config(threads: usize) -> DetectorConfig {
 
 fn checkpoint_text(world: &World, digest: u64) -> Vec<u8> {
     let mut out = Vec::new();
-    checkpoint::Checkpoint::write(world, digest, &mut out).unwrap();
+    Checkpoint::write(world, digest, &mut out).unwrap();
     out
 }
 

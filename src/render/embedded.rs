@@ -72,14 +72,15 @@ struct Opened {
 /// exists and that its pixels are 24-bit true colour.
 fn open(target: Target) -> Result<Opened, ScreenError> {
     super::window::display_named()?;
-    let (conn, screen_number) =
-        x11rb::connect(None).map_err(|e| failed(format!("cannot reach the X display: {e}")))?;
+    let (conn, screen_number) = x11rb::connect(None)
+        .map_err(|e| ScreenError::Failed(format!("cannot reach the X display: {e}")))?;
     let screen = &conn.setup().roots[screen_number];
     let window = match target {
         Target::Root => screen.root,
         Target::Id(id) => id,
     };
-    let failed = |e: &dyn std::fmt::Display| failed(format!("window 0x{window:x}: {e}"));
+    let failed =
+        |e: &dyn std::fmt::Display| ScreenError::Failed(format!("window 0x{window:x}: {e}"));
     let geometry = conn
         .get_geometry(window)
         .map_err(|e| failed(&e))?
@@ -137,7 +138,8 @@ pub(super) fn run(
         window,
         geometry,
     } = open(target)?;
-    let failed = |e: &dyn std::fmt::Display| failed(format!("window 0x{window:x}: {e}"));
+    let failed =
+        |e: &dyn std::fmt::Display| ScreenError::Failed(format!("window 0x{window:x}: {e}"));
     let depth = geometry.depth;
     let msb_first = conn.setup().image_byte_order == ImageOrder::MSB_FIRST;
     conn.change_window_attributes(
@@ -238,12 +240,6 @@ pub(super) fn run(
             ..outcome
         }),
     }
-}
-
-/// A failure of the display or the window, in the windowing system's
-/// words.
-fn failed(message: String) -> ScreenError {
-    ScreenError::Failed(message)
 }
 
 /// Puts a frame of `size` (its pixels as bytes, four a pixel) into

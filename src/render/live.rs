@@ -432,7 +432,6 @@ mod tests {
     use super::*;
     use crate::detect::Brute;
     use crate::test_util::line;
-    use crate::world::died_out;
 
     fn world(lines: Vec<Line>) -> World {
         let colors = vec![Color::Red; lines.len()];
@@ -453,17 +452,6 @@ mod tests {
             std::thread::sleep(Duration::from_millis(1));
         }
         run
-    }
-
-    #[test]
-    fn a_scene_dies_out_when_nothing_moves_or_all_is_nan() {
-        let moving = line((0.6, 0.6), (0.7, 0.7), (0.01, 0.0));
-        let still = line((0.6, 0.6), (0.7, 0.7), (0.0, 0.0));
-        let nan = line((f64::NAN, f64::NAN), (f64::NAN, f64::NAN), (0.01, 0.0));
-        assert!(!died_out(&[moving, still]));
-        assert!(died_out(&[still, still]));
-        assert!(died_out(&[nan, still]));
-        assert!(died_out(&[]));
     }
 
     #[test]

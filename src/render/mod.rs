@@ -1,5 +1,5 @@
 //! Pictures of the world: an anti-aliased rasteriser, and PNG, GIF and SVG
-//! files; with the `window` feature, the pace of a run on screen.
+//! files; with the `window` feature, runs shown on screen ([`Screen`]).
 //!
 //! The picture is the original's: a black background, red lines in dark red
 //! and gray lines in gray, the box `[0.5, 1] x [0.5, 1]` filling the frame

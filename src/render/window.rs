@@ -8,7 +8,7 @@
 //! display, Q or Esc quits. The title shows the step, both counters and
 //! the steps per second.
 
-use super::live::{FrameClock, Outcome, Pace, Scenes, Simulation, Snapshot};
+use super::live::{FrameClock, Outcome, Scenes, Simulation, Snapshot};
 use super::raster::{Canvas, Painter};
 use super::screen::{ScreenError, ShowOptions};
 use super::{hud, Size, View};
@@ -57,21 +57,6 @@ pub fn action_for(key: &Key) -> Option<Action> {
         },
         _ => None,
     }
-}
-
-/// How the window was asked to behave.
-#[derive(Clone, Copy, Debug)]
-struct Options {
-    /// Most frames drawn per second.
-    fps: u32,
-    /// Keep the window open after the last step, until it is closed.
-    hold: bool,
-    /// Fill the screen, the box stretched over it.
-    fullscreen: bool,
-    /// Show the heads-up display from the start.
-    hud: bool,
-    /// How fast the run goes (`+` and `-` change it).
-    pace: Pace,
 }
 
 /// The window's title for a state of the run: the step, both counters and
@@ -141,24 +126,12 @@ pub(super) fn run(
     fullscreen: bool,
 ) -> Result<Outcome, ScreenError> {
     display_named()?;
-    let ShowOptions {
-        fps,
-        hold,
-        hud,
-        pace,
-    } = options;
-    let options = Options {
-        fps,
-        hold,
-        fullscreen,
-        hud,
-        pace,
-    };
     let event_loop = EventLoop::new().map_err(|_| unreachable_display())?;
     let run = Simulation::start(scenes, options.pace);
     let mut app = App {
         run: &run,
         options,
+        fullscreen,
         window: None,
         surface: None,
         painter: Painter::new(),
@@ -186,7 +159,9 @@ pub(super) fn run(
 
 struct App<'a> {
     run: &'a Simulation,
-    options: Options,
+    options: ShowOptions,
+    /// Fill the screen, the box stretched over it.
+    fullscreen: bool,
     window: Option<Arc<Window>>,
     surface: Option<softbuffer::Surface<Arc<Window>, Arc<Window>>>,
     painter: Painter,
@@ -278,7 +253,7 @@ impl App<'_> {
             width: w.get(),
             height: h.get(),
         };
-        let view = if self.options.fullscreen {
+        let view = if self.fullscreen {
             View::filling(frame)
         } else {
             View::new(frame)
@@ -340,7 +315,7 @@ impl ApplicationHandler for App<'_> {
             .with_title("screensaver")
             .with_inner_size(LogicalSize::new(Size::WINDOW.width, Size::WINDOW.height))
             .with_resizable(true);
-        if self.options.fullscreen {
+        if self.fullscreen {
             // Fullscreen asks the window manager; the size and place are
             // set as well, for displays without one.
             let monitor = event_loop

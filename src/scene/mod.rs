@@ -347,8 +347,9 @@ impl<'a> Parser<'a> {
         let Some((Token::Word(word), line)) = got else {
             return Err(self.unexpected(expected, got));
         };
-        let value =
-            crate::decimal::read_decimal(word).ok_or_else(|| self.unexpected(expected, got))?;
+        // Not a plain decimal where it stands (`number` looked): any
+        // other spelling, by Rust's reader.
+        let value = crate::decimal::read_any(word).ok_or_else(|| self.unexpected(expected, got))?;
         if !value.is_finite() {
             let kind = ParseErrorKind::NotFinite {
                 row: self.row,

@@ -215,15 +215,16 @@ pub(crate) struct GenArgs {
     pub(crate) output: Option<PathBuf>,
 }
 
-/// The value of `all` whose `name` is `s`; the error names `what` and
-/// lists the names there are.
+/// `found`, the value named `s`, or the error naming `what` and the
+/// names there are, `all`.
 fn named<T: Copy>(
+    found: Option<T>,
     all: &[T],
     name: fn(T) -> &'static str,
     what: &str,
     s: &str,
 ) -> Result<T, String> {
-    all.iter().copied().find(|&v| name(v) == s).ok_or_else(|| {
+    found.ok_or_else(|| {
         let names: Vec<_> = all.iter().map(|&v| name(v)).collect();
         format!(
             "unknown {what} `{s}`; expected one of: {}",
@@ -233,15 +234,28 @@ fn named<T: Copy>(
 }
 
 fn detector(s: &str) -> Result<DetectorKind, String> {
-    named(DetectorKind::ALL, DetectorKind::name, "detector", s)
+    let found = DetectorKind::from_name(s);
+    named(found, DetectorKind::ALL, DetectorKind::name, "detector", s)
 }
 
 fn keep_pairs(s: &str) -> Result<KeepPairs, String> {
-    named(KeepPairs::ALL, KeepPairs::name, "choice", s)
+    named(
+        KeepPairs::from_name(s),
+        KeepPairs::ALL,
+        KeepPairs::name,
+        "choice",
+        s,
+    )
 }
 
 fn scene_kind(s: &str) -> Result<SceneKind, String> {
-    named(SceneKind::ALL, SceneKind::name, "scene kind", s)
+    named(
+        SceneKind::from_name(s),
+        SceneKind::ALL,
+        SceneKind::name,
+        "scene kind",
+        s,
+    )
 }
 
 /// Largest side of a picture, in pixels.

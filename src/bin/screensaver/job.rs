@@ -97,10 +97,7 @@ impl Default for Job {
             pace: None,
             render: None,
             render_every: None,
-            size: Size {
-                width: 1180,
-                height: 800,
-            },
+            size: Size::WINDOW,
             state_out: None,
             checkpoint: None,
             checkpoint_every: None,
@@ -510,10 +507,12 @@ impl Job {
             (FileRole::Resume, &self.resume),
         ]);
         // Replacing standard output's file would lose the results.
-        if let Some(identity) = FileIdentity::of_stdout() {
-            if let Some(output) = outputs.iter().find(|o| o.identity == identity) {
+        let stdout = FileIdentity::of_stdout();
+        if let Some(identity) = &stdout {
+            if let Some(output) = outputs.iter().find(|o| &o.identity == identity) {
                 let path = output.path;
                 let role = FileRole::Results;
+                let identity = identity.clone();
                 inputs.push(NamedFile {
                     role,
                     path,
@@ -521,7 +520,7 @@ impl Job {
                 });
             }
         }
-        if let Some(clash) = self.frame_clash(&outputs, &inputs) {
+        if let Some(clash) = self.frame_clash(&outputs, &inputs, stdout) {
             return Err(clash);
         }
         for (k, output) in outputs.iter().enumerate() {
@@ -542,7 +541,12 @@ impl Job {
 
     /// A numbered picture of a PNG sequence (`seq-000005.png` of `--render
     /// seq.png`) that would be written over another file the job names.
-    fn frame_clash(&self, outputs: &[NamedFile], inputs: &[NamedFile]) -> Option<JobError> {
+    fn frame_clash(
+        &self,
+        outputs: &[NamedFile],
+        inputs: &[NamedFile],
+        stdout: Option<FileIdentity>,
+    ) -> Option<JobError> {
         let render = self.render.as_deref()?;
         let png = render
             .extension()
@@ -551,7 +555,7 @@ impl Job {
             return None;
         }
         // Standard output's file, when it has a frame's name.
-        let results = FileIdentity::of_stdout().and_then(|identity| {
+        let results = stdout.and_then(|identity| {
             let dir = render.parent().filter(|p| !p.as_os_str().is_empty());
             let entries = std::fs::read_dir(dir.unwrap_or(std::path::Path::new("."))).ok()?;
             let path = entries.flatten().map(|e| e.path()).find(|path| {
@@ -581,6 +585,11 @@ impl Job {
         })
     }
 
+    /// Lines of the generated scenes.
+    fn lines(&self) -> usize {
+        self.lines.unwrap_or(Scene::BUILT_IN_LINES)
+    }
+
     /// The arrangement of the `k`-th generated scene (from 0).
     fn kind_of(&self, k: u64) -> SceneKind {
         kind_of(self.kind, k)
@@ -590,7 +599,7 @@ impl Job {
     /// checkpoint if asked.
     fn start(&mut self) -> Result<Started, JobError> {
         let endless = self.frames.is_none();
-        let lines = self.lines.unwrap_or(Scene::BUILT_IN_LINES);
+        let lines = self.lines();
         // An endless run takes its seed from the clock, so that each run
         // shows other scenes.
         let seed = match self.seed {
@@ -653,9 +662,6 @@ impl Job {
     /// can be written, so that a long run never ends in an error it could
     /// have reported at once.
     fn check_outputs(&self) -> Result<(), JobError> {
-        if let Some(path) = &self.render {
-            Recorder::check_name(path, self.render_every.is_some())?;
-        }
         let files = [&self.state_out, &self.checkpoint, &self.render];
         for path in files.into_iter().flatten() {
             check_writable(path)?;
@@ -753,7 +759,7 @@ impl Job {
         let scenes = if self.cycles() {
             let (detector, kinds, timing, config) =
                 (self.detector, self.kind, self.stats, self.config);
-            let lines = self.lines.unwrap_or(Scene::BUILT_IN_LINES);
+            let lines = self.lines();
             let make = move |k: u64| {
                 let scene = generate(kind_of(kinds, k), lines, seed.wrapping_add(k));
                 let mut world = World::with_config(&scene, detector, &config)
@@ -789,7 +795,7 @@ impl Job {
                 last_seed: seed.wrapping_add(last),
             });
         }
-        let lines = self.lines.unwrap_or(Scene::BUILT_IN_LINES);
+        let lines = self.lines();
         let name = report::input_name(Some((self.kind_of(last), lines, seed.wrapping_add(last))));
         Ok(Finished {
             scenes: outcome.scenes,
@@ -878,7 +884,7 @@ impl Job {
                 let last = finished.scenes - 1;
                 serde_json::json!({
                     "kind": self.kind_of(last).name(),
-                    "lines": self.lines.unwrap_or(Scene::BUILT_IN_LINES),
+                    "lines": self.lines(),
                     "seed": ran.seed.wrapping_add(last),
                 })
             }

@@ -173,20 +173,12 @@ impl Sweep {
         }
     }
 
-    /// The team to share `work` boxes' worth of a phase among: the team
-    /// where [`Schedule::shares`], else this thread alone. (A handle
-    /// of its own, as the phases borrow the boxes mutably.)
+    /// The team to share `work` boxes' (or a kept step's lines') worth of
+    /// a phase among: the team where [`Schedule::shares`], else this
+    /// thread alone. (A handle of its own, as the phases borrow the boxes
+    /// mutably.)
     fn team_for(&self, work: usize) -> Arc<Team> {
         match Schedule::shares(work) {
-            true => Arc::clone(&self.team),
-            false => Arc::clone(&self.solo),
-        }
-    }
-
-    /// The team for a step of `lines` lines that keeps pairs: the team
-    /// where [`Schedule::shares`], else this thread alone.
-    fn team_for_kept(&self, lines: usize) -> Arc<Team> {
-        match Schedule::shares(lines) {
             true => Arc::clone(&self.team),
             false => Arc::clone(&self.solo),
         }
@@ -352,19 +344,19 @@ impl Sweep {
         }
         self.steps += 1;
         let laid = (self.sorted.slice(n), self.plan.along);
-        if keep && self.near.make(lines, dt, &self.team_for_kept(n), laid) {
+        if keep && self.near.make(lines, dt, &self.team_for(n), laid) {
             // The pairs kept hold: no sweep this step.
             for phase in [Phase::Hulls, Phase::Sort, Phase::Layout] {
                 self.lap(phase);
             }
-            self.test_kept((stored, dt), found, &self.team_for_kept(n));
+            self.test_kept((stored, dt), found, &self.team_for(n));
             self.lap(Phase::Sweep);
             self.choose(found.counts.candidates - before.candidates, false);
             return;
         }
 
         if keep {
-            self.near.widen(stored, dt, &self.team_for_kept(n));
+            self.near.widen(stored, dt, &self.team_for(n));
         }
         self.make_hulls(lines, dt, (keep, made));
         if self.until_plan == 0 {
@@ -386,10 +378,10 @@ impl Sweep {
         let candidates = found.counts.candidates - before.candidates;
         self.dense = candidates as f64 > DENSE * swept as f64;
         if keep {
-            let groups = self.team_for_kept(n).threads();
+            let groups = self.team_for(n).threads();
             let chunks = self.chunks.iter_mut();
             self.near.keep(chunks.map(|c| &mut c.near), groups);
-            self.test_kept((stored, dt), found, &self.team_for_kept(n));
+            self.test_kept((stored, dt), found, &self.team_for(n));
         } else {
             let (boxed_slots, wild) = self.sorted.slots[..n].split_at(boxed);
             self.wild.clear();
