@@ -1,7 +1,10 @@
 //! The sweep's broad phase on boxes of your own: every pair of
 //! axis-aligned boxes that overlap, found by sorting and sweeping in bands
-//! (planned as the sweep detector plans its own)
-//! instead of testing every pair.
+//! (planned as the sweep detector plans its own) instead of testing every
+//! pair. [`overlapping_pairs`] and [`for_each_overlapping_pair`] look at
+//! each call's boxes afresh; a [`BroadPhase`] kept from one call to the
+//! next is the sweep detector's own code, and puts boxes that moved a
+//! little back in order by a few moves.
 //!
 //! Each thread keeps its working memory (about 40 bytes a box) from one
 //! call to the next, so that a program that finds pairs every frame does
@@ -19,6 +22,9 @@
 //! ```
 
 mod banded;
+mod kept;
+
+pub use kept::BroadPhase;
 
 use crate::detect::sweep::hull::{pack, DIRECTIONS};
 use crate::detect::sweep::plan;
@@ -175,12 +181,12 @@ mod tests {
     use super::*;
     use proptest::prelude::*;
 
-    fn sorted(mut pairs: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
+    pub(super) fn sorted(mut pairs: Vec<(u32, u32)>) -> Vec<(u32, u32)> {
         pairs.sort_unstable();
         pairs
     }
 
-    fn aabb(x: f64, y: f64, w: f64, h: f64) -> Aabb {
+    pub(super) fn aabb(x: f64, y: f64, w: f64, h: f64) -> Aabb {
         Aabb {
             min: [x, y],
             max: [x + w, y + h],
@@ -277,7 +283,7 @@ mod tests {
         ]
     }
 
-    fn any_box() -> impl Strategy<Value = Aabb> {
+    pub(super) fn any_box() -> impl Strategy<Value = Aabb> {
         prop_oneof![
             // Possibly inverted, possibly wild.
             (coord(), coord(), coord(), coord()).prop_map(|(a, b, c, d)| Aabb {

@@ -60,7 +60,7 @@
 //!   found anew) or calls for a sweep.
 
 pub(crate) mod bands;
-mod boxes;
+pub(crate) mod boxes;
 pub(crate) mod hull;
 pub(crate) mod layout;
 mod mend;
@@ -72,7 +72,7 @@ pub(crate) mod tuning;
 use super::clock::PhaseClock;
 use super::{Detector, DetectorConfig, Findings, Handover, Report, Setup, Stored, SweepReport};
 use crate::detect::sweep::tuning::{
-    DENSE, LAYOUT_COST, NOTE_BLOCK, PLAN_EVERY, PLAN_EVERY_MOST, TEAM_SWEEP_CHUNK,
+    DENSE, LAYOUT_COST, NOTE_BLOCK, PLAN_EVERY, PLAN_EVERY_MOST, SAMPLE, TEAM_SWEEP_CHUNK,
 };
 use crate::index::Slot;
 use crate::line::{Line, DT};
@@ -292,7 +292,7 @@ impl Sweep {
     /// ([`PLAN_EVERY`]).
     fn make_plan(&mut self) {
         let n = self.sorted.len();
-        let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n]);
+        let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n], SAMPLE);
         let plan = plan::choose(LAYOUT_COST, &sample, boxed, hull::DIRECTIONS);
         if plan.along != self.plan.along {
             let b = &mut self.sorted;
@@ -444,8 +444,11 @@ impl Sweep {
             if timing && group.index == 0 {
                 *layout_end.lock().expect("the layout's end") = Some(Instant::now());
             }
-            let chunk = parts.take(group.index);
-            scan::sweep_group(&group, along, (dense, keep), (stored, dt), chunk);
+            let Chunk { found, pairs, near } = parts.take(group.index);
+            let met = scan::sweep_group(&group, (along, dense), pairs, |p, first, second| {
+                scan::hand_on((found, near), (keep, stored, dt), p, (first, second))
+            });
+            found.met(met);
         };
         let boxed = (self.layout).lay_out(&mut self.sorted, n, &bands, &team, &sweep_each);
         if let Some(clock) = &mut self.clock {
@@ -492,8 +495,8 @@ impl Sweep {
             let (keys, hulls) = (&sorted.keys[..], &sorted.hulls[..]);
             let candidates = scan::sweep(keys, hulls, range, along, dense, &mut chunk.pairs);
             chunk.found.met(candidates);
-            let slots = &sorted.slots[..];
-            chunk.hand_on(keep, (stored, dt), slots, slots);
+            let (slots, sink) = (&sorted.slots[..], (&mut chunk.found, &mut chunk.near));
+            scan::hand_on(sink, (keep, stored, dt), &chunk.pairs, (slots, slots));
         });
         drop(parts);
         pieces[..chunks]

@@ -10,7 +10,7 @@
 use super::bands::Bands;
 use super::hull::NO_KEY;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
-use crate::detect::sweep::tuning::{LayoutCost, MAX_BANDS, SAMPLE, SWEEP_COST};
+use crate::detect::sweep::tuning::{LayoutCost, MAX_BANDS, SWEEP_COST};
 
 /// How to sweep: the direction, and the bands cut across the other one.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -115,12 +115,12 @@ fn cost(layout: LayoutCost, total: usize, candidates: f64, share: f64, count: us
     sweep + candidates * copies * copies / count as f64 + layout.per_guest * guests
 }
 
-/// An even sample of at most [`SAMPLE`] of the boxes whose key is real
+/// An even sample of at most `most` of the boxes whose key is real
 /// (`keys[k] != NO_KEY`, hull `hulls[k]`), and how many those are.
-pub(crate) fn sample(keys: &[f32], hulls: &[Packed]) -> (Vec<Packed>, usize) {
+pub(crate) fn sample(keys: &[f32], hulls: &[Packed], most: usize) -> (Vec<Packed>, usize) {
     let boxed = keys.iter().filter(|&&k| k != NO_KEY).count();
     let hulls = keys.iter().zip(hulls).filter(|(&k, _)| k != NO_KEY);
-    let stride = boxed.div_ceil(SAMPLE).max(1);
+    let stride = boxed.div_ceil(most).max(1);
     (
         hulls.step_by(stride).map(|(_, &hull)| hull).collect(),
         boxed,
@@ -171,7 +171,7 @@ pub(crate) fn choose(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::detect::sweep::tuning::LAYOUT_COST;
+    use crate::detect::sweep::tuning::{LAYOUT_COST, SAMPLE};
     use proptest::prelude::*;
 
     /// The pairs met, counted by a binary search for every box.

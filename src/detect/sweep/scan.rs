@@ -5,7 +5,6 @@
 use super::boxes::BoxSlice;
 use super::hull::{hi, overlaps, reach, Packed};
 use super::layout::GroupView;
-use super::Chunk;
 use crate::detect::sweep::tuning::DENSE_WITHOUT_AVX2;
 use crate::detect::{Findings, Stored};
 use crate::index::Slot;
@@ -72,54 +71,47 @@ fn test_each(
 
 /// Sweeps the bands of one group as its member laid it out
 /// ([`GroupView`]): each band's homes among themselves and against its
-/// guests, the pairs of places noted in `chunk.pairs`, and hands every
-/// pair whose hulls overlap, once each, on ([`Chunk::hand_on`]): to
-/// `chunk.found` to test on the lines `stored` holds, or with `keep` to
-/// the pairs kept; counting the candidates met.
+/// guests, the pairs of places noted in `pairs`, and hands every pair
+/// whose hulls overlap, once each, to `hand_on(pairs, first, second)`,
+/// the first of each pair's slot from `first`, the second's from
+/// `second`. Returns the candidates met.
 pub(crate) fn sweep_group(
     group: &GroupView,
-    along: usize,
-    (dense, keep): (bool, bool),
-    (stored, dt): (Stored, f64),
-    chunk: &mut Chunk,
-) {
+    (along, dense): (usize, bool),
+    pairs: &mut Vec<(u32, u32)>,
+    mut hand_on: impl FnMut(&[(u32, u32)], &[Slot], &[Slot]),
+) -> u64 {
+    let mut met = 0;
     for band in group.bands() {
         let (all, homes, guests) = (group.boxes, group.homes(band), group.guests(band));
         let (keys, hulls) = (&all.keys[..homes.end], &all.hulls[..homes.end]);
-        chunk.pairs.clear();
-        let met = sweep(keys, hulls, homes.clone(), along, dense, &mut chunk.pairs);
-        chunk.found.met(met);
-        chunk.hand_on(keep, (stored, dt), all.slots, all.slots);
+        pairs.clear();
+        met += sweep(keys, hulls, homes.clone(), along, dense, pairs);
+        hand_on(pairs, all.slots, all.slots);
         if guests.len() > 0 {
-            chunk.pairs.clear();
+            pairs.clear();
             let homes = all.at(homes);
-            chunk
-                .found
-                .met(sweep_across(homes, guests, along, &mut chunk.pairs));
-            chunk.hand_on(keep, (stored, dt), homes.slots, guests.slots);
+            met += sweep_across(homes, guests, along, pairs);
+            hand_on(pairs, homes.slots, guests.slots);
         }
     }
+    met
 }
 
-impl Chunk {
-    /// Hands the pairs of places swept on, the first of each pair's slot
-    /// from `first`, the second's from `second`: to `found` to test
-    /// ([`test_pairs`]), or with `keep` to the pairs kept, as slots.
-    #[inline]
-    pub(crate) fn hand_on(
-        &mut self,
-        keep: bool,
-        (stored, dt): (Stored, f64),
-        first: &[Slot],
-        second: &[Slot],
-    ) {
-        let pairs = self.pairs.iter();
-        match keep {
-            true => {
-                (self.near).extend(pairs.map(|&(i, j)| (first[i as usize], second[j as usize])))
-            }
-            false => test_pairs(&mut self.found, (stored, dt), &self.pairs, first, second),
-        }
+/// Hands the world's pairs of places swept on, the first of each pair's
+/// slot from `first`, the second's from `second`: to `found` to test
+/// ([`test_pairs`]), or with `keep` to the pairs kept (`near`), as slots.
+#[inline]
+pub(crate) fn hand_on(
+    (found, near): (&mut Findings, &mut Vec<(Slot, Slot)>),
+    (keep, stored, dt): (bool, Stored, f64),
+    pairs: &[(u32, u32)],
+    (first, second): (&[Slot], &[Slot]),
+) {
+    let slots = |&(i, j): &(u32, u32)| (first[i as usize], second[j as usize]);
+    match keep {
+        true => near.extend(pairs.iter().map(slots)),
+        false => test_pairs(found, (stored, dt), pairs, first, second),
     }
 }
 
