@@ -154,7 +154,7 @@ const BROAD_SAMPLE: usize = 2048;
 /// since these bands are filled in one streaming pass and swept in `f64`
 /// with two comparisons a candidate. Set where the plan's choices run
 /// fastest on generated uniform and clustered boxes, clustered ones
-/// gaining the most from the extra bands it buys (`versus_broccoli`;
+/// gaining the most from the extra bands it buys (`versus_others`;
 /// `docs/DESIGN.md`, "The broad phase on your own boxes").
 const LAYOUT_COST: LayoutCost = LayoutCost {
     per_box: 4.0,
