@@ -1,9 +1,9 @@
 //! [`BroadPhase`]: the world's sweep (its boxes, plan, layout and scan)
 //! run on boxes of your own, keeping its order from one call to the next.
 
-use super::Aabb;
+use super::{Aabb, BROAD_SAMPLE};
 use crate::detect::sweep::boxes::Boxes;
-use crate::detect::sweep::hull::{lo, pack, Packed, NO_KEY};
+use crate::detect::sweep::hull::{lo, NO_KEY};
 use crate::detect::sweep::layout::{GroupView, Layout};
 use crate::detect::sweep::plan::{self, Plan};
 use crate::detect::sweep::scan;
@@ -140,7 +140,7 @@ impl BroadPhase {
         let b = &mut self.boxes;
         for ((slot, key), hull) in b.slots[..n].iter().zip(&mut b.keys).zip(&mut b.hulls) {
             let aabb = &boxes[slot.0 as usize];
-            *hull = packed(aabb);
+            *hull = aabb.packed();
             *key = match aabb.is_empty() {
                 true => NO_KEY,
                 false => lo(hull, along),
@@ -153,7 +153,7 @@ impl BroadPhase {
     fn make_plan(&mut self) {
         let n = self.boxes.len();
         let b = &mut self.boxes;
-        let (sample, boxed) = plan::sample(&b.keys[..n], &b.hulls[..n], PLAN_SAMPLE);
+        let (sample, boxed) = plan::sample(&b.keys[..n], &b.hulls[..n], BROAD_SAMPLE);
         let plan = plan::choose(LAYOUT_COST, &sample, boxed, 2);
         if plan.along != self.plan.along {
             for (key, hull) in b.keys[..n].iter_mut().zip(&b.hulls) {
@@ -165,22 +165,6 @@ impl BroadPhase {
         self.plan = plan;
         self.until_plan = PLAN_EVERY;
     }
-}
-
-/// Most boxes a plan looks at: fewer than the world's, since a call that
-/// finds pairs once plans once.
-const PLAN_SAMPLE: usize = 2048;
-
-/// A box packed as the sweep packs a line's hull, its diagonals
-/// unbounded and every lane held to `f32`'s largest value (so that keys
-/// are, as the sweep needs, at most that), which only ever widens it.
-fn packed(b: &Aabb) -> Packed {
-    let unbounded = f64::INFINITY;
-    pack(
-        [b.min[0], b.min[1], -unbounded, -unbounded],
-        [b.max[0], b.max[1], unbounded, unbounded],
-    )
-    .map(|lane| lane.min(f32::MAX))
 }
 
 #[cfg(test)]

@@ -26,7 +26,7 @@ mod kept;
 
 pub use kept::BroadPhase;
 
-use crate::detect::sweep::hull::{pack, DIRECTIONS};
+use crate::detect::sweep::hull::{pack, Packed, DIRECTIONS};
 use crate::detect::sweep::plan;
 use crate::detect::sweep::tuning::LayoutCost;
 
@@ -59,6 +59,18 @@ impl Aabb {
     #[inline]
     pub fn is_empty(&self) -> bool {
         !(self.min[0] <= self.max[0] && self.min[1] <= self.max[1])
+    }
+
+    /// The box packed as the sweep packs a line's hull, its diagonals
+    /// unbounded and every lane held to `f32`'s largest value (so that
+    /// keys are, as the sweep needs, at most that), which only widens it.
+    fn packed(&self) -> Packed {
+        let unbounded = f64::INFINITY;
+        pack(
+            [self.min[0], self.min[1], -unbounded, -unbounded],
+            [self.max[0], self.max[1], unbounded, unbounded],
+        )
+        .map(|lane| lane.min(f32::MAX))
     }
 
     /// The box of everything `line` covers while it moves for `dt`
@@ -122,21 +134,13 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
         "too many boxes for u32 indices"
     );
     // The plan is drawn from an even sample of the boxes, packed as the
-    // detector packs its hulls (lanes beyond f32's range held to its
-    // largest value; the diagonals unbounded).
+    // detector packs its hulls.
     let stride = boxes.len().div_ceil(BROAD_SAMPLE).max(1);
     let sample: Vec<_> = boxes
         .iter()
         .step_by(stride)
         .filter(|b| !b.is_empty())
-        .map(|b| {
-            let unbounded = f64::INFINITY;
-            pack(
-                [b.min[0], b.min[1], -unbounded, -unbounded],
-                [b.max[0], b.max[1], unbounded, unbounded],
-            )
-            .map(|lane| lane.min(f32::MAX))
-        })
+        .map(Aabb::packed)
         .collect();
     // As many boxes as the sample stands for.
     let live = (sample.len() * stride).min(boxes.len());
@@ -146,7 +150,7 @@ pub fn for_each_overlapping_pair(boxes: &[Aabb], mut found: impl FnMut(u32, u32)
 }
 
 /// Boxes the plan samples: fewer than the detector's, as the plan is
-/// drawn for every call.
+/// drawn for every call (and by [`BroadPhase`] every few hundred).
 const BROAD_SAMPLE: usize = 2048;
 
 /// The cost of laying one box out in one band, in units of one candidate

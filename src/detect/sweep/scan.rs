@@ -127,6 +127,7 @@ pub(crate) fn hand_on(
 /// the pairs met. A binary search a guest within the band's longest
 /// extent would not bound it so: a long line makes every guest's window
 /// wide (docs/DESIGN.md, "Tried and dropped").
+#[inline(always)]
 fn sweep_across(
     homes: BoxSlice,
     guests: BoxSlice,
