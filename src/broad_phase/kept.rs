@@ -59,6 +59,8 @@ pub struct BroadPhase {
     /// slots their groups found.
     pairs: Vec<(u32, u32)>,
     banded: Vec<(Slot, Slot)>,
+    /// Where each of the caller's boxes stands in `boxes`.
+    places: Vec<u32>,
     /// A team of one: this thread alone.
     team: Team,
 }
@@ -84,6 +86,8 @@ impl BroadPhase {
         if self.boxes.slots.len() != n + 1 {
             self.forget();
             self.boxes.reset(n);
+            self.places.clear();
+            self.places.extend(0..n as u32);
         }
         self.make_boxes(boxes);
         if self.until_plan == 0 {
@@ -127,6 +131,9 @@ impl BroadPhase {
             (met, boxed)
         };
         self.dense = candidates as f64 > DENSE * swept as f64;
+        for (k, slot) in self.boxes.slots[..n].iter().enumerate() {
+            self.places[slot.0 as usize] = k as u32;
+        }
     }
 
     /// Forgets the order, layout and plan: the next call's boxes are not
@@ -138,17 +145,17 @@ impl BroadPhase {
     }
 
     /// Each box packed, in last call's order, with its key along the
-    /// plan's direction ([`NO_KEY`] for an empty box).
+    /// plan's direction ([`NO_KEY`] for an empty box): the caller's boxes
+    /// read in their order and written to their places in the sweep's.
     fn make_boxes(&mut self, boxes: &[Aabb]) {
         let along = self.plan.along;
-        let n = boxes.len();
         let b = &mut self.boxes;
-        for ((slot, key), hull) in b.slots[..n].iter().zip(&mut b.keys).zip(&mut b.hulls) {
-            let aabb = &boxes[slot.0 as usize];
-            *hull = aabb.packed();
-            *key = match aabb.is_empty() {
+        for (aabb, &at) in boxes.iter().zip(&self.places) {
+            let (at, hull) = (at as usize, aabb.packed());
+            b.hulls[at] = hull;
+            b.keys[at] = match aabb.is_empty() {
                 true => NO_KEY,
-                false => lo(hull, along),
+                false => lo(&hull, along),
             };
         }
     }
