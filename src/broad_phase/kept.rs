@@ -19,7 +19,7 @@ use std::sync::Mutex;
 /// world's own sweep does from step to step. Any boxes may be given; the
 /// order kept only makes the next call quicker when they are the same
 /// boxes, in the same places of the slice, moved a little. That pays up
-/// to some tens of thousands of boxes (at 10^4, 1.4 to 1.7 times as
+/// to some tens of thousands of boxes (at 10^4, 1.6 to 1.7 times as
 /// fast as [`for_each_overlapping_pair`](super::for_each_overlapping_pair));
 /// from about 10^5 the one-shot call is as fast or faster, its bands
 /// holding copies of the boxes where this form reads the caller's boxes
