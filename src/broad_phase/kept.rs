@@ -163,18 +163,8 @@ impl BroadPhase {
     /// A plan for the boxes, from an even sample of them, along `x` or
     /// `y` (the diagonals are unbounded), their keys along its direction.
     fn make_plan(&mut self) {
-        let n = self.boxes.len();
-        let b = &mut self.boxes;
-        let (sample, boxed) = plan::sample(&b.keys[..n], &b.hulls[..n], BROAD_SAMPLE);
-        let plan = plan::choose(LAYOUT_COST, &sample, boxed, 2);
-        if plan.along != self.plan.along {
-            for (key, hull) in b.keys[..n].iter_mut().zip(&b.hulls) {
-                if *key != NO_KEY {
-                    *key = lo(hull, plan.along);
-                }
-            }
-        }
-        self.plan = plan;
+        let (n, from) = (self.boxes.len(), (BROAD_SAMPLE, 2));
+        self.plan = plan::replan(&mut self.boxes, n, from, LAYOUT_COST, self.plan.along);
         self.until_plan = PLAN_EVERY;
     }
 }

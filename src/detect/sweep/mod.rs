@@ -79,7 +79,7 @@ use crate::line::{Line, DT};
 use crate::schedule::Schedule;
 use crate::team::{self, Team};
 use boxes::{BoxSliceMut, Boxes};
-use hull::{lo, Packed, NO_KEY};
+use hull::Packed;
 use layout::{GroupView, Layout};
 use near::{Choice, Near, ToMake};
 use plan::Plan;
@@ -292,16 +292,8 @@ impl Sweep {
     /// ([`PLAN_EVERY`]).
     fn make_plan(&mut self) {
         let n = self.sorted.len();
-        let (sample, boxed) = plan::sample(&self.sorted.keys[..n], &self.sorted.hulls[..n], SAMPLE);
-        let plan = plan::choose(LAYOUT_COST, &sample, boxed, hull::DIRECTIONS);
-        if plan.along != self.plan.along {
-            let b = &mut self.sorted;
-            for (key, hull) in b.keys.iter_mut().zip(&b.hulls) {
-                if *key != NO_KEY {
-                    *key = lo(hull, plan.along);
-                }
-            }
-        }
+        let from = (SAMPLE, hull::DIRECTIONS);
+        let plan = plan::replan(&mut self.sorted, n, from, LAYOUT_COST, self.plan.along);
         // Bands follow the scene's spread, which a wait of thousands of
         // steps would leave behind: only a plain sweep settles.
         let one_band = plan.bands.count == 1 && self.plan.bands.count == 1;

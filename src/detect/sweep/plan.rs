@@ -8,6 +8,7 @@
 //! while plain sweeps along one direction keep coming out).
 
 use super::bands::Bands;
+use super::boxes::Boxes;
 use super::hull::NO_KEY;
 use super::hull::{hi, lo, Packed, DIRECTIONS};
 use crate::detect::sweep::tuning::{LayoutCost, MAX_BANDS, SWEEP_COST};
@@ -115,9 +116,31 @@ fn cost(layout: LayoutCost, total: usize, candidates: f64, share: f64, count: us
     sweep + candidates * copies * copies / count as f64 + layout.per_guest * guests
 }
 
+/// A plan for the first `n` of `boxes` ([`choose`], from an even sample
+/// of at most `most` of them, over the first `directions` directions),
+/// their keys made along its direction where it is not `last_along`.
+pub(crate) fn replan(
+    boxes: &mut Boxes,
+    n: usize,
+    (most, directions): (usize, usize),
+    layout: LayoutCost,
+    last_along: usize,
+) -> Plan {
+    let (sample, boxed) = sample(&boxes.keys[..n], &boxes.hulls[..n], most);
+    let plan = choose(layout, &sample, boxed, directions);
+    if plan.along != last_along {
+        for (key, hull) in boxes.keys[..n].iter_mut().zip(&boxes.hulls) {
+            if *key != NO_KEY {
+                *key = lo(hull, plan.along);
+            }
+        }
+    }
+    plan
+}
+
 /// An even sample of at most `most` of the boxes whose key is real
 /// (`keys[k] != NO_KEY`, hull `hulls[k]`), and how many those are.
-pub(crate) fn sample(keys: &[f32], hulls: &[Packed], most: usize) -> (Vec<Packed>, usize) {
+fn sample(keys: &[f32], hulls: &[Packed], most: usize) -> (Vec<Packed>, usize) {
     let boxed = keys.iter().filter(|&&k| k != NO_KEY).count();
     let hulls = keys.iter().zip(hulls).filter(|(&k, _)| k != NO_KEY);
     let stride = boxed.div_ceil(most).max(1);
